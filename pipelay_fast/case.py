@@ -1,0 +1,719 @@
+"""Validated, immutable description of one static pipelay case.
+
+A case is read by :func:`load_case` from a TOML file (or a dict with the same
+tables: ``pipe``, ``environment`` (+ ``current``), ``seabed``, ``lay``
+(+ ``stinger``), ``solver``). Every value is in SI units; coordinates follow the
+paper: ``x`` is the height above the seabed, ``y`` lateral, ``z`` along the lay.
+
+Every dataclass checks itself on construction, so a case built in Python, loaded
+from a file or modified with :meth:`Case.with_changes` is always valid. A bad
+value raises :class:`ValueError` naming the key by its dotted path and its value;
+nothing is clamped.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+import os
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+from pipelay_fast._validate import (
+    assign,
+    choice,
+    fail,
+    flag,
+    get_path,
+    instance,
+    integer,
+    plain,
+    put_path,
+    reject_unknown,
+    set_numbers,
+    vector,
+    vectorised,
+)
+
+__all__ = [
+    "Case",
+    "Current",
+    "Environment",
+    "Lay",
+    "Pipe",
+    "Seabed",
+    "Solver",
+    "Stinger",
+    "load_case",
+]
+
+METHODS = ("S", "J")
+PROFILES = ("uniform", "linear", "power", "table")
+DIMENSIONS = ("auto", "2d", "3d")
+_PLANAR_TOL = 1e-12
+
+
+# --------------------------------------------------------------------------- tables
+
+
+@dataclass(frozen=True, slots=True)
+class Pipe:
+    """Pipe section, table ``[pipe]``. EA, EI, GJ come from the steel alone.
+
+    Attributes
+    ----------
+    outer_diameter : float
+        Steel outer diameter Do [m].
+    inner_diameter : float
+        Steel inner diameter Di [m].
+    coating_outer_diameter : float
+        Coating outer diameter Dc [m]; default Do (no coating). Sets buoyancy.
+    steel_density, coating_density : float
+        [kg/m^3]; defaults 7900 and 0.
+    youngs_modulus : float
+        E [Pa]; default 207e9.
+    poisson_ratio : float
+        nu [-], in (-1, 0.5); default 0.3.
+    smys : float
+        Specified minimum yield strength [Pa]; default 448e6.
+    contents_density : float
+        rho_i [kg/m^3]; default 0 (empty).
+    contents_level : float
+        Height x of the internal free surface Hi [m]; default 0.
+    drag_coefficient : float
+        Morison drag coefficient C_D [-]; default 1.0.
+    hydrodynamic_diameter : float
+        Drag diameter D_h [m]; default Dc.
+    extensible : bool
+        False: inextensible rod (strain held at zero).
+    """
+
+    outer_diameter: float
+    inner_diameter: float
+    coating_outer_diameter: float | None = None
+    steel_density: float = 7900.0
+    coating_density: float = 0.0
+    youngs_modulus: float = 207e9
+    poisson_ratio: float = 0.3
+    smys: float = 448e6
+    contents_density: float = 0.0
+    contents_level: float = 0.0
+    drag_coefficient: float = 1.0
+    hydrodynamic_diameter: float | None = None
+    extensible: bool = True
+
+    def __post_init__(self):
+        set_numbers(
+            self, "pipe",
+            positive=("outer_diameter", "inner_diameter", "steel_density",
+                      "youngs_modulus", "smys"),
+            non_negative=("coating_density", "contents_density", "contents_level",
+                          "drag_coefficient"),
+            finite=("poisson_ratio",),
+        )
+        if self.coating_outer_diameter is None:
+            assign(self, "coating_outer_diameter", self.outer_diameter)
+        set_numbers(self, "pipe", positive=("coating_outer_diameter",))
+        if self.hydrodynamic_diameter is None:
+            assign(self, "hydrodynamic_diameter", self.coating_outer_diameter)
+        set_numbers(self, "pipe", positive=("hydrodynamic_diameter",))
+        assign(self, "extensible", flag("pipe.extensible", self.extensible))
+        do = self.outer_diameter
+        if self.inner_diameter >= do:
+            fail("pipe.inner_diameter", self.inner_diameter,
+                 f"must be smaller than pipe.outer_diameter = {do!r}")
+        if self.coating_outer_diameter < do:
+            fail("pipe.coating_outer_diameter", self.coating_outer_diameter,
+                 f"must not be smaller than pipe.outer_diameter = {do!r}")
+        if not -1.0 < self.poisson_ratio < 0.5:
+            fail("pipe.poisson_ratio", self.poisson_ratio, "must lie in (-1, 0.5)")
+
+    @property
+    def wall_thickness(self) -> float:
+        """t = (Do - Di)/2 [m]."""
+        return 0.5 * (self.outer_diameter - self.inner_diameter)
+
+    @property
+    def steel_area(self) -> float:
+        """As = pi (Do^2 - Di^2)/4 [m^2]."""
+        return math.pi * (self.outer_diameter**2 - self.inner_diameter**2) / 4.0
+
+    @property
+    def inner_area(self) -> float:
+        """Ai = pi Di^2/4 [m^2]."""
+        return math.pi * self.inner_diameter**2 / 4.0
+
+    @property
+    def outer_area(self) -> float:
+        """Ae = pi Do^2/4 [m^2] (steel outer diameter: the pressure area)."""
+        return math.pi * self.outer_diameter**2 / 4.0
+
+    @property
+    def displaced_area(self) -> float:
+        """pi Dc^2/4 [m^2], the area that sets buoyancy."""
+        return math.pi * self.coating_outer_diameter**2 / 4.0
+
+    @property
+    def second_moment(self) -> float:
+        """I = pi (Do^4 - Di^4)/64 [m^4]."""
+        return math.pi * (self.outer_diameter**4 - self.inner_diameter**4) / 64.0
+
+    @property
+    def polar_moment(self) -> float:
+        """J = 2 I [m^4]."""
+        return 2.0 * self.second_moment
+
+    @property
+    def bending_stiffness(self) -> float:
+        """EI [N m^2]."""
+        return self.youngs_modulus * self.second_moment
+
+    @property
+    def axial_stiffness(self) -> float:
+        """EA [N], steel only."""
+        return self.youngs_modulus * self.steel_area
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + nu)) [Pa]."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+    @property
+    def torsional_stiffness(self) -> float:
+        """GJ [N m^2]."""
+        return self.shear_modulus * self.polar_moment
+
+    @property
+    def steel_mass(self) -> float:
+        """Steel mass per length [kg/m]."""
+        return self.steel_density * self.steel_area
+
+    @property
+    def coating_mass(self) -> float:
+        """Coating mass per length, rho_c pi (Dc^2 - Do^2)/4 [kg/m]."""
+        return self.coating_density * (self.displaced_area - self.outer_area)
+
+    @property
+    def contents_mass(self) -> float:
+        """Contents mass per length where filled, rho_i Ai [kg/m]."""
+        return self.contents_density * self.inner_area
+
+
+@dataclass(frozen=True, slots=True)
+class Current:
+    """Current, table ``[environment.current]``.
+
+    Attributes
+    ----------
+    speed : float
+        Surface speed, the largest in the water column [m/s]; 0: no current.
+        For ``profile = "table"`` it is the table's largest speed (may be omitted).
+    heading : float
+        Direction in the y-z plane [deg]: 0 = +z, 90 = +y.
+    profile : str
+        "uniform" | "linear" | "power" (from the seabed, the default) | "table".
+    exponent : float
+        Power-law exponent [-]: V(x) = speed (x/d)^exponent; default 1/7.
+    table : tuple of (float, float)
+        (height x [m], speed [m/s]) pairs, x strictly ascending, for "table";
+        the end values hold beyond the table.
+    """
+
+    speed: float = 0.0
+    heading: float = 0.0
+    profile: str = "power"
+    exponent: float = 1.0 / 7.0
+    table: tuple[tuple[float, float], ...] = ()
+
+    def __post_init__(self):
+        p = "environment.current"
+        set_numbers(self, p, non_negative=("speed",), positive=("exponent",),
+                    finite=("heading",))
+        choice(f"{p}.profile", self.profile, PROFILES)
+        if isinstance(self.table, (str, bytes)) or not isinstance(self.table, (list, tuple)):
+            fail(f"{p}.table", self.table, "must be a list of [height, speed] pairs")
+        table = tuple(vector(f"{p}.table[{i}]", row, 2) for i, row in enumerate(self.table))
+        assign(self, "table", table)
+        if self.profile != "table":
+            if table:
+                fail(f"{p}.table", table, f"is given but {p}.profile = {self.profile!r}")
+            return
+        heights, speeds = np.array(table).reshape(-1, 2).T
+        if len(table) < 2:
+            fail(f"{p}.table", table, 'needs at least two rows for profile = "table"')
+        if heights[0] < 0 or np.any(np.diff(heights) <= 0):
+            fail(f"{p}.table", table, "heights must be >= 0 and strictly ascending")
+        if np.any(speeds < 0):
+            fail(f"{p}.table", table, "speeds must not be negative")
+        top = float(speeds.max())
+        if self.speed == 0.0:
+            assign(self, "speed", top)
+        elif self.speed != top:
+            fail(f"{p}.speed", self.speed,
+                 f"must equal the largest speed of {p}.table ({top!r}) or be omitted")
+
+
+@dataclass(frozen=True, slots=True)
+class Environment:
+    """Sea, table ``[environment]``.
+
+    Attributes
+    ----------
+    water_depth : float
+        d [m], required.
+    water_density : float
+        rho_w [kg/m^3]; default 1025.
+    gravity : float
+        g [m/s^2]; default 9.81.
+    current : Current
+        Table ``[environment.current]``; default none.
+    """
+
+    water_depth: float
+    water_density: float = 1025.0
+    gravity: float = 9.81
+    current: Current = field(default_factory=Current)
+
+    def __post_init__(self):
+        set_numbers(self, "environment",
+                    positive=("water_depth", "water_density", "gravity"))
+        instance("environment.current", self.current, Current)
+
+
+@dataclass(frozen=True, slots=True)
+class Seabed:
+    """Flat seabed at x = 0, table ``[seabed]``.
+
+    Attributes
+    ----------
+    lateral_friction, axial_friction : float
+        Coulomb coefficients mu_y, mu_z [-]; defaults 0.5 and 0.
+    stiffness : float or None
+        Elastic support [N/m per m of pipe]; None (TOML ``"rigid"``): rigid.
+    """
+
+    lateral_friction: float = 0.5
+    axial_friction: float = 0.0
+    stiffness: float | None = None
+
+    def __post_init__(self):
+        set_numbers(self, "seabed", non_negative=("lateral_friction", "axial_friction"))
+        if self.stiffness is None or self.stiffness == "rigid":
+            assign(self, "stiffness", None)
+            return
+        if isinstance(self.stiffness, str):
+            fail("seabed.stiffness", self.stiffness, 'must be "rigid" or a positive number')
+        set_numbers(self, "seabed", positive=("stiffness",))
+
+    @property
+    def is_rigid(self) -> bool:
+        return self.stiffness is None
+
+
+@dataclass(frozen=True, slots=True)
+class Stinger:
+    """Rigid stinger x = a z^2 + b z + c on z_L <= z <= z_U, table ``[lay.stinger]``.
+
+    Attributes
+    ----------
+    a : float
+        Curvature parameter [1/m]; d^2x/dz^2 = 2a.
+    lower, upper : (float, float)
+        End points (x, z) [m]; b [-] and c [m] follow from them.
+    """
+
+    a: float
+    lower: tuple[float, float]
+    upper: tuple[float, float]
+
+    def __post_init__(self):
+        p = "lay.stinger"
+        set_numbers(self, p, finite=("a",))
+        assign(self, "lower", vector(f"{p}.lower", self.lower, 2))
+        assign(self, "upper", vector(f"{p}.upper", self.upper, 2))
+        (x_l, z_l), (x_u, z_u) = self.lower, self.upper
+        if z_l >= z_u:
+            fail(f"{p}.lower", self.lower, f"must have z below that of {p}.upper = {self.upper!r}")
+        if x_l < 0:
+            fail(f"{p}.lower", self.lower, "is below the seabed (x < 0)")
+        if x_u <= 0:
+            fail(f"{p}.upper", self.upper, "must be above the seabed (x > 0)")
+        if self.a > 0:  # convex: the minimum may lie between the ends
+            z_min = -self.b / (2.0 * self.a)
+            if z_l < z_min < z_u and self.height(z_min) < 0:
+                fail(f"{p}.a", self.a,
+                     f"makes the stinger dip below the seabed "
+                     f"(x = {self.height(z_min):.4g} m at z = {z_min:.4g} m)")
+
+    @property
+    def b(self) -> float:
+        """Linear coefficient [-]."""
+        (x_l, z_l), (x_u, z_u) = self.lower, self.upper
+        return (x_u - x_l) / (z_u - z_l) - self.a * (z_u + z_l)
+
+    @property
+    def c(self) -> float:
+        """Constant coefficient [m]."""
+        x_l, z_l = self.lower
+        return x_l - self.a * z_l**2 - self.b * z_l
+
+    def height(self, z):
+        """Stinger height x(z) [m] at z [m]; vectorised."""
+        return vectorised(z, lambda z: (self.a * z + self.b) * z + self.c)
+
+    def slope(self, z):
+        """dx/dz [-] at z [m]; vectorised."""
+        return vectorised(z, lambda z: 2.0 * self.a * z + self.b)
+
+    def angle(self, z):
+        """Tangent angle from horizontal [deg] at z [m]; vectorised."""
+        return vectorised(z, lambda z: np.degrees(np.arctan(2.0 * self.a * z + self.b)))
+
+
+@dataclass(frozen=True, slots=True)
+class Lay:
+    """Lay method, top end and tension, table ``[lay]``.
+
+    Attributes
+    ----------
+    method : str
+        "S" (stinger) or "J"; default "S" with a stinger, else "J".
+    top_tension : float or None
+        Effective tension at the top [N].
+    bottom_tension : float or None
+        Effective (residual) tension at a lower end sliding along z [N].
+    pipe_length : float or None
+        Unstretched length with a fixed lower end [m].
+        Exactly one of the three tension keys is given.
+    top : (float, float)
+        (x, z) of the pipe's upper end [m]; for S-lay the stinger upper end.
+    top_angle : float or None
+        Prescribed top angle from horizontal [deg], in (0, 90]; None: pinned.
+    stinger : Stinger or None
+        Required for S-lay, forbidden for J-lay.
+    torque : float
+        Torque at the ends H [N m]; default 0.
+    distributed_moment : (float, float, float)
+        Distributed moment (mx, my, mz) [N m/m]; default 0.
+    """
+
+    method: str | None = None
+    top_tension: float | None = None
+    bottom_tension: float | None = None
+    pipe_length: float | None = None
+    top: tuple[float, float] | None = None
+    top_angle: float | None = None
+    stinger: Stinger | None = None
+    torque: float = 0.0
+    distributed_moment: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        if self.stinger is not None:
+            instance("lay.stinger", self.stinger, Stinger)
+        if self.method is None:
+            assign(self, "method", "J" if self.stinger is None else "S")
+        choice("lay.method", self.method, METHODS)
+        self._check_tension()
+        self._check_top()
+        set_numbers(self, "lay", finite=("torque",))
+        assign(self, "distributed_moment",
+              vector("lay.distributed_moment", self.distributed_moment, 3))
+
+    def _check_tension(self):
+        keys = ("top_tension", "bottom_tension", "pipe_length")
+        given = [key for key in keys if getattr(self, key) is not None]
+        names = ", ".join(f"lay.{key}" for key in keys)
+        if not given:
+            raise ValueError(f"no tension given: set exactly one of {names}")
+        if len(given) > 1:
+            both = " and ".join(f"lay.{key}" for key in given)
+            raise ValueError(f"{both} are given together: set exactly one of {names}")
+        set_numbers(self, "lay", positive=given)
+
+    def _check_top(self):
+        if self.method == "S":
+            if self.stinger is None:
+                raise ValueError("missing table lay.stinger: S-lay needs a [lay.stinger]")
+            upper = self.stinger.upper
+            if self.top is not None:
+                top = vector("lay.top", self.top, 2)
+                if not all(math.isclose(t, u, rel_tol=1e-12, abs_tol=1e-9)
+                           for t, u in zip(top, upper, strict=True)):
+                    fail("lay.top", top, f"must be the stinger upper end "
+                         f"lay.stinger.upper = {upper!r} for S-lay (or be omitted)")
+            assign(self, "top", upper)
+        else:
+            if self.stinger is not None:
+                fail("lay.stinger", self.stinger, "is given but lay.method = 'J' (no stinger)")
+            if self.top is None:
+                raise ValueError("missing required key lay.top: (x, z) of the J-lay hang-off [m]")
+            assign(self, "top", vector("lay.top", self.top, 2))
+        if self.top[0] <= 0:
+            fail("lay.top", self.top, "must be above the seabed (x > 0)")
+        if self.top_angle is not None:
+            set_numbers(self, "lay", finite=("top_angle",))
+            if not 0.0 < self.top_angle <= 90.0:
+                fail("lay.top_angle", self.top_angle, "must lie in (0, 90] degrees")
+
+
+@dataclass(frozen=True, slots=True)
+class Solver:
+    """Numerical settings, table ``[solver]``.
+
+    Attributes
+    ----------
+    dimension : str
+        "auto" (2D when the case is planar), "2d" or "3d".
+    element_length : float
+        Target element length [m]; default 1.0.
+    min_element_length : float or None
+        Finest graded element [m], <= element_length; None: the solver picks.
+    grading : bool
+        Grade the mesh at touchdown and lift-off; default true.
+    laid_length : float or None
+        Length of pipe modelled on the seabed [m]; None: the solver picks.
+    tolerance : float
+        Relative convergence tolerance [-], in (0, 1e-2); default 1e-8.
+    max_iterations, max_load_steps : int
+        Newton iterations per step and load steps; defaults 50 and 64.
+    """
+
+    dimension: str = "auto"
+    element_length: float = 1.0
+    min_element_length: float | None = None
+    grading: bool = True
+    laid_length: float | None = None
+    tolerance: float = 1e-8
+    max_iterations: int = 50
+    max_load_steps: int = 64
+
+    def __post_init__(self):
+        choice("solver.dimension", self.dimension, DIMENSIONS)
+        optional = [name for name in ("min_element_length", "laid_length")
+                    if getattr(self, name) is not None]
+        set_numbers(self, "solver", positive=("element_length", "tolerance", *optional))
+        if self.min_element_length is not None and self.min_element_length > self.element_length:
+            fail("solver.min_element_length", self.min_element_length,
+                 f"must not exceed solver.element_length = {self.element_length!r}")
+        if self.tolerance >= 1e-2:
+            fail("solver.tolerance", self.tolerance, "must be below 1e-2")
+        assign(self, "grading", flag("solver.grading", self.grading))
+        assign(self, "max_iterations", integer("solver.max_iterations", self.max_iterations, 1))
+        assign(self, "max_load_steps", integer("solver.max_load_steps", self.max_load_steps, 1))
+
+
+# --------------------------------------------------------------------------- case
+
+
+@dataclass(frozen=True, slots=True)
+class Case:
+    """One static pipelay case: the tables of a case file, validated.
+
+    Heights ``x`` [m] below are above the seabed; loads are per unit length.
+
+    Attributes
+    ----------
+    name : str
+        Case name (file stem by default).
+    pipe, environment, seabed, lay, solver
+        The tables.
+    """
+
+    name: str
+    pipe: Pipe
+    environment: Environment
+    seabed: Seabed
+    lay: Lay
+    solver: Solver
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            fail("name", self.name, "must be a non-empty string")
+        for part, cls in _TABLES.items():
+            instance(part, getattr(self, part), cls)
+        if self.solver.dimension == "2d" and not self.is_planar:
+            fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
+                 "(lateral current, torque or distributed moment about x or z)")
+
+    @property
+    def weight_dry(self) -> float:
+        """Weight of steel and coating in air [N/m]."""
+        return self.environment.gravity * (self.pipe.steel_mass + self.pipe.coating_mass)
+
+    @property
+    def weight_contents(self) -> float:
+        """Weight of the contents where x < contents_level [N/m]."""
+        return self.environment.gravity * self.pipe.contents_mass
+
+    @property
+    def buoyancy(self) -> float:
+        """rho_w g pi Dc^2/4 where x < water_depth [N/m]."""
+        env = self.environment
+        return env.water_density * env.gravity * self.pipe.displaced_area
+
+    def effective_weight(self, x):
+        """Effective weight w(x) [N/m] at height x [m]; vectorised."""
+        level, depth = self.pipe.contents_level, self.environment.water_depth
+        return vectorised(x, lambda x: self.weight_dry + self.weight_contents * (x < level)
+                           - self.buoyancy * (x < depth))
+
+    def external_pressure(self, x):
+        """pe(x) = rho_w g (d - x) below the surface, else 0 [Pa]; vectorised."""
+        env = self.environment
+        d = env.water_depth
+        return vectorised(x, lambda x: np.where(
+            x < d, env.water_density * env.gravity * (d - x), 0.0))
+
+    def internal_pressure(self, x):
+        """pi(x) = rho_i g (Hi - x) where positive, else 0 [Pa]; vectorised."""
+        pipe, g = self.pipe, self.environment.gravity
+        return vectorised(x, lambda x: np.maximum(
+            pipe.contents_density * g * (pipe.contents_level - x), 0.0))
+
+    def wall_tension(self, effective_tension, x):
+        """Tw = Te + pi Ai - pe Ae [N] from effective tension Te [N] at height x [m]."""
+        te = np.asarray(effective_tension, dtype=np.float64)
+        return (te + self.internal_pressure(x) * self.pipe.inner_area
+                - self.external_pressure(x) * self.pipe.outer_area)[()]
+
+    def effective_tension(self, wall_tension, x):
+        """Te = Tw - pi Ai + pe Ae [N] from wall tension Tw [N] at height x [m]."""
+        tw = np.asarray(wall_tension, dtype=np.float64)
+        return (tw - self.internal_pressure(x) * self.pipe.inner_area
+                + self.external_pressure(x) * self.pipe.outer_area)[()]
+
+    def current_speed_at(self, x):
+        """Current speed [m/s] at height x [m]: 0 above the surface and below the
+        seabed; vectorised."""
+        cur, d = self.environment.current, self.environment.water_depth
+
+        def profile(x):
+            if cur.profile == "uniform":
+                v = np.full_like(x, cur.speed)
+            elif cur.profile == "linear":
+                v = cur.speed * x / d
+            elif cur.profile == "power":
+                v = cur.speed * np.power(np.clip(x / d, 0.0, None), cur.exponent)
+            else:
+                heights, speeds = np.array(cur.table).T
+                v = np.interp(x, heights, speeds)
+            return np.where((x >= 0.0) & (x <= d), v, 0.0)
+
+        return vectorised(x, profile)
+
+    @property
+    def current_direction(self) -> tuple[float, float]:
+        """Unit vector (ey, ez) [-] of the current in the y-z plane."""
+        heading = math.radians(self.environment.current.heading)
+        return (math.sin(heading), math.cos(heading))
+
+    @property
+    def is_planar(self) -> bool:
+        """True when every load lies in the x-z plane (the 2D reduction is exact)."""
+        lateral_current = (self.environment.current.speed > 0.0
+                           and abs(self.current_direction[0]) >= _PLANAR_TOL)
+        mx, _, mz = self.lay.distributed_moment
+        return not lateral_current and self.lay.torque == 0.0 and mx == 0.0 and mz == 0.0
+
+    @property
+    def resolved_dimension(self) -> str:
+        """The dimension to solve in, "2d" or "3d" ("auto" resolved by :attr:`is_planar`)."""
+        if self.solver.dimension != "auto":
+            return self.solver.dimension
+        return "2d" if self.is_planar else "3d"
+
+    def to_dict(self) -> dict:
+        """Nested dict of TOML-able values; ``load_case(case.to_dict()) == case``."""
+        tables = {"name": self.name} | {part: plain(getattr(self, part)) for part in _TABLES}
+        tables["seabed"].setdefault("stiffness", "rigid")
+        return tables
+
+    def with_changes(self, changes: Mapping[str, object] | None = None, /, **dotted) -> Case:
+        """A new, re-validated case with dotted keys replaced.
+
+        ``case.with_changes({"lay.stinger.a": -0.0011})``; a value of None removes
+        the key (its default applies). A derived default follows its source when
+        it was equal to it and is not itself changed: coating_outer_diameter
+        follows outer_diameter, hydrodynamic_diameter follows
+        coating_outer_diameter, lay.top follows lay.stinger.upper.
+        """
+        updates = {**(changes or {}), **dotted}
+        old = self.to_dict()
+        new = copy.deepcopy(old)
+        for path, value in updates.items():
+            put_path(new, path, plain(value))
+        rederived = set()  # keys removed so that their default is derived afresh
+        for dependent, source in _FOLLOWERS:
+            touched = any(dependent == p or dependent.startswith(p + ".") for p in updates)
+            moved = source in rederived or get_path(new, source) not in (
+                None, get_path(old, source))
+            if moved and not touched and get_path(old, dependent) == get_path(old, source):
+                put_path(new, dependent, None)
+                rederived.add(dependent)
+        return load_case(new)
+
+
+_TABLES = {"pipe": Pipe, "environment": Environment, "seabed": Seabed, "lay": Lay,
+           "solver": Solver}
+_SUBTABLES = {"current": Current, "stinger": Stinger}
+_FOLLOWERS = (
+    ("pipe.coating_outer_diameter", "pipe.outer_diameter"),
+    ("pipe.hydrodynamic_diameter", "pipe.coating_outer_diameter"),
+    ("lay.top", "lay.stinger.upper"),
+)
+
+
+# --------------------------------------------------------------------------- loading
+
+
+def _build(cls, table, path):
+    """Construct ``cls`` from a TOML table after checking its key names."""
+    if not isinstance(table, Mapping):
+        fail(path, table, "must be a table")
+    names = [f.name for f in fields(cls)]
+    reject_unknown(table, names, f"{path}.")
+    for f in fields(cls):
+        required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+        if required and f.name not in table:
+            raise ValueError(f"missing required key {path}.{f.name}")
+    kwargs = dict(table)
+    for key, sub in _SUBTABLES.items():
+        if key in names and key in kwargs:
+            kwargs[key] = _build(sub, kwargs[key], f"{path}.{key}")
+    return cls(**kwargs)
+
+
+def load_case(source: str | os.PathLike | Mapping) -> Case:
+    """Read and validate a case from a TOML file path or a dict of tables.
+
+    Raises
+    ------
+    ValueError
+        For any bad value, naming the key by its dotted path (prefixed by the
+        file name when reading a file).
+    """
+    if isinstance(source, Mapping):
+        return _case_from_tables(source, "case")
+    if not isinstance(source, (str, os.PathLike)):
+        raise TypeError(f"load_case needs a path or a dict, not {type(source).__name__}")
+    path = Path(source)
+    with path.open("rb") as stream:
+        try:
+            tables = tomllib.load(stream)
+        except tomllib.TOMLDecodeError as err:
+            raise ValueError(f"{path}: invalid TOML: {err}") from None
+    try:
+        return _case_from_tables(tables, path.stem)
+    except ValueError as err:
+        raise ValueError(f"{path}: {err}") from None
+
+
+def _case_from_tables(tables: Mapping, default_name: str) -> Case:
+    reject_unknown(tables, ["name", *_TABLES], "")
+    parts = {part: _build(cls, tables.get(part, {}), part) for part, cls in _TABLES.items()}
+    return Case(name=tables.get("name", default_name), **parts)

@@ -1,0 +1,105 @@
+"""The natural catenary: the zero-stiffness estimate and the solver's first guess.
+
+A cable of effective weight ``w1`` per length below the water surface (height
+``depth``) and ``w2`` above it touches the seabed tangentially at the touchdown
+point (s = 0, x = 0, z = 0) and rises with constant horizontal tension ``h``.
+With V(s) the weight of the span below s, tan(theta) = V/h and, on each stretch
+of constant weight w,
+
+    x = x0 + (h/w) (sqrt(1 + tan^2) - sqrt(1 + tan0^2)),
+    z = z0 + (h/w) (asinh tan - asinh tan0),     Te = h sqrt(1 + tan^2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Catenary:
+    """A natural catenary from the touchdown point up to height ``x_top``.
+
+    Attributes
+    ----------
+    h : float
+        Horizontal (= bottom effective) tension [N].
+    w1, w2 : float
+        Effective weight below / above the water surface [N/m].
+    depth : float
+        Water depth [m].
+    x_top : float
+        Height of the upper end [m].
+    """
+
+    h: float
+    w1: float
+    w2: float
+    depth: float
+    x_top: float
+
+    @property
+    def _s_surface(self) -> float:
+        """Arc length from touchdown to the water surface [m] (inf if never reached)."""
+        if self.x_top <= self.depth:
+            return np.inf
+        c = 1.0 + self.w1 * self.depth / self.h
+        return self.h / self.w1 * np.sqrt(c * c - 1.0)
+
+    @property
+    def top_tension(self) -> float:
+        """Effective tension at the top [N]."""
+        return self.h + self.w1 * min(self.x_top, self.depth) + self.w2 * max(self.x_top - self.depth, 0.0)
+
+    @property
+    def length(self) -> float:
+        """Suspended arc length from touchdown to the top [m]."""
+        sec = self.top_tension / self.h
+        tan_top = np.sqrt(sec * sec - 1.0)
+        sd = self._s_surface
+        if not np.isfinite(sd):
+            return self.h * tan_top / self.w1
+        return sd + (self.h * tan_top - self.w1 * sd) / self.w2
+
+    def at(self, s):
+        """Shape at arc lengths ``s`` [m] from touchdown: x, z [m], theta [rad], Te [N]."""
+        s = np.asarray(s, dtype=np.float64)
+        sd = self._s_surface
+        below = s <= sd
+        v = np.where(below, self.w1 * s, self.w1 * sd + self.w2 * (s - sd) if np.isfinite(sd) else 0.0)
+        tan = v / self.h
+        sec = np.sqrt(1.0 + tan * tan)
+        x1 = self.h / self.w1 * (sec - 1.0)
+        z1 = self.h / self.w1 * np.arcsinh(tan)
+        if np.isfinite(sd):
+            tan_d = self.w1 * sd / self.h
+            sec_d = np.sqrt(1.0 + tan_d * tan_d)
+            x2 = self.depth + self.h / self.w2 * (sec - sec_d)
+            z2 = self.h / self.w1 * np.arcsinh(tan_d) + self.h / self.w2 * (np.arcsinh(tan) - np.arcsinh(tan_d))
+            x = np.where(below, x1, x2)
+            z = np.where(below, z1, z2)
+        else:
+            x, z = x1, z1
+        return x, z, np.arctan(tan), self.h * sec
+
+    @property
+    def span(self) -> float:
+        """Horizontal distance from touchdown to the top [m]."""
+        return float(self.at(self.length)[1])
+
+    @property
+    def top_angle(self) -> float:
+        """Angle of the top tangent above horizontal [rad]."""
+        return float(np.arccos(self.h / self.top_tension))
+
+
+def from_top_tension(t_top, w1, w2, depth, x_top) -> Catenary:
+    """The catenary whose top effective tension is ``t_top`` [N]."""
+    h = t_top - w1 * min(x_top, depth) - w2 * max(x_top - depth, 0.0)
+    if h <= 0.0:
+        raise ValueError(
+            f"lay.top_tension = {t_top:g} N is too low to hold the pipe: the weight of a "
+            f"vertical hang to x = {x_top:g} m alone needs {t_top - h:g} N"
+        )
+    return Catenary(h, w1, w2, depth, x_top)

@@ -1,0 +1,131 @@
+"""Global assembly into band storage, nodal frames, and torque distribution."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import jit
+from . import layout as L
+from .element import element_force
+
+
+@jit
+def assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent):
+    """Global residual ``g`` (= internal - distributed external forces) and tangent.
+
+    ``u`` holds the nodal unknowns node by node, so element ``e`` owns the
+    contiguous slice ``u[e*ndn : e*ndn + 2*ndn]`` and its block lands inside the
+    band. Nodal loads, rotations and constraints are applied afterwards.
+    """
+    ndn = 2 * nd + 1
+    ne = 2 * ndn
+    nel = s_el.shape[0]
+    fe = np.empty(ne)
+    ke = np.empty((ne, ne))
+    kv = kl + ku
+    g[:] = 0.0
+    if want_tangent:
+        ab[:, :] = 0.0
+    for e in range(nel):
+        g0 = e * ndn
+        element_force(nd, s_el[e], u[g0:g0 + ne], props, table, torques[e], fe, ke, want_tangent)
+        for a in range(ne):
+            g[g0 + a] += fe[a]
+        if want_tangent:
+            for a in range(ne):
+                i = g0 + a
+                for b in range(ne):
+                    j = g0 + b
+                    ab[kv + i - j, j] += ke[a, b]
+
+
+@jit
+def distribute_torque(nd, s_el, u, props, torques):
+    """Torque per element from H' + t.m = 0 with H(top) given.
+
+    Evaluated on the current shape (chord tangents) and lagged in the Newton
+    iteration: the tangent omits dH/du, which only matters when the distributed
+    moment has a component along the pipe.
+    """
+    nel = s_el.shape[0]
+    h_top = props[L.TORQUE]
+    if nd != 3:
+        torques[:] = 0.0
+        return
+    m = (props[L.MOM_X], props[L.MOM_Y], props[L.MOM_Z])
+    if m[0] == 0.0 and m[1] == 0.0 and m[2] == 0.0:
+        torques[:] = h_top
+        return
+    ndn = 2 * nd + 1
+    acc = h_top
+    for e in range(nel - 1, -1, -1):
+        a = e * ndn
+        b = a + ndn
+        dx = u[b] - u[a]
+        dy = u[b + 1] - u[a + 1]
+        dz = u[b + 2] - u[a + 2]
+        c = math.sqrt(dx * dx + dy * dy + dz * dz)
+        tm = (dx * m[0] + dy * m[1] + dz * m[2]) / c if c > 0.0 else 0.0
+        torques[e] = acc + 0.5 * tm * s_el[e]
+        acc += tm * s_el[e]
+
+
+@jit
+def rotate_pair_vec(v, p, q, c, s):
+    """(v_p, v_q) <- R (v_p, v_q) with R = [[c, -s], [s, c]]."""
+    a = v[p]
+    b = v[q]
+    v[p] = c * a - s * b
+    v[q] = s * a + c * b
+
+
+@jit
+def rotate_pair_band(ab, kl, ku, n, p, q, c, s, lo, hi):
+    """K <- R K R^T on the dof pair (p, q); rows/cols coupled to it lie in [lo, hi]."""
+    kv = kl + ku
+    for j in range(lo, hi + 1):
+        a = ab[kv + p - j, j]
+        b = ab[kv + q - j, j]
+        ab[kv + p - j, j] = c * a - s * b
+        ab[kv + q - j, j] = s * a + c * b
+    for i in range(lo, hi + 1):
+        a = ab[kv + i - p, p]
+        b = ab[kv + i - q, q]
+        ab[kv + i - p, p] = c * a - s * b
+        ab[kv + i - q, q] = s * a + c * b
+
+
+@jit
+def node_coupling_range(nd, node, n):
+    """First and last global dof coupled to ``node`` (its two elements)."""
+    ndn = 2 * nd + 1
+    lo = max(0, (node - 1) * ndn)
+    hi = min(n - 1, (node + 2) * ndn - 1)
+    return lo, hi
+
+
+@jit
+def rotate_node(nd, ab, kl, ku, g, node, phi_r, phi_rp, want_tangent):
+    """Express node ``node``'s (x, z) pairs of r and r' in its rotated frame.
+
+    Local slot x becomes the normal (x cos phi - z sin phi), slot z the tangent
+    (x sin phi + z cos phi): a support whose tangent makes the angle phi with the
+    z axis (towards +x) constrains slot x alone.
+    """
+    ndn = 2 * nd + 1
+    n = g.shape[0]
+    base = node * ndn
+    lo, hi = node_coupling_range(nd, node, n)
+    for blk in range(2):
+        phi = phi_r if blk == 0 else phi_rp
+        if phi == 0.0:
+            continue
+        p = base + blk * nd
+        q = p + nd - 1
+        c = math.cos(phi)
+        s = math.sin(phi)
+        rotate_pair_vec(g, p, q, c, s)
+        if want_tangent:
+            rotate_pair_band(ab, kl, ku, n, p, q, c, s, lo, hi)

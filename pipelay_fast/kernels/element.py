@@ -1,0 +1,315 @@
+"""Garrett's rod element: internal-minus-external force vector and its tangent.
+
+Weak form over one element of unstretched length ``le`` (s the unstretched arc
+length, ``d`` a virtual field, ``'`` = d/ds):
+
+    G_r   = int [ EI r''.dr'' + lam r'.dr' + H (r' x r'').dr' + (r' x m).dr' - q.dr ] ds
+    G_lam = int dlam [ (r'.r' - 1)/2 - e ] ds,   e = eps + eps^2/2,  eps = Tw/EA
+
+so that |r'| = 1 + eps exactly, with Te = lam + EI kappa^2 (kappa^2 = r''.r''),
+Tw = Te + pi Ai - pe Ae (inextensible: e = 0). r is cubic Hermite (nodal r, r'),
+lam linear (nodal values). Gauss-Legendre with 4 points integrates every
+polynomial term exactly (the highest is lam (r'.dr'), degree 5).
+
+An element that crosses the water surface or the contents level is integrated
+piecewise, 4 points on each side of the crossing.
+
+Loads q: effective weight -w(x) e_x (times the gravity factor), Morison drag on
+the normal current (times the current factor), an elastic seabed -k x e_x where
+x < 0. The torque and distributed-moment terms are evaluated only when they are
+non-zero. The tangent is the exact derivative of G except for the jump of w at
+the water surface.
+
+The same code serves 2D (nd = 2: slots x, z) and 3D (nd = 3: x, y, z), so the
+planar model is a reduction of the spatial one, not a second model.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import jit
+from . import layout as L
+from .loads import drag_force, effective_weight, wall_minus_effective
+
+_G = np.sqrt(3.0 / 7.0 - 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
+_H = np.sqrt(3.0 / 7.0 + 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
+_WG = (18.0 + np.sqrt(30.0)) / 36.0
+_WH = (18.0 - np.sqrt(30.0)) / 36.0
+GAUSS_XI = np.array([0.5 - 0.5 * _H, 0.5 - 0.5 * _G, 0.5 + 0.5 * _G, 0.5 + 0.5 * _H])
+GAUSS_W = np.array([0.5 * _WH, 0.5 * _WG, 0.5 * _WG, 0.5 * _WH])
+
+
+@jit
+def hermite(xi, le, n, dn, ddn):
+    """Cubic Hermite shape functions on [0, le] at xi = s/le, with d/ds and d2/ds2.
+
+    Order: r_a, r'_a, r_b, r'_b.
+    """
+    xi2 = xi * xi
+    xi3 = xi2 * xi
+    n[0] = 1.0 - 3.0 * xi2 + 2.0 * xi3
+    n[1] = le * (xi - 2.0 * xi2 + xi3)
+    n[2] = 3.0 * xi2 - 2.0 * xi3
+    n[3] = le * (-xi2 + xi3)
+    dn[0] = (-6.0 * xi + 6.0 * xi2) / le
+    dn[1] = 1.0 - 4.0 * xi + 3.0 * xi2
+    dn[2] = (6.0 * xi - 6.0 * xi2) / le
+    dn[3] = -2.0 * xi + 3.0 * xi2
+    ddn[0] = (-6.0 + 12.0 * xi) / (le * le)
+    ddn[1] = (-4.0 + 6.0 * xi) / le
+    ddn[2] = (6.0 - 12.0 * xi) / (le * le)
+    ddn[3] = (-2.0 + 6.0 * xi) / le
+
+
+@jit
+def _crossing(xa, pa, xb, pb, le, level):
+    """xi in (0, 1) where the Hermite height x(xi) crosses ``level``, else -1.
+
+    ``xa, xb`` are the nodal heights, ``pa, pb`` their slopes dx/ds. Newton from
+    the chord estimate; the root is unique when the element is monotone in x,
+    which holds for any element shorter than the local radius of curvature.
+    """
+    fa = xa - level
+    fb = xb - level
+    if fa * fb >= 0.0:
+        return -1.0
+    xi = fa / (fa - fb)
+    for _ in range(30):
+        xi2 = xi * xi
+        xi3 = xi2 * xi
+        f = ((1.0 - 3.0 * xi2 + 2.0 * xi3) * xa + le * (xi - 2.0 * xi2 + xi3) * pa
+             + (3.0 * xi2 - 2.0 * xi3) * xb + le * (-xi2 + xi3) * pb - level)
+        df = ((-6.0 * xi + 6.0 * xi2) * xa + le * (1.0 - 4.0 * xi + 3.0 * xi2) * pa
+              + (6.0 * xi - 6.0 * xi2) * xb + le * (-2.0 * xi + 3.0 * xi2) * pb)
+        if df == 0.0:
+            break
+        step = f / df
+        xi -= step
+        if xi <= 0.0 or xi >= 1.0:
+            return fa / (fa - fb)
+        if abs(step) < 1e-14:
+            break
+    return xi
+
+
+@jit
+def _cross3(a, b, out):
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+
+
+@jit
+def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent):
+    """Force vector ``fe`` (= G) and tangent ``ke`` = dG/due of one element.
+
+    Parameters
+    ----------
+    nd : int
+        2 or 3 space dimensions.
+    le : float
+        Unstretched element length [m].
+    ue : (2*(2nd+1),) float64
+        Nodal unknowns of the two nodes (layout in :mod:`.layout`).
+    props, table : float64 arrays
+        Model data (:mod:`.layout`) and the current table ``[[x, speed], ...]``.
+    torque : float
+        Torque H in this element [N m] (3D only).
+    fe, ke : float64 arrays, overwritten
+        Residual [N, N m, m] and tangent.
+    want_tangent : bool
+        Skip the tangent when only the residual is needed (line search).
+    """
+    ndn = 2 * nd + 1
+    ne = 2 * ndn
+    ei = props[L.EI]
+    ea = props[L.EA]
+    extensible = props[L.EXTENSIBLE] != 0.0
+    gf = props[L.GRAVITY_FACTOR]
+    k_bed = props[L.SEABED_K]
+    use_torque = nd == 3 and torque != 0.0
+    mx = props[L.MOM_X]
+    my = props[L.MOM_Y]
+    mz = props[L.MOM_Z]
+    use_moment = mx != 0.0 or my != 0.0 or mz != 0.0
+    for a in range(ne):
+        fe[a] = 0.0
+    if want_tangent:
+        for a in range(ne):
+            for b in range(ne):
+                ke[a, b] = 0.0
+
+    # local index of shape function k, component i:  off[k] + i
+    off = (0, nd, ndn, ndn + nd)
+    lam_idx = (2 * nd, ndn + 2 * nd)
+
+    n = np.empty(4)
+    dn = np.empty(4)
+    ddn = np.empty(4)
+    r = np.empty(nd)
+    rp = np.empty(nd)
+    rpp = np.empty(nd)
+    q = np.zeros(nd)
+    qd = np.zeros(nd)
+    dq_drp = np.zeros((nd, nd))
+    dq_dx = np.zeros(nd)
+    # 3-vectors for the torque / moment terms (2D embeds y = 0)
+    rp3 = np.zeros(3)
+    rpp3 = np.zeros(3)
+    m3 = np.array([mx, my, mz])
+    c3 = np.zeros(3)
+    e3 = np.zeros(3)
+    slot3 = (0, 1 if nd == 3 else 2, 2)
+
+    # Split the element where it crosses the water surface or the contents level,
+    # so the jump of the effective weight is integrated exactly.
+    cuts = np.empty(4)
+    ncut = 0
+    cuts[0] = 0.0
+    ncut = 1
+    for lev in range(2):
+        level = props[L.DEPTH] if lev == 0 else props[L.H_CONT]
+        xi_c = _crossing(ue[0], ue[nd], ue[ndn], ue[ndn + nd], le, level)
+        if xi_c > 0.0:
+            cuts[ncut] = xi_c
+            ncut += 1
+    cuts[ncut] = 1.0
+    cuts[: ncut + 1].sort()
+    for gg in range(4 * ncut):
+        part = gg // 4
+        g = gg % 4
+        span = cuts[part + 1] - cuts[part]
+        xi = cuts[part] + span * GAUSS_XI[g]
+        wl = GAUSS_W[g] * span * le
+        hermite(xi, le, n, dn, ddn)
+        p0 = 1.0 - xi
+        p1 = xi
+        # r' and r'' from the chord r_b - r_a (their shape functions of r_a and
+        # r_b are opposite), which keeps round-off relative to the element size
+        # rather than to the distance from the origin
+        for i in range(nd):
+            ra = ue[i]
+            chord = ue[ndn + i] - ra
+            r[i] = ra + n[1] * ue[nd + i] + n[2] * chord + n[3] * ue[ndn + nd + i]
+            rp[i] = dn[1] * ue[nd + i] + dn[2] * chord + dn[3] * ue[ndn + nd + i]
+            rpp[i] = ddn[1] * ue[nd + i] + ddn[2] * chord + ddn[3] * ue[ndn + nd + i]
+        lam = p0 * ue[lam_idx[0]] + p1 * ue[lam_idx[1]]
+        x = r[0]
+        rp2 = 0.0
+        kap2 = 0.0
+        for i in range(nd):
+            rp2 += rp[i] * rp[i]
+            kap2 += rpp[i] * rpp[i]
+
+        # --- extensibility ------------------------------------------------
+        e = 0.0
+        de_deps = 0.0
+        deps_dx = 0.0
+        if extensible:
+            dtw, ddtw_dx = wall_minus_effective(props, x)
+            eps = (lam + ei * kap2 + dtw) / ea
+            e = eps + 0.5 * eps * eps
+            de_deps = 1.0 + eps
+            deps_dx = ddtw_dx / ea
+
+        # --- distributed loads --------------------------------------------
+        for i in range(nd):
+            q[i] = 0.0
+        q[0] = -gf * effective_weight(props, x)
+        dqx_dx = 0.0
+        if k_bed > 0.0 and x < 0.0:
+            q[0] -= k_bed * x
+            dqx_dx = -k_bed
+        has_drag = drag_force(props, table, nd, x, rp, qd, dq_drp, dq_dx)
+        if has_drag:
+            for i in range(nd):
+                q[i] += qd[i]
+
+        # --- residual -----------------------------------------------------
+        for k in range(4):
+            for i in range(nd):
+                fe[off[k] + i] += wl * (ei * rpp[i] * ddn[k] + lam * rp[i] * dn[k] - q[i] * n[k])
+        cval = 0.5 * (rp2 - 1.0) - e
+        fe[lam_idx[0]] += wl * p0 * cval
+        fe[lam_idx[1]] += wl * p1 * cval
+
+        if use_torque or use_moment:
+            for i in range(3):
+                rp3[i] = 0.0
+                rpp3[i] = 0.0
+            for i in range(nd):
+                rp3[slot3[i]] = rp[i]
+                rpp3[slot3[i]] = rpp[i]
+            # c3 = H (r' x r'') + r' x m   acts on dr'
+            _cross3(rp3, rpp3, c3)
+            hh = torque if use_torque else 0.0
+            for i in range(3):
+                c3[i] *= hh
+            if use_moment:
+                _cross3(rp3, m3, e3)
+                for i in range(3):
+                    c3[i] += e3[i]
+            for k in range(4):
+                for i in range(nd):
+                    fe[off[k] + i] += wl * c3[slot3[i]] * dn[k]
+
+        if not want_tangent:
+            continue
+
+        # --- tangent ------------------------------------------------------
+        for k in range(4):
+            for l in range(4):
+                kb = wl * (ei * ddn[k] * ddn[l] + lam * dn[k] * dn[l])
+                for i in range(nd):
+                    ke[off[k] + i, off[l] + i] += kb
+                # load stiffness: -N_k dq_i/du_(l,j)
+                ke[off[k], off[l]] -= wl * n[k] * dqx_dx * n[l]
+                if has_drag:
+                    for i in range(nd):
+                        for j in range(nd):
+                            ke[off[k] + i, off[l] + j] -= wl * n[k] * dq_drp[i, j] * dn[l]
+                        ke[off[k] + i, off[l]] -= wl * n[k] * dq_dx[i] * n[l]
+        for m in range(2):
+            pm = p0 if m == 0 else p1
+            lm = lam_idx[m]
+            for k in range(4):
+                for i in range(nd):
+                    v = wl * pm * rp[i] * dn[k]
+                    ke[off[k] + i, lm] += v
+                    v2 = v
+                    if extensible:
+                        v2 -= wl * pm * de_deps * (2.0 * ei * rpp[i] / ea) * ddn[k]
+                    ke[lm, off[k] + i] += v2
+                if extensible:
+                    ke[lm, off[k]] -= wl * pm * de_deps * deps_dx * n[k]
+            if extensible:
+                for mm in range(2):
+                    pn = p0 if mm == 0 else p1
+                    ke[lm, lam_idx[mm]] -= wl * pm * pn * de_deps / ea
+
+        if use_torque or use_moment:
+            hh = torque if use_torque else 0.0
+            for l in range(4):
+                for j in range(nd):
+                    for i in range(3):
+                        e3[i] = 0.0
+                    e3[slot3[j]] = 1.0
+                    # d(c3)/du_(l,j) = H [dN_l (e_j x r'') + ddN_l (r' x e_j)] + dN_l (e_j x m)
+                    _cross3(e3, rpp3, c3)
+                    d0 = hh * dn[l] * c3[0]
+                    d1 = hh * dn[l] * c3[1]
+                    d2 = hh * dn[l] * c3[2]
+                    _cross3(rp3, e3, c3)
+                    d0 += hh * ddn[l] * c3[0]
+                    d1 += hh * ddn[l] * c3[1]
+                    d2 += hh * ddn[l] * c3[2]
+                    if use_moment:
+                        _cross3(e3, m3, c3)
+                        d0 += dn[l] * c3[0]
+                        d1 += dn[l] * c3[1]
+                        d2 += dn[l] * c3[2]
+                    dv = (d0, d1, d2)
+                    for k in range(4):
+                        for i in range(nd):
+                            ke[off[k] + i, off[l] + j] += wl * dn[k] * dv[slot3[i]]

@@ -1,0 +1,73 @@
+"""Flat layout of the model data that reaches the kernels.
+
+A case becomes one float64 vector ``props`` (indices below, SI units) plus a few
+arrays (element lengths, the current table, constraint sets). Kernels index
+``props`` with these module-level integer constants, which numba freezes as
+compile-time constants.
+
+Nodal unknowns, node by node (so the global matrix is banded):
+
+* 3D: ``x, y, z, x', y', z', lam``  (7 per node, half-bandwidth 13)
+* 2D: ``x, z, x', z', lam``          (5 per node, half-bandwidth 9)
+
+``x`` is the height above the seabed, ``z`` the horizontal lay direction, ``y``
+lateral; ``'`` is d/ds with s the unstretched arc length; ``lam`` is Garrett's
+multiplier lambda = Te - EI kappa^2 [N]. The slot of ``x`` is component 0 in both
+dimensions; ``z`` is component ``nd - 1``.
+"""
+
+# --- props vector -----------------------------------------------------------
+EI = 0  # bending stiffness [N m2]
+EA = 1  # axial stiffness [N]
+W_DRY = 2  # weight of steel + coating per length, in air [N/m]
+W_CONT = 3  # weight of contents per length where x < contents level [N/m]
+H_CONT = 4  # contents free-surface height [m]
+W_BUOY = 5  # buoyancy per length where x < water depth [N/m]
+DEPTH = 6  # water depth [m]
+RHOW_G = 7  # water density * g [N/m3]
+RHOI_G = 8  # contents density * g [N/m3]
+AREA_I = 9  # inner steel area pi Di^2/4 [m2]
+AREA_E = 10  # outer steel area pi Do^2/4 [m2]
+DRAG = 11  # 0.5 * rho_w * C_D * D_h [kg/m2]
+CUR_SPEED = 12  # surface current speed [m/s]
+CUR_EY = 13  # current direction, y component [-]
+CUR_EZ = 14  # current direction, z component [-]
+CUR_PROFILE = 15  # 0 uniform, 1 linear, 2 power, 3 table
+CUR_EXP = 16  # power-law exponent [-]
+SEABED_K = 17  # elastic seabed stiffness per length [N/m2]; 0 = rigid
+EXTENSIBLE = 18  # 1.0 extensible, 0.0 inextensible
+TORQUE = 19  # torque H [N m] at the top (constant when m . t = 0)
+MOM_X = 20  # distributed moment, global components [N m/m]
+MOM_Y = 21
+MOM_Z = 22
+GRAVITY_FACTOR = 23  # load factor on the effective weight [-]
+CURRENT_FACTOR = 24  # load factor on the current drag [-]
+N_PROPS = 25
+
+# --- current profiles ---------------------------------------------------------
+PROFILE_UNIFORM = 0
+PROFILE_LINEAR = 1
+PROFILE_POWER = 2
+PROFILE_TABLE = 3
+
+# --- kernel status codes (Python turns them into SolveError messages) ------
+OK = 0
+MAX_ITERATIONS = 1
+SINGULAR = 2
+NOT_FINITE = 3
+LINE_SEARCH = 4
+ACTIVE_SET_CYCLE = 5
+
+STATUS_TEXT = {
+    OK: "converged",
+    MAX_ITERATIONS: "maximum number of Newton iterations reached",
+    SINGULAR: "singular tangent matrix (a mechanism: is the pipe held?)",
+    NOT_FINITE: "non-finite residual (the iteration diverged)",
+    LINE_SEARCH: "line search could not reduce the residual",
+    ACTIVE_SET_CYCLE: "contact active set did not settle",
+}
+
+
+def dofs_per_node(nd):
+    """Unknowns per node for ``nd`` = 2 or 3 space dimensions."""
+    return 2 * nd + 1

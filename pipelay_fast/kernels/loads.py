@@ -1,0 +1,150 @@
+"""Distributed loads at a point of the pipe: effective weight, pressures, current.
+
+All functions take the height ``x`` above the seabed [m] and the ``props``
+vector of :mod:`pipelay_fast.kernels.layout`.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .._jit import jit
+from . import layout as L
+
+
+@jit
+def effective_weight(props, x):
+    """Effective weight per unstretched length [N/m] at height ``x``.
+
+    Submerged weight below the water surface, dry weight above it, contents
+    counted below their free surface. Its jump at the surface is not
+    differentiated (the tangent omits it; Newton still converges).
+    """
+    w = props[L.W_DRY]
+    if x < props[L.H_CONT]:
+        w += props[L.W_CONT]
+    if x < props[L.DEPTH]:
+        w -= props[L.W_BUOY]
+    return w
+
+
+@jit
+def wall_minus_effective(props, x):
+    """Tw - Te = pi Ai - pe Ae [N] at height ``x``, and its derivative d/dx [N/m]."""
+    val = 0.0
+    dval = 0.0
+    hi = props[L.H_CONT]
+    if x < hi:
+        val += props[L.RHOI_G] * (hi - x) * props[L.AREA_I]
+        dval -= props[L.RHOI_G] * props[L.AREA_I]
+    d = props[L.DEPTH]
+    if x < d:
+        val -= props[L.RHOW_G] * (d - x) * props[L.AREA_E]
+        dval += props[L.RHOW_G] * props[L.AREA_E]
+    return val, dval
+
+
+@jit
+def current_speed(props, table, x):
+    """Current speed [m/s] at height ``x`` and its derivative d/dx [1/s].
+
+    Zero above the water surface and below the seabed. For the power law the
+    derivative is infinite at the seabed; there the secant slope over the lowest
+    0.1 % of the depth is used instead (it only affects the Newton rate).
+    """
+    d = props[L.DEPTH]
+    v0 = props[L.CUR_SPEED]
+    if v0 == 0.0 or x > d or x < 0.0:
+        return 0.0, 0.0
+    kind = int(props[L.CUR_PROFILE])
+    if kind == L.PROFILE_UNIFORM:
+        return v0, 0.0
+    if kind == L.PROFILE_LINEAR:
+        return v0 * x / d, v0 / d
+    if kind == L.PROFILE_POWER:
+        p = props[L.CUR_EXP]
+        xi = x / d
+        v = v0 * xi**p
+        xs = 1e-3
+        if xi > xs:
+            dv = p * v / x
+        else:
+            dv = v0 * xs**p / (xs * d)
+        return v, dv
+    # table: piecewise linear in x, constant beyond its ends
+    n = table.shape[0]
+    if x <= table[0, 0]:
+        return table[0, 1], 0.0
+    for k in range(n - 1):
+        x0 = table[k, 0]
+        x1 = table[k + 1, 0]
+        if x <= x1:
+            slope = (table[k + 1, 1] - table[k, 1]) / (x1 - x0)
+            return table[k, 1] + slope * (x - x0), slope
+    return table[n - 1, 1], 0.0
+
+
+@jit
+def drag_force(props, table, nd, x, rp, q, dq_drp, dq_dx):
+    """Morison drag per unstretched length on the current normal to the pipe.
+
+    q = C |r'| |Vn| Vn with C = 1/2 rho_w C_D D_h, Vn = V - (V.t) t, t = r'/|r'|.
+    Writes q [N/m] and its derivatives dq/dr' [N/m] (nd x nd) and dq/dx [N/m2];
+    returns False (and writes nothing) when there is no drag at this point.
+    """
+    cf = props[L.CURRENT_FACTOR]
+    if cf == 0.0:
+        return False
+    u, du = current_speed(props, table, x)
+    if u == 0.0:
+        return False
+    c = props[L.DRAG] * cf
+    # current direction in the nd-dimensional frame (x component is 0)
+    e = (0.0, props[L.CUR_EY], props[L.CUR_EZ])
+    a = 0.0
+    for i in range(nd):
+        a += rp[i] * rp[i]
+    a = math.sqrt(a)
+    t = rp / a
+    v = q.copy()
+    dv = q.copy()
+    for i in range(nd):
+        if nd == 3:
+            comp = e[i]
+        else:
+            comp = e[2 * i]  # 2D slots (x, z) take (e_x, e_z)
+        v[i] = u * comp
+        dv[i] = du * comp
+    vt = 0.0
+    dvt = 0.0
+    for i in range(nd):
+        vt += v[i] * t[i]
+        dvt += dv[i] * t[i]
+    vn = v - vt * t
+    dvn = dv - dvt * t
+    m = 0.0
+    for i in range(nd):
+        m += vn[i] * vn[i]
+    m = math.sqrt(m)
+    if m == 0.0:
+        return False
+    for i in range(nd):
+        q[i] = c * a * m * vn[i]
+    # df/dVn = m I + vn vn^T / m ;  dVn/dt = -t v^T - (v.t) I ;  dt/dr' = (I - t t^T)/a
+    for i in range(nd):
+        for j in range(nd):
+            acc = 0.0
+            for k in range(nd):
+                dfdvn = m * (1.0 if i == k else 0.0) + vn[i] * vn[k] / m
+                for l in range(nd):
+                    dvndt = -t[k] * v[l] - vt * (1.0 if k == l else 0.0)
+                    pj = (1.0 if l == j else 0.0) - t[l] * t[j]
+                    acc += dfdvn * dvndt * pj
+            # d(a)/dr'_j = t_j contributes f t^T
+            dq_drp[i, j] = c * (m * vn[i] * t[j] + acc)
+        acc = 0.0
+        for k in range(nd):
+            dfdvn = m * (1.0 if i == k else 0.0) + vn[i] * vn[k] / m
+            acc += dfdvn * dvn[k]
+        dq_dx[i] = c * a * acc
+    return True

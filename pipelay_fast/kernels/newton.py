@@ -1,0 +1,455 @@
+"""Newton iteration with contact by condensation (the paper's Sec. 3.2).
+
+One kernel runs the whole iteration for one load level, so a solve crosses the
+Python/numba boundary once per load step:
+
+1. assemble the residual G and tangent K in band storage (global frame);
+2. add nodal loads, express rotated nodes in their local frames;
+3. condensation: every constrained unknown (fixed ends, seabed contacts, ...)
+   gets its increment prescribed, ``K_ff du_f = -G_f - K_fc du_c``; the free
+   unknowns are solved from the band system and the reactions recovered from
+   the constrained rows, ``R_c = G_c + K_cf du_f + K_cc du_c``;
+4. a backtracking line search on the weighted residual norm;
+5. active-set update: nodes that penetrate the seabed are added, nodes whose
+   reaction pulls are released; converged when the residual is below the
+   tolerance, the constraints hold and the active set no longer changes.
+
+When the top tension is given, the bottom tension T_b is one more unknown with
+the equation Te(top) = R_top . t_top - T_top = 0 (the reaction at the pinned top
+is the internal force there). Its row and column are local to the two ends, so
+the bordered system is solved with the band factors and one extra solve.
+
+The kernel never raises: it writes a status code (:mod:`.layout`) into ``info``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import jit
+from . import layout as L
+from .assembly import assemble, distribute_torque, rotate_node
+from .banded import band_factor, band_solve
+
+# info slots
+I_STATUS = 0
+I_ITER = 1
+I_RES = 2  # weighted residual (max norm) at exit
+I_DELTA = 3  # largest constraint violation at exit [m]
+I_CUTS = 4  # line-search halvings
+I_CHANGES = 5  # active-set changes
+I_TOP_RES = 6  # relative top-tension residual
+N_INFO = 7
+
+
+@jit
+def _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
+            slide_dof, tb, phi_r, phi_rp, want_tangent):
+    """Residual (+ tangent) with nodal loads, in the nodal frames."""
+    if props[L.MOM_X] != 0.0 or props[L.MOM_Y] != 0.0 or props[L.MOM_Z] != 0.0:
+        distribute_torque(nd, s_el, u, props, torques)
+    assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent)
+    n = g.shape[0]
+    for i in range(n):
+        g[i] += g_off[i] - f_node[i]
+    if slide_dof >= 0:
+        g[slide_dof] += tb[0]
+
+
+@jit
+def _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, want_tangent):
+    for node in range(phi_r.shape[0]):
+        if phi_r[node] != 0.0 or phi_rp[node] != 0.0:
+            rotate_node(nd, ab, kl, ku, g, node, phi_r[node], phi_rp[node], want_tangent)
+
+
+@jit
+def _top_te(nd, g, u, top_node):
+    """Effective tension at the top: the top reaction (= G there) along the tangent."""
+    ndn = 2 * nd + 1
+    base = top_node * ndn
+    a = 0.0
+    te = 0.0
+    for i in range(nd):
+        a += u[base + nd + i] ** 2
+        te += g[base + i] * u[base + nd + i]
+    return te / math.sqrt(a)
+
+
+@jit
+def _top_tension_row(nd, ab, kl, ku, g, u, top_node, d):
+    """Te at the top = G_top . t and its derivative row ``d`` (global frame)."""
+    ndn = 2 * nd + 1
+    kv = kl + ku
+    n = g.shape[0]
+    base = top_node * ndn
+    a = 0.0
+    for i in range(nd):
+        a += u[base + nd + i] ** 2
+    a = math.sqrt(a)
+    te = 0.0
+    for i in range(nd):
+        te += g[base + i] * u[base + nd + i] / a
+    d[:] = 0.0
+    for i in range(nd):
+        row = base + i
+        ti = u[base + nd + i] / a
+        for j in range(max(0, row - kl), min(n - 1, row + ku) + 1):
+            d[j] += ti * ab[kv + row - j, j]
+    # d(t)/d(r') = (I - t t^T) / a
+    for j in range(nd):
+        tj = u[base + nd + j] / a
+        acc = 0.0
+        for i in range(nd):
+            ti = u[base + nd + i] / a
+            acc += g[base + i] * ((1.0 if i == j else 0.0) - ti * tj) / a
+        d[base + nd + j] += acc
+    return te
+
+
+@jit
+def _local_value(nd, u, node, slot, phi_r, phi_rp):
+    """Unknown ``slot`` of ``node`` in the node's rotated frame."""
+    ndn = 2 * nd + 1
+    base = node * ndn
+    if slot == 2 * nd:
+        return u[base + slot]
+    blk = 0 if slot < nd else 1
+    p = base + blk * nd
+    q = p + nd - 1
+    phi = phi_r[node] if blk == 0 else phi_rp[node]
+    k = slot - blk * nd
+    if phi == 0.0 or (k != 0 and k != nd - 1):
+        return u[base + slot]
+    c = math.cos(phi)
+    s = math.sin(phi)
+    if k == 0:
+        return c * u[p] - s * u[q]
+    return s * u[p] + c * u[q]
+
+
+@jit
+def _to_global(nd, du_local, phi_r, phi_rp):
+    """Rotate an increment from the nodal frames back to the global frame."""
+    ndn = 2 * nd + 1
+    for node in range(phi_r.shape[0]):
+        for blk in range(2):
+            phi = phi_r[node] if blk == 0 else phi_rp[node]
+            if phi == 0.0:
+                continue
+            p = node * ndn + blk * nd
+            q = p + nd - 1
+            c = math.cos(phi)
+            s = math.sin(phi)
+            a = du_local[p]
+            b = du_local[q]
+            # inverse of R = [[c, -s], [s, c]] is R^T
+            du_local[p] = c * a + s * b
+            du_local[q] = -s * a + c * b
+
+
+@jit
+def _weighted_max(nd, g, cmask, fref, href):
+    ndn = 2 * nd + 1
+    worst = 0.0
+    ssq = 0.0
+    for i in range(g.shape[0]):
+        if cmask[i]:
+            continue
+        slot = i % ndn
+        if slot < nd:
+            v = g[i] / fref
+        elif slot < 2 * nd:
+            v = g[i] / (fref * href)
+        else:
+            v = g[i] / href
+        v = abs(v)
+        ssq += v * v
+        if v > worst:
+            worst = v
+    return worst, ssq
+
+
+@jit
+def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
+           f_node, g_off, slide_dof, tb, top_node, top_target, tol, fref, href, maxit,
+           react, info):
+    """Solve G(u) = reactions for one load level; see the module docstring.
+
+    Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
+    ----------
+    s_el : (nel,) element lengths [m]
+    u : (ndof,) nodal unknowns, global frame; updated in place
+    fix_mask : (ndof,) int8, 1 where the unknown (in the nodal frame) is prescribed
+    fix_val : (ndof,) prescribed values in the nodal frame
+    phi_r, phi_rp : (nn,) rotation angles of the nodal frames of r and r' [rad]
+    bed : (nn,) int8, 1 where the node may touch the seabed
+    bed_active : (nn,) int8, current seabed contacts; updated in place
+    f_node : (ndof,) nodal external loads [N]
+    g_off : (ndof,) residual offset (load-path homotopy)
+    slide_dof : dof of the sliding lower end (-1: none); T_b = tb[0] pulls it along -z
+    tb : (1,) bottom tension [N], an unknown when ``top_target > 0``
+    top_node, top_target : node and effective tension [N] at the top (0: not given)
+    tol, fref [N], href [m] : tolerance and reference force and length
+    react : (ndof,) output, reactions on the pipe in the nodal frames [N, N m]
+    info : (N_INFO,) output, see ``I_*``
+    """
+    ndn = 2 * nd + 1
+    nn = phi_r.shape[0]
+    n = u.shape[0]
+    kl = 2 * ndn - 1
+    ku = kl
+    ab = np.zeros((2 * kl + ku + 1, n))
+    ab0 = np.zeros((2 * kl + ku + 1, n))
+    g = np.zeros(n)
+    g_trial = np.zeros(n)
+    ipiv = np.zeros(n, dtype=np.int64)
+    du = np.zeros(n)
+    du_free = np.zeros(n)
+    y2 = np.zeros(n)
+    d = np.zeros(n)
+    delta = np.zeros(n)
+    cmask = np.zeros(n, dtype=np.bool_)
+    u_old = np.zeros(n)
+    torques = np.full(s_el.shape[0], props[L.TORQUE])
+    dummy_ab = np.zeros((1, 1))
+    scale = np.empty(ndn)
+    for i in range(ndn):
+        if i < nd:
+            scale[i] = 1.0
+        elif i < 2 * nd:
+            scale[i] = href
+        else:
+            scale[i] = props[L.EI] / (href * href)
+    solve_tb = top_target > 0.0 and slide_dof >= 0
+    kv = kl + ku
+    pen_tol = 1e-7 * href  # penetration that adds a contact [m]
+    pull_tol = 1e-9 * fref  # pull that releases one [N]
+    for k in range(N_INFO):
+        info[k] = 0.0
+    status = L.MAX_ITERATIONS
+    changed = True
+    flips = 0
+    last_direction = 0
+    last_step = np.inf
+    r_max = 0.0
+    changes_total = 0
+    cuts_total = 0
+    it = 0
+    for it in range(1, maxit + 1):
+        # ---- 1-2: system in nodal frames --------------------------------
+        _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
+                slide_dof, tb, phi_r, phi_rp, True)
+        te_top = 0.0
+        if solve_tb:
+            te_top = _top_tension_row(nd, ab, kl, ku, g, u, top_node, d)
+        _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, True)
+        if solve_tb:
+            _rotate_all(nd, dummy_ab, kl, ku, d, phi_r, phi_rp, False)
+        # ---- constrained set and prescribed increments -----------------
+        max_delta = 0.0
+        for i in range(n):
+            cmask[i] = fix_mask[i] != 0
+            delta[i] = 0.0
+        for node in range(nn):
+            base = node * ndn
+            for slot in range(ndn):
+                i = base + slot
+                if fix_mask[i] != 0:
+                    delta[i] = fix_val[i] - _local_value(nd, u, node, slot, phi_r, phi_rp)
+            if bed_active[node] != 0 and fix_mask[base] == 0:
+                cmask[base] = True
+                delta[base] = -_local_value(nd, u, node, 0, phi_r, phi_rp)
+            # a pipe lying on the flat seabed is tangent to it: the slope is held
+            # at every contact node but the last (touchdown), and at a lower end
+            # resting on the seabed next to a contact
+            nxt = node + 1 < nn and bed_active[node + 1] != 0
+            on_bed = bed_active[node] != 0 or (node == 0 and fix_mask[0] != 0)
+            if on_bed and nxt and fix_mask[base + nd] == 0:
+                cmask[base + nd] = True
+                delta[base + nd] = -u[base + nd]
+        for i in range(n):
+            slot = i % ndn
+            lim = href if slot < nd else 1.0
+            if cmask[i] and abs(delta[i]) / lim > max_delta:
+                max_delta = abs(delta[i]) / lim
+        # ---- convergence check at the current point --------------------
+        res_max, res_ssq = _weighted_max(nd, g, cmask, fref, href)
+        top_res = 0.0
+        if solve_tb:
+            top_res = abs(te_top - top_target) / top_target
+        if not (res_max < 1e300):
+            status = L.NOT_FINITE
+            break
+        info[I_RES] = res_max
+        info[I_DELTA] = max_delta
+        info[I_TOP_RES] = top_res
+        # Converged: residual below the tolerance, or the last Newton correction
+        # at round-off level (the residual floor grows like EI |r| eps / h^3, so a
+        # fine mesh far from the origin cannot reach every tolerance).
+        at_roundoff = last_step <= 1e3 * 2.2e-16 * (r_max + href) and res_max <= 1e-4
+        if (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
+                and top_res <= tol and not changed):
+            status = L.OK
+            it -= 1
+            break
+        # ---- 3: scale, condense, factor, solve --------------------------
+        for j in range(n):
+            sj = scale[j % ndn]
+            for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
+                ab[kv + r - j, j] *= scale[r % ndn] * sj
+        ab0[:, :] = ab
+        for i in range(n):
+            du[i] = -g[i] * scale[i % ndn]
+        for j in range(n):
+            if not cmask[j]:
+                continue
+            dj = delta[j] / scale[j % ndn]
+            for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
+                if not cmask[r]:
+                    du[r] -= ab[kv + r - j, j] * dj
+        for j in range(n):
+            if not cmask[j]:
+                continue
+            for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
+                ab[kv + r - j, j] = 0.0
+            for c in range(max(0, j - kl), min(n - 1, j + ku) + 1):
+                ab[kv + j - c, c] = 0.0
+            ab[kv, j] = 1.0
+            du[j] = delta[j] / scale[j % ndn]
+        if band_factor(ab, kl, ku, ipiv) != 0:
+            status = L.SINGULAR
+            break
+        band_solve(ab, kl, ku, ipiv, du)
+        dtb = 0.0
+        if solve_tb:
+            y2[:] = 0.0
+            y2[slide_dof] = scale[slide_dof % ndn]
+            if cmask[slide_dof]:
+                status = L.SINGULAR
+                break
+            band_solve(ab, kl, ku, ipiv, y2)
+            dy1 = 0.0
+            dy2 = 0.0
+            for i in range(n):
+                si = scale[i % ndn]
+                dy1 += d[i] * si * du[i]
+                dy2 += d[i] * si * y2[i]
+            if dy2 == 0.0:
+                status = L.SINGULAR
+                break
+            dtb = (dy1 + te_top - top_target) / dy2
+            for i in range(n):
+                du[i] -= dtb * y2[i]
+        # reactions (linearised) on the constrained rows, physical units
+        for i in range(n):
+            react[i] = 0.0
+        for i in range(n):
+            if not cmask[i]:
+                continue
+            acc = 0.0
+            for j in range(max(0, i - ku), min(n - 1, i + kl) + 1):
+                acc += ab0[kv + i - j, j] * du[j]
+            react[i] = g[i] + acc / scale[i % ndn]
+            if solve_tb and i == slide_dof:
+                react[i] += dtb
+        # ---- 4: line search ---------------------------------------------
+        for i in range(n):
+            du_free[i] = du[i] * scale[i % ndn]
+        _to_global(nd, du_free, phi_r, phi_rp)
+        u_old[:] = u
+        tb_old = tb[0]
+        merit0 = res_ssq + top_res * top_res
+        alpha = 1.0
+        accepted = False
+        for _ls in range(12):
+            for i in range(n):
+                u[i] = u_old[i] + alpha * du_free[i]
+            tb[0] = tb_old + alpha * dtb
+            _system(nd, s_el, u, props, table, torques, dummy_ab, kl, ku, g_trial, f_node,
+                    g_off, slide_dof, tb, phi_r, phi_rp, False)
+            tr = 0.0
+            if solve_tb:
+                tr = (_top_te(nd, g_trial, u, top_node) - top_target) / top_target
+            _rotate_all(nd, dummy_ab, kl, ku, g_trial, phi_r, phi_rp, False)
+            _rm, rs = _weighted_max(nd, g_trial, cmask, fref, href)
+            m1 = rs + tr * tr
+            if m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < (tol * tol) or m1 < 1e-300:
+                accepted = True
+                break
+            if not (m1 < 1e300) and alpha < 1e-3:
+                break
+            alpha *= 0.5
+            cuts_total += 1
+        if not accepted:
+            # take the full step anyway when the merit is flat (active-set change,
+            # constraint correction); a diverging step is caught above
+            for i in range(n):
+                u[i] = u_old[i] + du_free[i]
+            tb[0] = tb_old + dtb
+        last_step = 0.0
+        r_max = 0.0
+        for i in range(n):
+            if i % ndn < nd:
+                v = abs(u[i] - u_old[i])
+                if v > last_step:
+                    last_step = v
+                if abs(u[i]) > r_max:
+                    r_max = abs(u[i])
+        # ---- 5: active set ----------------------------------------------
+        # Seabed contact is one contiguous stretch from the lower end (a flat
+        # rigid seabed under vertical loads cannot hold a pipe that lifts off
+        # and lands again). Contact first extends to the last node that
+        # penetrates; else a pull at the last node releases it, and a pull
+        # further in releases everything from there. The second-last node is
+        # not tested: the slope clamp there shares a couple with the last one. When touchdown falls inside an
+        # element the boundary would flip between its two nodes: after two
+        # reversals it is frozen and the mesh, moved onto touchdown by the
+        # caller, settles it.
+        last = -1
+        for node in range(nn):
+            if bed_active[node] != 0:
+                last = node
+        changed = False
+        direction = 0
+        if flips < 2:
+            deepest = -1
+            for node in range(last + 1, nn):
+                base = node * ndn
+                if bed[node] != 0 and fix_mask[base] == 0 and u[base] < -pen_tol:
+                    deepest = node
+            if deepest >= 0:
+                for node in range(last + 1, deepest + 1):
+                    if bed[node] != 0 and fix_mask[node * ndn] == 0:
+                        bed_active[node] = 1
+                changed = True
+                direction = 1
+            else:
+                start = -1
+                for node in range(last - 1):
+                    if bed_active[node] != 0 and react[node * ndn] < -pull_tol:
+                        start = node
+                        break
+                if start < 0 and last >= 0 and react[last * ndn] < -pull_tol:
+                    start = last
+                if start >= 0:
+                    for node in range(start, last + 1):
+                        bed_active[node] = 0
+                    changed = True
+                    direction = -1
+        if direction != 0:
+            if last_direction != 0 and direction != last_direction:
+                flips += 1
+            last_direction = direction
+        if changed:
+            changes_total += 1
+            if changes_total > 2 * nn:
+                status = L.ACTIVE_SET_CYCLE
+                break
+    info[I_STATUS] = status
+    info[I_ITER] = it
+    info[I_CUTS] = cuts_total
+    info[I_CHANGES] = changes_total
+    return status

@@ -1,0 +1,225 @@
+"""Post-processing: the per-node profile, the summary row and touchdown location.
+
+Column names and units are the contract of DESIGN.md section 4; ``UNITS`` maps
+every column to its unit and is written into the Parquet schema metadata.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from .case import Case
+from .kernels import layout as L
+
+PROFILE_UNITS = {
+    "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
+    "effective_tension": "N", "wall_tension": "N",
+    "moment_x": "N m", "moment_y": "N m", "moment_z": "N m", "moment": "N m",
+    "curvature": "1/m", "torque": "N m", "axial_strain": "-", "von_mises": "Pa",
+    "seabed_reaction": "N", "seabed_reaction_y": "N", "stinger_reaction": "N", "contact": "",
+}
+
+SUMMARY_UNITS = {
+    "case_id": "", "method": "", "dimension": "", "a": "1/m", "water_depth": "m",
+    "current_speed": "m/s", "current_heading_deg": "deg", "status": "", "message": "",
+    "top_tension": "N", "bottom_tension": "N", "tdp_z": "m", "liftoff_z": "m",
+    "liftoff_angle_deg": "deg", "top_angle_deg": "deg", "suspended_length": "m",
+    "max_von_mises": "Pa", "overbend_max_von_mises": "Pa", "sagbend_max_von_mises": "Pa",
+    "overbend_max_moment": "N m", "sagbend_max_moment": "N m", "max_strain": "-",
+    "max_lateral_deflection": "m", "n_elements": "", "n_iterations": "", "solve_seconds": "s",
+}
+
+
+def case_id(case: Case) -> str:
+    """Stable 16-hex-digit id of a case's inputs (the name is not an input)."""
+    tables = case.to_dict()
+    tables.pop("name", None)
+    text = json.dumps(tables, sort_keys=True, separators=(",", ":"), default=float)
+    return hashlib.sha1(text.encode()).hexdigest()[:16]
+
+
+@dataclass
+class Result:
+    """The answer to one case.
+
+    Attributes
+    ----------
+    case : Case
+    summary : dict
+        One row of DESIGN section 4 columns (units in ``SUMMARY_UNITS``).
+    profile : pandas.DataFrame
+        One row per node (units in ``PROFILE_UNITS``).
+    state : object
+        The solved problem (mesh, unknowns, constraints) for warm starts.
+    """
+
+    case: Case
+    summary: dict
+    profile: pd.DataFrame
+    state: object = None
+
+
+def nodal_fields(nd, s, u):
+    """r, r' and r'' at the nodes [m, -, 1/m]; r'' averaged over the two elements."""
+    ndn = 2 * nd + 1
+    nn = s.size
+    r = np.stack([u[i::ndn] for i in range(nd)], axis=1)
+    rp = np.stack([u[nd + i::ndn] for i in range(nd)], axis=1)
+    le = np.diff(s)[:, None]
+    chord = r[1:] - r[:-1]
+    # Hermite r'' at xi = 0 and xi = 1 of each element
+    start = -4.0 / le * rp[:-1] + 6.0 / le**2 * chord - 2.0 / le * rp[1:]
+    end = 2.0 / le * rp[:-1] - 6.0 / le**2 * chord + 4.0 / le * rp[1:]
+    rpp = np.zeros((nn, nd))
+    rpp[:-1] += start
+    rpp[1:] += end
+    rpp[1:-1] *= 0.5
+    return r, rp, rpp
+
+
+def signed_curvature_vector(nd, rp, rpp):
+    """Curvature vector (r' x r'')/|r'|^3 in (x, y, z) [1/m]; 2D embeds y = 0."""
+    if nd == 2:
+        rp3 = np.stack([rp[:, 0], np.zeros(len(rp)), rp[:, 1]], axis=1)
+        rpp3 = np.stack([rpp[:, 0], np.zeros(len(rp)), rpp[:, 1]], axis=1)
+    else:
+        rp3, rpp3 = rp, rpp
+    a = np.linalg.norm(rp3, axis=1)
+    return np.cross(rp3, rpp3) / a[:, None] ** 3, rp3 / a[:, None]
+
+
+def touchdown_estimate(s, moment, k):
+    """Arc length of touchdown [m] from the moment just above the last contact node.
+
+    The bending moment vanishes at touchdown on a rigid seabed and grows
+    smoothly into the span; a quadratic through the nodal moments at nodes
+    k+1, k+2, k+3 is extrapolated to its zero nearest node k (searched from
+    node k-4 to node k+1). Falls back to the
+    contact node itself when the span is too short or the fit has no root there.
+    """
+    if k + 3 >= s.size:
+        return float(s[k])
+    ss = s[k + 1:k + 4]
+    mm = moment[k + 1:k + 4]
+    coef = np.polyfit(ss - s[k], mm, 2)
+    roots = np.roots(coef)
+    roots = roots[np.isreal(roots)].real + s[k]
+    lo, hi = s[max(k - 4, 0)], s[k + 1]
+    cand = roots[(roots >= lo) & (roots <= hi)]
+    if cand.size == 0:
+        slope = (mm[1] - mm[0]) / (ss[1] - ss[0])
+        if slope != 0.0:
+            root = ss[0] - mm[0] / slope
+            if lo <= root <= hi:
+                return float(root)
+        return float(s[k])
+    return float(cand[np.argmin(np.abs(cand - s[k]))])
+
+
+def interior_peak(values) -> float:
+    """Largest interior local maximum (the sagbend peak), ignoring a peak that sits
+    at an end of the span (a clamped top's moment); the plain maximum if none."""
+    v = np.asarray(values, dtype=float)
+    if v.size < 3:
+        return float(v.max())
+    inner = (v[1:-1] >= v[:-2]) & (v[1:-1] >= v[2:])
+    return float(v[1:-1][inner].max()) if inner.any() else float(v.max())
+
+
+def build_profile(case: Case, pb, react) -> pd.DataFrame:
+    """Per-node table of DESIGN section 4 from a solved problem."""
+    nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
+    pipe = case.pipe
+    ei = pipe.bending_stiffness
+    r, rp, rpp = nodal_fields(nd, s, u)
+    kvec, t3 = signed_curvature_vector(nd, rp, rpp)
+    torque = float(pb.props[L.TORQUE]) if nd == 3 else 0.0
+    mom = ei * kvec + torque * t3
+    curvature = np.linalg.norm(kvec, axis=1)
+    x = r[:, 0]
+    y = r[:, 1] if nd == 3 else np.zeros(s.size)
+    z = r[:, nd - 1]
+    horiz = np.hypot(t3[:, 1], t3[:, 2])
+    angle = np.degrees(np.arctan2(t3[:, 0], horiz))
+    lam = u[2 * nd::ndn]
+    te = lam + ei * curvature**2
+    tw = np.asarray(case.wall_tension(te, x))
+    strain = tw / pipe.axial_stiffness
+    pe = np.asarray(case.external_pressure(x))
+    pi_ = np.asarray(case.internal_pressure(x))
+    sig_h = (pi_ * pipe.inner_diameter - pe * pipe.outer_diameter) / (2.0 * pipe.wall_thickness)
+    m_abs = ei * curvature
+    bend = m_abs * pipe.outer_diameter / (2.0 * pipe.second_moment)
+    tau = torque * pipe.outer_diameter / (2.0 * pipe.polar_moment)
+    vm = np.zeros(s.size)
+    for sign in (1.0, -1.0):
+        sa = tw / pipe.steel_area + sign * bend
+        vm = np.maximum(vm, np.sqrt(sa * sa + sig_h * sig_h - sa * sig_h + 3.0 * tau * tau))
+    seabed = np.zeros(s.size)
+    contact = np.full(s.size, "free", dtype=object)
+    act = pb.bed_active.astype(bool)
+    seabed[act] = react[0::ndn][act]
+    contact[act] = "seabed"
+    if pb.fix_mask[0]:
+        seabed[0] = react[0]
+        contact[0] = "seabed"
+    seabed_y = np.zeros(s.size)
+    if nd == 3:
+        seabed_y[act] = react[1::ndn][act]
+    contact[-1] = "fixed"
+    return pd.DataFrame({
+        "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,
+        "effective_tension": te, "wall_tension": tw,
+        "moment_x": mom[:, 0], "moment_y": mom[:, 1], "moment_z": mom[:, 2], "moment": m_abs,
+        "curvature": curvature, "torque": np.full(s.size, torque), "axial_strain": strain,
+        "von_mises": vm, "seabed_reaction": seabed, "seabed_reaction_y": seabed_y,
+        "stinger_reaction": np.zeros(s.size), "contact": contact.astype(str),
+    })
+
+
+def build_summary(case: Case, pb, profile: pd.DataFrame, stats: dict, s_tdp: float) -> dict:
+    """The summary row of one solved case."""
+    cur = case.environment.current
+    s = profile["s"].to_numpy()
+    z_tdp = float(np.interp(s_tdp, s, profile["z"].to_numpy()))
+    span = profile["s"] >= s_tdp
+    pipe = case.pipe
+    fibre = profile["axial_strain"].abs() + profile["curvature"] * pipe.outer_diameter / 2.0
+    stinger = case.lay.stinger
+    nan = math.nan
+    return {
+        "case_id": case_id(case),
+        "method": case.lay.method,
+        "dimension": f"{pb.nd}d",
+        "a": stinger.a if stinger is not None else nan,
+        "water_depth": case.environment.water_depth,
+        "current_speed": cur.speed,
+        "current_heading_deg": cur.heading,
+        "status": "ok",
+        "message": "",
+        "top_tension": float(profile["effective_tension"].iloc[-1]) if pb.top_target == 0.0
+        else float(pb.top_target),
+        "bottom_tension": float(pb.tb[0]) if pb.slide_dof >= 0
+        else float(profile["effective_tension"].iloc[0]),
+        "tdp_z": z_tdp,
+        "liftoff_z": nan,
+        "liftoff_angle_deg": nan,
+        "top_angle_deg": float(profile["angle_deg"].iloc[-1]),
+        "suspended_length": float(s[-1] - s_tdp),
+        "max_von_mises": float(profile["von_mises"].max()),
+        "overbend_max_von_mises": nan,
+        "sagbend_max_von_mises": interior_peak(profile.loc[span, "von_mises"].to_numpy()),
+        "overbend_max_moment": nan,
+        "sagbend_max_moment": interior_peak(profile.loc[span, "moment"].to_numpy()),
+        "max_strain": float(fibre.max()),
+        "max_lateral_deflection": float(profile["y"].abs().max()),
+        "n_elements": int(s.size - 1),
+        "n_iterations": int(stats["iterations"]),
+        "solve_seconds": float(stats["seconds"]),
+    }

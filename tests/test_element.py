@@ -1,0 +1,113 @@
+"""The element kernel: tangent = finite difference of the residual; 2D = 3D."""
+
+import numpy as np
+import pytest
+
+from pipelay_fast.kernels import layout as L
+from pipelay_fast.kernels.element import element_force
+
+
+def make_props(drag=0.0, torque_free=True, extensible=True, bed_k=0.0):
+    p = np.zeros(L.N_PROPS)
+    p[L.EI] = 2.6e8
+    p[L.EA] = 5.8e9
+    p[L.W_DRY] = 9.0e3
+    p[L.W_CONT] = 1.5e3
+    p[L.H_CONT] = 40.0
+    p[L.W_BUOY] = 4.0e3
+    p[L.DEPTH] = 67.0
+    p[L.RHOW_G] = 1025 * 9.81
+    p[L.RHOI_G] = 900 * 9.81
+    p[L.AREA_I] = np.pi * 0.58**2 / 4
+    p[L.AREA_E] = np.pi * 0.61**2 / 4
+    p[L.DRAG] = drag
+    p[L.CUR_SPEED] = 1.0
+    p[L.CUR_EY] = np.sin(0.7)
+    p[L.CUR_EZ] = np.cos(0.7)
+    p[L.CUR_PROFILE] = L.PROFILE_POWER
+    p[L.CUR_EXP] = 1 / 7
+    p[L.SEABED_K] = bed_k
+    p[L.EXTENSIBLE] = 1.0 if extensible else 0.0
+    if not torque_free:
+        p[L.MOM_X], p[L.MOM_Y], p[L.MOM_Z] = 30.0, -20.0, 10.0
+    p[L.GRAVITY_FACTOR] = 1.0
+    p[L.CURRENT_FACTOR] = 1.0
+    return p
+
+
+def random_state(nd, rng, x0=20.0):
+    """A bent, slightly stretched element state."""
+    ndn = 2 * nd + 1
+    ue = np.zeros(2 * ndn)
+    t_a = rng.normal(size=nd)
+    t_a /= np.linalg.norm(t_a)
+    t_b = t_a + 0.3 * rng.normal(size=nd)
+    t_b /= np.linalg.norm(t_b)
+    ue[0:nd] = rng.normal(size=nd) + np.r_[x0, np.zeros(nd - 1)]
+    ue[nd:2 * nd] = t_a * 1.001
+    ue[ndn:ndn + nd] = ue[0:nd] + 1.7 * (t_a + t_b) / 2
+    ue[ndn + nd:ndn + 2 * nd] = t_b * 0.999
+    ue[2 * nd] = 3e5
+    ue[ndn + 2 * nd] = 2.5e5
+    return ue
+
+
+def fd_tangent(nd, le, ue, props, table, torque):
+    ne = ue.size
+    fe = np.zeros(ne)
+    ke = np.zeros((ne, ne))
+    kfd = np.zeros((ne, ne))
+    for j in range(ne):
+        h = 1e-6 * max(1.0, abs(ue[j])) if j % (2 * nd + 1) != 2 * nd else 1e-2
+        up = ue.copy()
+        up[j] += h
+        element_force(nd, le, up, props, table, torque, fe, ke, False)
+        fp = fe.copy()
+        up[j] -= 2 * h
+        element_force(nd, le, up, props, table, torque, fe, ke, False)
+        kfd[:, j] = (fp - fe) / (2 * h)
+    element_force(nd, le, ue, props, table, torque, fe, ke, True)
+    return ke, kfd
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {},
+        {"extensible": False},
+        {"drag": 0.5 * 1025 * 1.0 * 0.71},
+        {"torque_free": False},
+        {"bed_k": 1e5},
+    ],
+)
+def test_tangent_matches_central_difference(nd, kw):
+    rng = np.random.default_rng(3)
+    props = make_props(**kw)
+    x0 = -0.05 if kw.get("bed_k") else 20.0
+    ue = random_state(nd, rng, x0=x0)
+    torque = 0.0 if kw.get("torque_free", True) else 4.0e4
+    ke, kfd = fd_tangent(nd, 1.7, ue, props, np.zeros((0, 2)), torque)
+    scale = np.abs(kfd).max(axis=1, keepdims=True) + 1e-30
+    assert np.max(np.abs(ke - kfd) / scale) < 2e-6
+
+
+def test_planar_state_gives_same_forces_in_2d_and_3d():
+    rng = np.random.default_rng(5)
+    props = make_props(drag=300.0)
+    props[L.CUR_EY], props[L.CUR_EZ] = 0.0, 1.0  # current along z: planar
+    ue2 = random_state(2, rng)
+    ue3 = np.zeros(14)
+    for node in range(2):
+        a2, a3 = 5 * node, 7 * node
+        ue3[a3 + 0], ue3[a3 + 2] = ue2[a2 + 0], ue2[a2 + 1]
+        ue3[a3 + 3], ue3[a3 + 5] = ue2[a2 + 2], ue2[a2 + 3]
+        ue3[a3 + 6] = ue2[a2 + 4]
+    f2, k2 = np.zeros(10), np.zeros((10, 10))
+    f3, k3 = np.zeros(14), np.zeros((14, 14))
+    element_force(2, 1.3, ue2, props, np.zeros((0, 2)), 0.0, f2, k2, True)
+    element_force(3, 1.3, ue3, props, np.zeros((0, 2)), 0.0, f3, k3, True)
+    keep = [0, 2, 3, 5, 6, 7, 9, 10, 12, 13]
+    np.testing.assert_allclose(f3[keep], f2, rtol=1e-13, atol=1e-9)
+    np.testing.assert_allclose(k3[np.ix_(keep, keep)], k2, rtol=1e-13, atol=1e-9)
+    assert np.all(f3[[1, 4, 8, 11]] == 0.0)
