@@ -149,7 +149,12 @@ def build_profile(case: Case, pb, react) -> pd.DataFrame:
     angle = np.degrees(np.arctan2(t3[:, 0], horiz))
     lam = u[2 * nd::ndn]
     te = lam + ei * curvature**2
-    tw = np.asarray(case.wall_tension(te, x))
+    # at the held top the reaction is the internal force: Te = R . t there is
+    # exact, while lam + EI kappa^2 carries the O(h) error of the lam field at
+    # an end
+    top = (s.size - 1) * ndn
+    te[-1] = float(react[top:top + nd] @ (rp[-1] / np.linalg.norm(rp[-1])))
+    tw = np.asarray(case.wall_tension(te, x), dtype=float)
     strain = tw / pipe.axial_stiffness
     pe = np.asarray(case.external_pressure(x))
     pi_ = np.asarray(case.internal_pressure(x))
@@ -203,8 +208,7 @@ def build_summary(case: Case, pb, profile: pd.DataFrame, stats: dict, s_tdp: flo
         "current_heading_deg": cur.heading,
         "status": "ok",
         "message": "",
-        "top_tension": float(profile["effective_tension"].iloc[-1]) if pb.top_target == 0.0
-        else float(pb.top_target),
+        "top_tension": float(profile["effective_tension"].iloc[-1]),
         "bottom_tension": float(pb.tb[0]) if pb.slide_dof >= 0
         else float(profile["effective_tension"].iloc[0]),
         "tdp_z": z_tdp,

@@ -213,7 +213,7 @@ def _problem(case: Case, nd, s, u, tb, s_contact, fref, stats) -> Problem:
     bed = np.ones(nn, dtype=np.int8)
     bed[top] = 0
     x = u[0::ndn]
-    bed_active = ((s < s_contact - 1e-9) & (s > 0.0) & (x <= 1e-6)).astype(np.int8)
+    bed_active = ((s <= s_contact) & (s > 0.0) & (x <= 1e-6)).astype(np.int8)
     props, table = build_props(case)
     return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
                    np.zeros(nn * ndn), slide_dof, np.array([float(tb)]), top, top_target, fref,
@@ -365,7 +365,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float) -> Problem:
             u[1::ndn][first] = pb.u[1]
             u[nd + 1::ndn][first] = 0.0
     stats = dict(pb.stats, focus=focus)
-    return _problem(case, nd, s, u, pb.tb[0], focus + 1e-9, pb.fref, stats)
+    return _problem(case, nd, s, u, pb.tb[0], focus + 1e-9 * pb.stats["h_min"], pb.fref, stats)
 
 
 def solve(case: Case) -> Result:

@@ -232,6 +232,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     status = L.MAX_ITERATIONS
     changed = True
     flips = 0
+    run = 1
     last_direction = 0
     last_step = np.inf
     r_max = 0.0
@@ -404,41 +405,46 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # and lands again). Contact first extends to the last node that
         # penetrates; else a pull at the last node releases it, and a pull
         # further in releases everything from there. The second-last node is
-        # not tested: the slope clamp there shares a couple with the last one. When touchdown falls inside an
-        # element the boundary would flip between its two nodes: after two
-        # reversals it is frozen and the mesh, moved onto touchdown by the
-        # caller, settles it.
+        # not tested: the slope clamp there shares a couple with the last one.
+        # When touchdown falls inside an element the boundary flips between
+        # its two nodes; after two reversals only releases are made, so the
+        # iteration ends with every reaction pushing and at most a
+        # discretisation-sized penetration at the next node, which the caller
+        # removes by moving a node onto touchdown.
         last = -1
         for node in range(nn):
             if bed_active[node] != 0:
                 last = node
         changed = False
         direction = 0
+        deepest = -1
         if flips < 2:
-            deepest = -1
             for node in range(last + 1, nn):
                 base = node * ndn
                 if bed[node] != 0 and fix_mask[base] == 0 and u[base] < -pen_tol:
                     deepest = node
-            if deepest >= 0:
-                for node in range(last + 1, deepest + 1):
-                    if bed[node] != 0 and fix_mask[node * ndn] == 0:
-                        bed_active[node] = 1
+        if deepest >= 0:
+            for node in range(last + 1, deepest + 1):
+                if bed[node] != 0 and fix_mask[node * ndn] == 0:
+                    bed_active[node] = 1
+            changed = True
+            direction = 1
+        else:
+            start = -1
+            for node in range(last - 1):
+                if bed_active[node] != 0 and react[node * ndn] < -pull_tol:
+                    start = node
+                    break
+            if start < 0 and last >= 0 and react[last * ndn] < -pull_tol:
+                # consecutive releases double in size: touchdown may have to
+                # recede by many elements from the first guess
+                run = 1 if last_direction != -1 else 2 * run
+                start = max(0, last - run + 1)
+            if start >= 0:
+                for node in range(start, last + 1):
+                    bed_active[node] = 0
                 changed = True
-                direction = 1
-            else:
-                start = -1
-                for node in range(last - 1):
-                    if bed_active[node] != 0 and react[node * ndn] < -pull_tol:
-                        start = node
-                        break
-                if start < 0 and last >= 0 and react[last * ndn] < -pull_tol:
-                    start = last
-                if start >= 0:
-                    for node in range(start, last + 1):
-                        bed_active[node] = 0
-                    changed = True
-                    direction = -1
+                direction = -1
         if direction != 0:
             if last_direction != 0 and direction != last_direction:
                 flips += 1
