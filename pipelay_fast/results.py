@@ -22,7 +22,8 @@ PROFILE_UNITS = {
     "effective_tension": "N", "wall_tension": "N",
     "moment_x": "N m", "moment_y": "N m", "moment_z": "N m", "moment": "N m",
     "curvature": "1/m", "torque": "N m", "axial_strain": "-", "von_mises": "Pa",
-    "seabed_reaction": "N", "seabed_reaction_y": "N", "stinger_reaction": "N", "contact": "",
+    "seabed_reaction": "N", "seabed_reaction_y": "N", "stinger_reaction": "N",
+    "reaction_x": "N", "reaction_y": "N", "reaction_z": "N", "contact": "",
 }
 
 SUMMARY_UNITS = {
@@ -132,6 +133,24 @@ def interior_peak(values) -> float:
     return float(v[1:-1][inner].max()) if inner.any() else float(v.max())
 
 
+def constraint_forces(nd, pb, react):
+    """Force of every constraint on each node in (x, y, z) [N] (nodal frames undone).
+
+    Zero on free unknowns; at the top it is the load the vessel carries. Applied
+    loads (the bottom tension of a sliding lower end) are not reactions.
+    """
+    ndn = 2 * nd + 1
+    f = np.stack([react[i::ndn] for i in range(nd)], axis=1)
+    c, sn = np.cos(pb.phi_r), np.sin(pb.phi_r)
+    a, b = f[:, 0].copy(), f[:, nd - 1].copy()
+    # the nodal frame is (x, z) -> (c x - s z, s x + c z); invert it
+    f[:, 0] = c * a + sn * b
+    f[:, nd - 1] = -sn * a + c * b
+    if nd == 2:
+        f = np.stack([f[:, 0], np.zeros(len(f)), f[:, 1]], axis=1)
+    return f
+
+
 def build_profile(case: Case, pb, react) -> pd.DataFrame:
     """Per-node table of DESIGN section 4 from a solved problem."""
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
@@ -178,13 +197,16 @@ def build_profile(case: Case, pb, react) -> pd.DataFrame:
     if nd == 3:
         seabed_y[act] = react[1::ndn][act]
     contact[-1] = "fixed"
+    reaction = constraint_forces(nd, pb, react)
     return pd.DataFrame({
         "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,
         "effective_tension": te, "wall_tension": tw,
         "moment_x": mom[:, 0], "moment_y": mom[:, 1], "moment_z": mom[:, 2], "moment": m_abs,
         "curvature": curvature, "torque": np.full(s.size, torque), "axial_strain": strain,
         "von_mises": vm, "seabed_reaction": seabed, "seabed_reaction_y": seabed_y,
-        "stinger_reaction": np.zeros(s.size), "contact": contact.astype(str),
+        "stinger_reaction": np.zeros(s.size),
+        "reaction_x": reaction[:, 0], "reaction_y": reaction[:, 1], "reaction_z": reaction[:, 2],
+        "contact": contact.astype(str),
     })
 
 

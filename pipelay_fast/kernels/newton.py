@@ -264,11 +264,11 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 cmask[base] = True
                 delta[base] = -_local_value(nd, u, node, 0, phi_r, phi_rp)
             # a pipe lying on the flat seabed is tangent to it: the slope is held
-            # at every contact node but the last (touchdown), and at a lower end
-            # resting on the seabed next to a contact
-            nxt = node + 1 < nn and bed_active[node + 1] != 0
+            # at every contact node (a lower end resting on the seabed included)
+            # except at touchdown, the contact node followed by free pipe
             on_bed = bed_active[node] != 0 or (node == 0 and fix_mask[0] != 0)
-            if on_bed and nxt and fix_mask[base + nd] == 0:
+            touchdown = node + 1 < nn and bed_active[node + 1] == 0
+            if on_bed and not touchdown and fix_mask[base + nd] == 0:
                 cmask[base + nd] = True
                 delta[base + nd] = -u[base + nd]
         for i in range(n):

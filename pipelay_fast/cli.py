@@ -1,0 +1,153 @@
+"""The ``pipelay-fast`` command.
+
+    pipelay-fast solve CASE.toml [--out DIR] [--quiet]
+    pipelay-fast example [NAME] [--out FILE] [--force]
+    pipelay-fast --version
+
+Exit codes: 0 success, 1 the case did not converge (or a file could not be
+written), 2 bad input (usage, unreadable or invalid case file, unknown example).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import numbers
+import sys
+from importlib.resources import files
+from pathlib import Path
+
+from . import __version__
+from .case import load_case
+from .results import SUMMARY_UNITS
+from .solver import SolveError, solve
+
+# SI unit -> (display unit, factor); the Parquet files keep SI
+DISPLAY_UNITS = {"N": ("kN", 1e-3), "N m": ("kN m", 1e-3), "Pa": ("MPa", 1e-6)}
+
+EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line ``argv`` (default ``sys.argv[1:]``); return the exit code."""
+    parser = _parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help, --version, or a usage error already printed
+        return stop.code if isinstance(stop.code, int) else EXIT_USAGE
+    return args.run(args)
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="pipelay-fast",
+        description="Static nonlinear analysis of offshore pipelaying (S-lay and J-lay).",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    commands = parser.add_subparsers(title="commands", metavar="COMMAND", required=True)
+
+    solve_cmd = commands.add_parser(
+        "solve", help="solve one case and print its summary",
+        description="Solve one case file, print the summary (display units), "
+        "optionally write summary.parquet and profile.parquet (SI units).",
+    )
+    solve_cmd.add_argument("case", type=Path, metavar="CASE.toml", help="case file")
+    solve_cmd.add_argument("--out", type=Path, metavar="DIR",
+                           help="write summary.parquet and profile.parquet into DIR")
+    solve_cmd.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    solve_cmd.set_defaults(run=_solve)
+
+    example_cmd = commands.add_parser(
+        "example", help="print a bundled example case file",
+        description="Print (or write) a bundled example case to start from; "
+        "without NAME, list the examples.",
+    )
+    example_cmd.add_argument("name", nargs="?", metavar="NAME", help="example name, e.g. j125")
+    example_cmd.add_argument("--out", type=Path, metavar="FILE", help="write to FILE instead")
+    example_cmd.add_argument("--force", action="store_true", help="overwrite an existing FILE")
+    example_cmd.set_defaults(run=_example)
+    return parser
+
+
+def _error(message: str, code: int) -> int:
+    print(f"error: {message}", file=sys.stderr)
+    return code
+
+
+def _solve(args: argparse.Namespace) -> int:
+    from .io import write_result  # pyarrow only when needed
+
+    try:
+        case = load_case(args.case)
+        result = solve(case)
+    except OSError as err:
+        return _error(f"cannot read {args.case}: {err.strerror or err}", EXIT_USAGE)
+    except ValueError as err:
+        return _error(str(err), EXIT_USAGE)
+    except SolveError as err:
+        return _error(str(err), EXIT_FAILED)
+    if not args.quiet:
+        print(f"{case.name} ({args.case})")
+        print(format_summary(result.summary))
+    if args.out is not None:
+        try:
+            paths = write_result(result, args.out)
+        except OSError as err:
+            return _error(f"cannot write to {args.out}: {err.strerror or err}", EXIT_FAILED)
+        if not args.quiet:
+            print()
+            for path in paths:
+                print(f"wrote {path}")
+    return EXIT_OK
+
+
+def format_summary(summary: dict) -> str:
+    """The summary as aligned ``name  value  unit`` lines, in display units."""
+    rows = []
+    for name, value in summary.items():
+        unit = SUMMARY_UNITS.get(name, "")
+        if unit in DISPLAY_UNITS and isinstance(value, numbers.Real):
+            unit, factor = DISPLAY_UNITS[unit]
+            value = value * factor
+        rows.append((name, _format_value(value), unit))
+    name_width = max(len(name) for name, _, _ in rows)
+    value_width = max(len(text) for _, text, _ in rows)
+    return "\n".join(
+        f"{name:<{name_width}}  {text:>{value_width}}  {unit}".rstrip() for name, text, unit in rows
+    )
+
+
+def _format_value(value) -> str:
+    if isinstance(value, numbers.Integral):
+        return str(value)
+    if isinstance(value, numbers.Real):
+        return "n/a" if math.isnan(value) else f"{value:.6g}"
+    return str(value)
+
+
+def example_names() -> list[str]:
+    """Names of the example case files bundled in ``pipelay_fast/examples``."""
+    folder = files("pipelay_fast").joinpath("examples")
+    return sorted(p.name.removesuffix(".toml") for p in folder.iterdir()
+                  if p.name.endswith(".toml"))
+
+
+def _example(args: argparse.Namespace) -> int:
+    names = example_names()
+    if args.name is None:
+        print("\n".join(names))
+        return EXIT_OK
+    if args.name not in names:
+        return _error(f"unknown example {args.name!r}; available: {', '.join(names)}", EXIT_USAGE)
+    text = files("pipelay_fast").joinpath("examples", f"{args.name}.toml").read_text("utf-8")
+    if args.out is None:
+        sys.stdout.write(text)
+        return EXIT_OK
+    if args.out.exists() and not args.force:
+        return _error(f"{args.out} exists; use --force to overwrite it", EXIT_USAGE)
+    try:
+        args.out.write_text(text, encoding="utf-8")
+    except OSError as err:
+        return _error(f"cannot write {args.out}: {err.strerror or err}", EXIT_FAILED)
+    print(f"wrote {args.out}")
+    return EXIT_OK

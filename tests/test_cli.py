@@ -1,0 +1,77 @@
+"""Tests of the pipelay-fast command, run in-process through ``cli.main``."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+
+from pipelay_fast.case import load_case
+from pipelay_fast.cli import main
+from pipelay_fast.io import read_units
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "pipelay_fast" / "examples"
+J125 = EXAMPLES / "j125.toml"
+
+
+def printed_value(out: str, name: str) -> float:
+    """The number printed on the summary line ``name  value  unit``."""
+    match = re.search(rf"^{name}\s+(\S+)", out, flags=re.MULTILINE)
+    assert match, f"{name} not printed"
+    return float(match.group(1))
+
+
+def test_solve_writes_parquet_with_units(tmp_path, capsys):
+    code = main(["solve", str(J125), "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert code == 0
+    summary_path, profile_path = tmp_path / "summary.parquet", tmp_path / "profile.parquet"
+    assert f"wrote {summary_path}" in out and f"wrote {profile_path}" in out
+    assert not list(tmp_path.glob(".*.tmp"))  # no temporary file left behind
+
+    summary = pd.read_parquet(summary_path)
+    profile = pd.read_parquet(profile_path)
+    assert len(summary) == 1 and len(profile) == summary.loc[0, "n_elements"] + 1
+    for path, table in ((summary_path, summary), (profile_path, profile)):
+        units = read_units(path)
+        assert set(units) == set(table.columns)
+        schema = pq.read_schema(path)
+        assert all(schema.field(c).metadata[b"unit"].decode() == u for c, u in units.items())
+
+    # the case prescribes the top tension; the Parquet keeps SI, the screen shows kN
+    assert summary.loc[0, "top_tension"] == pytest.approx(580e3, rel=1e-6)
+    assert printed_value(out, "top_tension") * 1e3 == pytest.approx(580e3, rel=1e-6)
+    assert printed_value(out, "tdp_z") == pytest.approx(summary.loc[0, "tdp_z"], rel=5e-6)
+    assert printed_value(out, "max_von_mises") * 1e6 == pytest.approx(
+        summary.loc[0, "max_von_mises"], rel=5e-6)
+
+
+def test_unknown_key_is_refused_with_its_name(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(J125.read_text().replace("[lay]\n", "[lay]\ntop_tensoin = 1.0\n"))
+    code = main(["solve", str(bad)])
+    captured = capsys.readouterr()
+    assert code == 2
+    assert captured.err.startswith("error: ") and "top_tensoin" in captured.err
+    assert captured.out == ""
+
+
+def test_missing_file_is_refused(tmp_path, capsys):
+    missing = tmp_path / "nope.toml"
+    code = main(["solve", str(missing)])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err == f"error: cannot read {missing}: No such file or directory\n"
+
+
+def test_example_round_trips_through_load_case(tmp_path, capsys):
+    assert main(["example", "j125"]) == 0
+    path = tmp_path / "mine.toml"
+    path.write_text(capsys.readouterr().out)
+    assert load_case(path).lay.top_tension == 580e3
+
+    assert main(["example", "j12"]) == 2
+    assert "available: j125, s125, s67" in capsys.readouterr().err

@@ -1,0 +1,118 @@
+"""Kernels tested directly: banded LU, the laid pipe through the Newton kernel,
+Newton's quadratic rate."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+
+import pipelay_fast as pf
+from pipelay_fast.kernels import layout as L
+from pipelay_fast.kernels.banded import band_factor, band_matvec, band_solve, dense_to_band
+from pipelay_fast.kernels.newton import I_RES
+from pipelay_fast.model import build_props
+from pipelay_fast.solver import Problem, _run_newton
+
+
+@pytest.mark.parametrize("n,kl,ku", [(4, 1, 1), (7, 2, 3), (60, 9, 9), (200, 13, 13)])
+def test_band_lu_solves_like_dense(n, kl, ku):
+    rng = np.random.default_rng(n)
+    a = np.zeros((n, n))
+    for i in range(n):
+        for j in range(max(0, i - kl), min(n, i + ku + 1)):
+            a[i, j] = rng.normal()
+    # zero every third diagonal entry: the saddle structure that needs pivoting
+    a[np.arange(0, n, 3), np.arange(0, n, 3)] = 0.0
+    a += np.diag(np.where(np.arange(n) % 3 == 0, 0.0, 0.1))
+    x = rng.normal(size=n)
+    ab = dense_to_band(a, kl, ku)
+    b = np.zeros(n)
+    band_matvec(ab, kl, ku, x, b)
+    np.testing.assert_allclose(b, a @ x, rtol=1e-12, atol=1e-12)
+    piv = np.zeros(n, dtype=np.int64)
+    assert band_factor(ab, kl, ku, piv) == 0
+    band_solve(ab, kl, ku, piv, b)
+    np.testing.assert_allclose(b, np.linalg.solve(a, a @ x), rtol=1e-8, atol=1e-8)
+
+
+def test_band_lu_reports_singular_matrix():
+    a = np.array([[1.0, 2.0], [2.0, 4.0]])
+    ab = dense_to_band(a, 1, 1)
+    assert band_factor(ab, 1, 1, np.zeros(2, dtype=np.int64)) != 0
+
+
+def laid_pipe(case, nd, n_el=40, length=50.0, tension=2e5, lift=0.3):
+    """A straight pipe held `lift` m above the seabed, pinned at its lower end
+    and pulled along z at the other; gravity makes it land everywhere."""
+    ndn = 2 * nd + 1
+    s = np.linspace(0.0, length, n_el + 1)
+    u = np.zeros(s.size * ndn)
+    u[0::ndn] = lift * s / length
+    u[nd - 1::ndn] = s
+    u[2 * nd - 1::ndn] = 1.0
+    u[2 * nd::ndn] = tension
+    fix = np.zeros_like(u, dtype=np.int8)
+    fix[0] = fix[nd - 1] = 1  # lower end pinned
+    if nd == 3:
+        fix[1] = 1
+    f_node = np.zeros_like(u)
+    f_node[(s.size - 1) * ndn + nd - 1] = tension
+    bed = np.ones(s.size, dtype=np.int8)
+    props, table = build_props(case)
+    return Problem(nd, s, props, table, u, fix, np.zeros_like(u), np.zeros(s.size),
+                   np.zeros(s.size), bed, np.zeros(s.size, dtype=np.int8), f_node, -1,
+                   np.zeros(1), s.size - 1, 0.0, tension, 1.0)
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+def test_pipe_laid_on_seabed_under_its_weight(j125, nd):
+    pb = laid_pipe(j125, nd)
+    status, react, info = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
+    assert status == L.OK
+    ndn = pb.ndn
+    w = float(j125.effective_weight(0.0))
+    h = np.diff(pb.s)[0]
+    assert pb.bed_active[1:].all()  # every node but the pinned end is a contact
+    r = react[0::ndn]
+    np.testing.assert_allclose(r[1:-1], w * h, rtol=1e-6)
+    np.testing.assert_allclose(r[[0, -1]], 0.5 * w * h, rtol=1e-6)
+    assert r.sum() == pytest.approx(w * pb.s[-1], rel=1e-9)
+    np.testing.assert_allclose(pb.u[0::ndn], 0.0, atol=1e-12)
+    # bending moment EI x'' from the Hermite fields: zero on a flat pipe
+    ei = j125.pipe.bending_stiffness
+    xp = pb.u[nd::ndn]
+    assert np.abs(ei * np.diff(xp) / h).max() < 1e-6 * w * h * h
+
+
+def test_newton_converges_quadratically(j125):
+    """One Newton step from a state perturbed by eps leaves a residual ~ eps^2.
+
+    The J125 state is lifted by eps |sin| bumps (so no contact changes) and one
+    iteration is taken; the log-log slope of the residual after the step
+    against the residual before it is the convergence order (here it comes out
+    near 3: the bump direction makes the quadratic term small).
+    """
+    case = j125.with_changes({"environment.water_depth": 135.0})  # top under water:
+    state = pf.solve(case).state  # no weight jump, so the tangent is exact
+    ndn = state.ndn
+    free = np.ones(state.nn, dtype=bool)
+    free[state.bed_active.astype(bool)] = False
+    free[[0, -1]] = False
+    bump = np.abs(np.sin(np.linspace(0.0, 3.0 * np.pi, state.nn))) * free
+    before, after = [], []
+    for eps in (0.01, 0.005, 0.0025, 0.00125):
+        pb = copy.deepcopy(state)
+        pb.u[0::ndn] += eps * bump
+        _, _, info = _run_newton(pb, np.zeros_like(pb.u), 1e-14, 1)
+        before.append(info[I_RES])
+        _, _, info = _run_newton(pb, np.zeros_like(pb.u), 1e-14, 1)
+        after.append(info[I_RES])
+    before, after = np.array(before), np.array(after)
+    assert min(after) > 1e-8  # above the round-off floor, so the rates are meaningful
+    # halving eps halves the residual before the step (linear) ...
+    np.testing.assert_allclose(before[:-1] / before[1:], 2.0, rtol=0.05)
+    # ... and divides the residual after it by 4 or more: order >= 2 - 0.2
+    order = np.log2(after[:-1] / after[1:])
+    assert (order >= 1.8).all(), order
