@@ -39,7 +39,7 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True):
     for a, b in zip(anchors[:-1], anchors[1:], strict=True):
         if b - a <= 1e-9:
             continue
-        t = np.linspace(a, b, 513)
+        t = np.linspace(a, b, 129)
         dist = np.min(np.abs(t[:, None] - focus[None, :]), axis=1)
         h = np.minimum(h_max, h_min + rate * dist)
         inv = 1.0 / h

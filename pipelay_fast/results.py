@@ -6,10 +6,10 @@ every column to its unit and is written into the Parquet schema metadata.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
-from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -37,6 +37,7 @@ SUMMARY_UNITS = {
 }
 
 
+@functools.lru_cache(maxsize=4096)
 def case_id(case: Case) -> str:
     """Stable 16-hex-digit id of a case's inputs (the name is not an input)."""
     tables = case.to_dict()
@@ -45,7 +46,6 @@ def case_id(case: Case) -> str:
     return hashlib.sha1(text.encode()).hexdigest()[:16]
 
 
-@dataclass
 class Result:
     """The answer to one case.
 
@@ -55,15 +55,29 @@ class Result:
     summary : dict
         One row of DESIGN section 4 columns (units in ``SUMMARY_UNITS``).
     profile : pandas.DataFrame
-        One row per node (units in ``PROFILE_UNITS``).
+        One row per node (units in ``PROFILE_UNITS``); built on first access
+        from ``columns``, the same data as numpy arrays.
     state : object
         The solved problem (mesh, unknowns, constraints) for warm starts.
     """
 
-    case: Case
-    summary: dict
-    profile: pd.DataFrame
-    state: object = None
+    def __init__(self, case: Case, summary: dict, columns: dict, state=None):
+        self.case = case
+        self.summary = summary
+        self.columns = columns
+        self.state = state
+        self._profile = None
+
+    @property
+    def profile(self) -> pd.DataFrame:
+        if self._profile is None:
+            self._profile = pd.DataFrame(self.columns)
+        return self._profile
+
+    def __repr__(self):
+        sm = self.summary
+        return (f"Result({self.case.name!r}, {sm['dimension']}, tdp_z={sm['tdp_z']:.3f} m, "
+                f"max_von_mises={sm['max_von_mises'] / 1e6:.2f} MPa, {sm['n_elements']} elements)")
 
 
 def nodal_fields(nd, s, u):
@@ -99,28 +113,35 @@ def touchdown_estimate(s, moment, k):
     """Arc length of touchdown [m] from the moment just above the last contact node.
 
     The bending moment vanishes at touchdown on a rigid seabed and grows
-    smoothly into the span; a quadratic through the nodal moments at nodes
+    smoothly into the span; the quadratic through the nodal moments at nodes
     k+1, k+2, k+3 is extrapolated to its zero nearest node k (searched from
-    node k-4 to node k+1). Falls back to the
-    contact node itself when the span is too short or the fit has no root there.
+    node k-4 to node k+1). Falls back to the straight line through the first
+    two, then to the contact node itself.
     """
     if k + 3 >= s.size:
         return float(s[k])
-    ss = s[k + 1:k + 4]
-    mm = moment[k + 1:k + 4]
-    coef = np.polyfit(ss - s[k], mm, 2)
-    roots = np.roots(coef)
-    roots = roots[np.isreal(roots)].real + s[k]
     lo, hi = s[max(k - 4, 0)], s[k + 1]
-    cand = roots[(roots >= lo) & (roots <= hi)]
-    if cand.size == 0:
-        slope = (mm[1] - mm[0]) / (ss[1] - ss[0])
-        if slope != 0.0:
-            root = ss[0] - mm[0] / slope
-            if lo <= root <= hi:
-                return float(root)
-        return float(s[k])
-    return float(cand[np.argmin(np.abs(cand - s[k]))])
+    (s1, s2, s3), (m1, m2, m3) = s[k + 1:k + 4], moment[k + 1:k + 4]
+    d12 = (m2 - m1) / (s2 - s1)
+    d23 = (m3 - m2) / (s3 - s2)
+    c2 = (d23 - d12) / (s3 - s1)  # M = m1 + b (t - s1) + c2 (t - s1)(t - s2)
+    b = d12
+    # in terms of t' = t - s1: c2 t'^2 + (b - c2 (s2 - s1)) t' + m1 = 0
+    bb = b - c2 * (s2 - s1)
+    cands = []
+    if c2 != 0.0:
+        disc = bb * bb - 4.0 * c2 * m1
+        if disc >= 0.0:
+            root = math.sqrt(disc)
+            cands = [s1 + (-bb - root) / (2.0 * c2), s1 + (-bb + root) / (2.0 * c2)]
+    cands = [c for c in cands if lo <= c <= hi]
+    if cands:
+        return float(min(cands, key=lambda c: abs(c - s[k])))
+    if d12 != 0.0:
+        root = s1 - m1 / d12
+        if lo <= root <= hi:
+            return float(root)
+    return float(s[k])
 
 
 def interior_peak(values) -> float:
@@ -151,8 +172,8 @@ def constraint_forces(nd, pb, react):
     return f
 
 
-def build_profile(case: Case, pb, react) -> pd.DataFrame:
-    """Per-node table of DESIGN section 4 from a solved problem."""
+def build_profile(case: Case, pb, react) -> dict:
+    """Per-node columns of DESIGN section 4 (numpy arrays) from a solved problem."""
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
     pipe = case.pipe
     ei = pipe.bending_stiffness
@@ -198,7 +219,7 @@ def build_profile(case: Case, pb, react) -> pd.DataFrame:
         seabed_y[act] = react[1::ndn][act]
     contact[-1] = "fixed"
     reaction = constraint_forces(nd, pb, react)
-    return pd.DataFrame({
+    return {
         "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,
         "effective_tension": te, "wall_tension": tw,
         "moment_x": mom[:, 0], "moment_y": mom[:, 1], "moment_z": mom[:, 2], "moment": m_abs,
@@ -207,18 +228,18 @@ def build_profile(case: Case, pb, react) -> pd.DataFrame:
         "stinger_reaction": np.zeros(s.size),
         "reaction_x": reaction[:, 0], "reaction_y": reaction[:, 1], "reaction_z": reaction[:, 2],
         "contact": contact.astype(str),
-    })
+    }
 
 
-def build_summary(case: Case, pb, profile: pd.DataFrame, stats: dict, s_tdp: float) -> dict:
-    """The summary row of one solved case."""
+def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float) -> dict:
+    """The summary row of one solved case from its profile columns."""
     cur = case.environment.current
-    s = profile["s"].to_numpy()
-    z_tdp = float(np.interp(s_tdp, s, profile["z"].to_numpy()))
-    span = profile["s"] >= s_tdp
-    pipe = case.pipe
-    fibre = profile["axial_strain"].abs() + profile["curvature"] * pipe.outer_diameter / 2.0
+    s = cols["s"]
+    z_tdp = float(np.interp(s_tdp, s, cols["z"]))
+    span = s >= s_tdp
+    fibre = np.abs(cols["axial_strain"]) + cols["curvature"] * case.pipe.outer_diameter / 2.0
     stinger = case.lay.stinger
+    te = cols["effective_tension"]
     nan = math.nan
     return {
         "case_id": case_id(case),
@@ -230,21 +251,20 @@ def build_summary(case: Case, pb, profile: pd.DataFrame, stats: dict, s_tdp: flo
         "current_heading_deg": cur.heading,
         "status": "ok",
         "message": "",
-        "top_tension": float(profile["effective_tension"].iloc[-1]),
-        "bottom_tension": float(pb.tb[0]) if pb.slide_dof >= 0
-        else float(profile["effective_tension"].iloc[0]),
+        "top_tension": float(te[-1]),
+        "bottom_tension": float(pb.tb[0]) if pb.slide_dof >= 0 else float(te[0]),
         "tdp_z": z_tdp,
         "liftoff_z": nan,
         "liftoff_angle_deg": nan,
-        "top_angle_deg": float(profile["angle_deg"].iloc[-1]),
+        "top_angle_deg": float(cols["angle_deg"][-1]),
         "suspended_length": float(s[-1] - s_tdp),
-        "max_von_mises": float(profile["von_mises"].max()),
+        "max_von_mises": float(cols["von_mises"].max()),
         "overbend_max_von_mises": nan,
-        "sagbend_max_von_mises": interior_peak(profile.loc[span, "von_mises"].to_numpy()),
+        "sagbend_max_von_mises": interior_peak(cols["von_mises"][span]),
         "overbend_max_moment": nan,
-        "sagbend_max_moment": interior_peak(profile.loc[span, "moment"].to_numpy()),
+        "sagbend_max_moment": interior_peak(cols["moment"][span]),
         "max_strain": float(fibre.max()),
-        "max_lateral_deflection": float(profile["y"].abs().max()),
+        "max_lateral_deflection": float(np.abs(cols["y"]).max()),
         "n_elements": int(s.size - 1),
         "n_iterations": int(stats["iterations"]),
         "solve_seconds": float(stats["seconds"]),

@@ -307,10 +307,12 @@ MAX_MESH_PASSES = 4
 def touchdown_position(case: Case, pb: Problem) -> float:
     """Arc length of touchdown [m], located inside its element (see results)."""
     k = touchdown_index(pb)
-    _, rp, rpp = nodal_fields(pb.nd, pb.s, pb.u)
+    lo, hi = max(k - 1, 0), min(k + 5, pb.nn)
+    ndn = pb.ndn
+    _, rp, rpp = nodal_fields(pb.nd, pb.s[lo:hi], pb.u[lo * ndn:hi * ndn])
     kvec, _ = signed_curvature_vector(pb.nd, rp, rpp)
     moment = case.pipe.bending_stiffness * np.linalg.norm(kvec, axis=1)
-    return touchdown_estimate(pb.s, moment, k)
+    return touchdown_estimate(pb.s[lo:hi], moment, k - lo)
 
 
 def solve_problem(case: Case):
@@ -384,9 +386,9 @@ def solve(case: Case) -> Result:
         case, the load step, the residual and the reason.
     """
     pb, react, stats, s_t = solve_problem(case)
-    profile = build_profile(case, pb, react)
-    summary = build_summary(case, pb, profile, stats, s_t)
-    return Result(case, summary, profile, state=pb)
+    columns = build_profile(case, pb, react)
+    summary = build_summary(case, pb, columns, stats, s_t)
+    return Result(case, summary, columns, state=pb)
 
 
 def interpolate_state(s_old, u_old, nd, s_new):

@@ -8,7 +8,7 @@ import numpy as np
 
 from .._jit import jit
 from . import layout as L
-from .element import element_force
+from .element import WORK_SIZE, element_force_ws
 
 
 @jit
@@ -24,13 +24,16 @@ def assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent):
     nel = s_el.shape[0]
     fe = np.empty(ne)
     ke = np.empty((ne, ne))
+    ws = np.empty(WORK_SIZE)
+    wm = np.empty((3, 3))
     kv = kl + ku
     g[:] = 0.0
     if want_tangent:
         ab[:, :] = 0.0
     for e in range(nel):
         g0 = e * ndn
-        element_force(nd, s_el[e], u[g0:g0 + ne], props, table, torques[e], fe, ke, want_tangent)
+        element_force_ws(nd, s_el[e], u[g0:g0 + ne], props, table, torques[e], fe, ke,
+                         want_tangent, ws, wm)
         for a in range(ne):
             g[g0 + a] += fe[a]
         if want_tangent:

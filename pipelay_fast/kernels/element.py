@@ -100,8 +100,21 @@ def _cross3(a, b, out):
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
+WORK_SIZE = 64
+
+
 @jit
 def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent):
+    """Force vector ``fe`` (= G) and tangent ``ke`` = dG/due of one element.
+
+    Allocating wrapper of :func:`element_force_ws` for tests and one-off calls.
+    """
+    element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent,
+                     np.empty(WORK_SIZE), np.empty((3, 3)))
+
+
+@jit
+def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, ws, wm):
     """Force vector ``fe`` (= G) and tangent ``ke`` = dG/due of one element.
 
     Parameters
@@ -120,6 +133,8 @@ def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent):
         Residual [N, N m, m] and tangent.
     want_tangent : bool
         Skip the tangent when only the residual is needed (line search).
+    ws, wm : float64 work arrays of sizes ``WORK_SIZE`` and (3, 3)
+        Scratch space, so the kernel allocates nothing.
     """
     ndn = 2 * nd + 1
     ne = 2 * ndn
@@ -144,28 +159,31 @@ def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent):
     off = (0, nd, ndn, ndn + nd)
     lam_idx = (2 * nd, ndn + 2 * nd)
 
-    n = np.empty(4)
-    dn = np.empty(4)
-    ddn = np.empty(4)
-    r = np.empty(nd)
-    rp = np.empty(nd)
-    rpp = np.empty(nd)
-    q = np.zeros(nd)
-    qd = np.zeros(nd)
-    dq_drp = np.zeros((nd, nd))
-    dq_dx = np.zeros(nd)
+    n = ws[0:4]
+    dn = ws[4:8]
+    ddn = ws[8:12]
+    r = ws[12:12 + nd]
+    rp = ws[15:15 + nd]
+    rpp = ws[18:18 + nd]
+    q = ws[21:21 + nd]
+    qd = ws[24:24 + nd]
+    dq_dx = ws[27:27 + nd]
+    dq_drp = wm[:nd, :nd]
     # 3-vectors for the torque / moment terms (2D embeds y = 0)
-    rp3 = np.zeros(3)
-    rpp3 = np.zeros(3)
-    m3 = np.array([mx, my, mz])
-    c3 = np.zeros(3)
-    e3 = np.zeros(3)
+    rp3 = ws[30:33]
+    rpp3 = ws[33:36]
+    m3 = ws[36:39]
+    m3[0] = mx
+    m3[1] = my
+    m3[2] = mz
+    c3 = ws[39:42]
+    e3 = ws[42:45]
+    dwork = ws[49:64]
     slot3 = (0, 1 if nd == 3 else 2, 2)
 
     # Split the element where it crosses the water surface or the contents level,
     # so the jump of the effective weight is integrated exactly.
-    cuts = np.empty(4)
-    ncut = 0
+    cuts = ws[45:49]
     cuts[0] = 0.0
     ncut = 1
     for lev in range(2):
@@ -175,7 +193,10 @@ def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent):
             cuts[ncut] = xi_c
             ncut += 1
     cuts[ncut] = 1.0
-    cuts[: ncut + 1].sort()
+    if ncut == 3 and cuts[1] > cuts[2]:
+        tmp = cuts[1]
+        cuts[1] = cuts[2]
+        cuts[2] = tmp
     for gg in range(4 * ncut):
         part = gg // 4
         g = gg % 4
@@ -221,7 +242,7 @@ def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent):
         if k_bed > 0.0 and x < 0.0:
             q[0] -= k_bed * x
             dqx_dx = -k_bed
-        has_drag = drag_force(props, table, nd, x, rp, qd, dq_drp, dq_dx)
+        has_drag = drag_force(props, table, nd, x, rp, qd, dq_drp, dq_dx, dwork)
         if has_drag:
             for i in range(nd):
                 q[i] += qd[i]

@@ -85,12 +85,13 @@ def current_speed(props, table, x):
 
 
 @jit
-def drag_force(props, table, nd, x, rp, q, dq_drp, dq_dx):
+def drag_force(props, table, nd, x, rp, q, dq_drp, dq_dx, work):
     """Morison drag per unstretched length on the current normal to the pipe.
 
     q = C |r'| |Vn| Vn with C = 1/2 rho_w C_D D_h, Vn = V - (V.t) t, t = r'/|r'|.
     Writes q [N/m] and its derivatives dq/dr' [N/m] (nd x nd) and dq/dx [N/m2];
     returns False (and writes nothing) when there is no drag at this point.
+    ``work`` is scratch space of at least 15 floats.
     """
     cf = props[L.CURRENT_FACTOR]
     if cf == 0.0:
@@ -99,31 +100,36 @@ def drag_force(props, table, nd, x, rp, q, dq_drp, dq_dx):
     if u == 0.0:
         return False
     c = props[L.DRAG] * cf
-    # current direction in the nd-dimensional frame (x component is 0)
-    e = (0.0, props[L.CUR_EY], props[L.CUR_EZ])
+    ey = props[L.CUR_EY]
+    ez = props[L.CUR_EZ]
+    t = work[0:nd]
+    v = work[3:3 + nd]
+    dv = work[6:6 + nd]
+    vn = work[9:9 + nd]
+    dvn = work[12:12 + nd]
     a = 0.0
     for i in range(nd):
         a += rp[i] * rp[i]
     a = math.sqrt(a)
-    t = rp / a
-    v = q.copy()
-    dv = q.copy()
-    for i in range(nd):
-        if nd == 3:
-            comp = e[i]
-        else:
-            comp = e[2 * i]  # 2D slots (x, z) take (e_x, e_z)
-        v[i] = u * comp
-        dv[i] = du * comp
     vt = 0.0
     dvt = 0.0
     for i in range(nd):
+        t[i] = rp[i] / a
+        # the current has no x component; slot nd-1 is z, slot 1 of 3D is y
+        if i == 0:
+            comp = 0.0
+        elif i == nd - 1:
+            comp = ez
+        else:
+            comp = ey
+        v[i] = u * comp
+        dv[i] = du * comp
         vt += v[i] * t[i]
         dvt += dv[i] * t[i]
-    vn = v - vt * t
-    dvn = dv - dvt * t
     m = 0.0
     for i in range(nd):
+        vn[i] = v[i] - vt * t[i]
+        dvn[i] = dv[i] - dvt * t[i]
         m += vn[i] * vn[i]
     m = math.sqrt(m)
     if m == 0.0:
@@ -131,6 +137,7 @@ def drag_force(props, table, nd, x, rp, q, dq_drp, dq_dx):
     for i in range(nd):
         q[i] = c * a * m * vn[i]
     # df/dVn = m I + vn vn^T / m ;  dVn/dt = -t v^T - (v.t) I ;  dt/dr' = (I - t t^T)/a
+    # so (df/dVn)(dVn/dt) a (dt/dr') = (df/dVn)(dVn/dt)(I - t t^T); d(a)/dr' = t^T
     for i in range(nd):
         for j in range(nd):
             acc = 0.0
@@ -140,7 +147,6 @@ def drag_force(props, table, nd, x, rp, q, dq_drp, dq_dx):
                     dvndt = -t[k] * v[l] - vt * (1.0 if k == l else 0.0)
                     pj = (1.0 if l == j else 0.0) - t[l] * t[j]
                     acc += dfdvn * dvndt * pj
-            # d(a)/dr'_j = t_j contributes f t^T
             dq_drp[i, j] = c * (m * vn[i] * t[j] + acc)
         acc = 0.0
         for k in range(nd):

@@ -110,6 +110,14 @@ def _top_tension_row(nd, ab, kl, ku, g, u, top_node, d):
 
 
 @jit
+def _seen(history, node):
+    for k in range(history.shape[0]):
+        if history[k] == node:
+            return True
+    return False
+
+
+@jit
 def _local_value(nd, u, node, slot, phi_r, phi_rp):
     """Unknown ``slot`` of ``node`` in the node's rotated frame."""
     ndn = 2 * nd + 1
@@ -231,7 +239,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         info[k] = 0.0
     status = L.MAX_ITERATIONS
     changed = True
-    flips = 0
+    frozen = False
+    history = np.full(8, -2, dtype=np.int64)  # recent contact boundaries
     run = 1
     last_direction = 0
     last_step = np.inf
@@ -292,7 +301,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # fine mesh far from the origin cannot reach every tolerance).
         at_roundoff = last_step <= 1e3 * 2.2e-16 * (r_max + href) and res_max <= 1e-4
         if (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
-                and top_res <= tol and not changed):
+                and (top_res <= tol or at_roundoff) and not changed):
             status = L.OK
             it -= 1
             break
@@ -406,9 +415,10 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # penetrates; else a pull at the last node releases it, and a pull
         # further in releases everything from there. The second-last node is
         # not tested: the slope clamp there shares a couple with the last one.
-        # When touchdown falls inside an element the boundary flips between
-        # its two nodes; after two reversals only releases are made, so the
-        # iteration ends with every reaction pushing and at most a
+        # When touchdown falls inside an element the boundary cycles between
+        # nearby nodes: once a change would return the boundary to one of its
+        # last eight positions, contact is no longer extended, so
+        # the iteration ends with every reaction pushing and at most a
         # discretisation-sized penetration at the next node, which the caller
         # removes by moving a node onto touchdown.
         last = -1
@@ -418,11 +428,14 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         changed = False
         direction = 0
         deepest = -1
-        if flips < 2:
+        if not frozen:
             for node in range(last + 1, nn):
                 base = node * ndn
                 if bed[node] != 0 and fix_mask[base] == 0 and u[base] < -pen_tol:
                     deepest = node
+            if deepest >= 0 and _seen(history, deepest):
+                frozen = True
+                deepest = -1
         if deepest >= 0:
             for node in range(last + 1, deepest + 1):
                 if bed[node] != 0 and fix_mask[node * ndn] == 0:
@@ -441,13 +454,14 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 run = 1 if last_direction != -1 else 2 * run
                 start = max(0, last - run + 1)
             if start >= 0:
+                if _seen(history, start - 1):
+                    frozen = True
                 for node in range(start, last + 1):
                     bed_active[node] = 0
                 changed = True
                 direction = -1
-        if direction != 0:
-            if last_direction != 0 and direction != last_direction:
-                flips += 1
+        if changed:
+            history[changes_total % history.shape[0]] = last
             last_direction = direction
         if changed:
             changes_total += 1
