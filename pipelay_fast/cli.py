@@ -84,7 +84,7 @@ def _solve(args: argparse.Namespace) -> int:
         return _error(f"cannot read {args.case}: {err.strerror or err}", EXIT_USAGE)
     except ValueError as err:
         return _error(str(err), EXIT_USAGE)
-    except SolveError as err:
+    except (SolveError, NotImplementedError) as err:
         return _error(str(err), EXIT_FAILED)
     if not args.quiet:
         print(f"{case.name} ({args.case})")

@@ -16,6 +16,7 @@ import pandas as pd
 
 from .case import Case
 from .kernels import layout as L
+from .kernels.newton import ST_ON, tip_geometry
 
 PROFILE_UNITS = {
     "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
@@ -33,7 +34,8 @@ SUMMARY_UNITS = {
     "liftoff_angle_deg": "deg", "top_angle_deg": "deg", "suspended_length": "m",
     "max_von_mises": "Pa", "overbend_max_von_mises": "Pa", "sagbend_max_von_mises": "Pa",
     "overbend_max_moment": "N m", "sagbend_max_moment": "N m", "max_strain": "-",
-    "max_lateral_deflection": "m", "n_elements": "", "n_iterations": "", "solve_seconds": "s",
+    "max_lateral_deflection": "m", "tip_reaction": "N", "n_elements": "", "n_iterations": "",
+    "solve_seconds": "s",
 }
 
 
@@ -172,6 +174,28 @@ def constraint_forces(nd, pb, react):
     return f
 
 
+def tip_force(pb):
+    """The stinger tip's reaction, or None when the tip does not bear.
+
+    Returns (the element's two nodes, their shares N_a, N_b of the point load,
+    the normal reaction [N], the (x, z) force on the pipe [N]).
+    """
+    if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
+        return None
+    grad = np.zeros_like(pb.u)
+    found, _gap, cos_t, _s = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger, grad)
+    if not found:
+        return None
+    ndn, zi = pb.ndn, pb.nd - 1
+    x_part = grad[0::ndn]
+    nodes = np.flatnonzero(x_part != 0.0)[:2]
+    mu = float(pb.tip[1])
+    shares = x_part[nodes]
+    z_part = grad[zi::ndn][nodes]
+    force = np.array([mu, mu * (z_part[0] / shares[0] if shares[0] != 0 else z_part[1] / shares[1])])
+    return nodes, shares, mu / cos_t, force
+
+
 def build_profile(case: Case, pb, react) -> dict:
     """Per-node columns of DESIGN section 4 (numpy arrays) from a solved problem."""
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
@@ -217,30 +241,66 @@ def build_profile(case: Case, pb, react) -> dict:
     seabed_y = np.zeros(s.size)
     if nd == 3:
         seabed_y[act] = react[1::ndn][act]
+    stinger = np.zeros(s.size)
+    on_st = pb.st_active.astype(bool)
+    stinger[on_st] = react[0::ndn][on_st]
+    contact[on_st] = "stinger"
     contact[-1] = "fixed"
     reaction = constraint_forces(nd, pb, react)
+    tip = tip_force(pb)
+    if tip is not None:
+        # the tip's point force shared by the two nodes of its element
+        nodes, shares, normal, force = tip
+        stinger[nodes] += normal * shares
+        reaction[nodes, 0] += force[0] * shares
+        reaction[nodes, 2] += force[1] * shares
+        contact[nodes] = np.where(contact[nodes] == "free", "tip", contact[nodes])
     return {
         "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,
         "effective_tension": te, "wall_tension": tw,
         "moment_x": mom[:, 0], "moment_y": mom[:, 1], "moment_z": mom[:, 2], "moment": m_abs,
         "curvature": curvature, "torque": np.full(s.size, torque), "axial_strain": strain,
         "von_mises": vm, "seabed_reaction": seabed, "seabed_reaction_y": seabed_y,
-        "stinger_reaction": np.zeros(s.size),
+        "stinger_reaction": stinger,
         "reaction_x": reaction[:, 0], "reaction_y": reaction[:, 1], "reaction_z": reaction[:, 2],
         "contact": contact.astype(str),
     }
 
 
-def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float) -> dict:
-    """The summary row of one solved case from its profile columns."""
+def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
+                  s_liftoff: float | None = None) -> dict:
+    """The summary row of one solved case from its profile columns.
+
+    Overbend and sagbend are told apart by the sign of the in-plane bending
+    moment (moment_y): hogging over the stinger, sagging in the free span
+    behind touchdown. J-lay has no overbend (NaN).
+    """
     cur = case.environment.current
     s = cols["s"]
     z_tdp = float(np.interp(s_tdp, s, cols["z"]))
-    span = s >= s_tdp
+    beyond = s >= s_tdp
     fibre = np.abs(cols["axial_strain"]) + cols["curvature"] * case.pipe.outer_diameter / 2.0
     stinger = case.lay.stinger
     te = cols["effective_tension"]
     nan = math.nan
+    vm, mom = cols["von_mises"], cols["moment"]
+    if stinger is not None:
+        hog = beyond & (cols["moment_y"] < 0.0)
+        sag = beyond & ~hog & (s <= (s_liftoff if s_liftoff is not None else s[-1]))
+        over_vm = float(vm[hog].max()) if hog.any() else nan
+        over_m = float(mom[hog].max()) if hog.any() else nan
+        sag_vm = float(vm[sag].max()) if sag.any() else nan
+        sag_m = float(mom[sag].max()) if sag.any() else nan
+        lift = s_liftoff if s_liftoff is not None else s[-1]
+        liftoff_z = float(np.interp(lift, s, cols["z"]))
+        liftoff_angle = float(np.interp(lift, s, cols["angle_deg"]))
+        suspended = float(lift - s_tdp)
+    else:
+        over_vm = over_m = liftoff_z = liftoff_angle = nan
+        sag_vm = interior_peak(vm[beyond])
+        sag_m = interior_peak(mom[beyond])
+        suspended = float(s[-1] - s_tdp)
+    tip = float(pb.tip[1]) if pb.tip[0] != 0.0 else 0.0
     return {
         "case_id": case_id(case),
         "method": case.lay.method,
@@ -254,17 +314,18 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float) -> dict
         "top_tension": float(te[-1]),
         "bottom_tension": float(pb.tb[0]) if pb.slide_dof >= 0 else float(te[0]),
         "tdp_z": z_tdp,
-        "liftoff_z": nan,
-        "liftoff_angle_deg": nan,
+        "liftoff_z": liftoff_z,
+        "liftoff_angle_deg": liftoff_angle,
         "top_angle_deg": float(cols["angle_deg"][-1]),
-        "suspended_length": float(s[-1] - s_tdp),
-        "max_von_mises": float(cols["von_mises"].max()),
-        "overbend_max_von_mises": nan,
-        "sagbend_max_von_mises": interior_peak(cols["von_mises"][span]),
-        "overbend_max_moment": nan,
-        "sagbend_max_moment": interior_peak(cols["moment"][span]),
+        "suspended_length": suspended,
+        "max_von_mises": float(vm.max()),
+        "overbend_max_von_mises": over_vm,
+        "sagbend_max_von_mises": sag_vm,
+        "overbend_max_moment": over_m,
+        "sagbend_max_moment": sag_m,
         "max_strain": float(fibre.max()),
         "max_lateral_deflection": float(np.abs(cols["y"]).max()),
+        "tip_reaction": tip,
         "n_elements": int(s.size - 1),
         "n_iterations": int(stats["iterations"]),
         "solve_seconds": float(stats["seconds"]),

@@ -24,9 +24,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .case import Case
-from .catenary import Catenary, from_top_tension
+from .guess import first_guess, shape
 from .kernels import layout as L
-from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, newton
+from .kernels.newton import (
+    I_DELTA,
+    I_ITER,
+    I_RES,
+    I_TOP_RES,
+    N_INFO,
+    N_STINGER,
+    ST_ON,
+    newton,
+    tip_geometry,
+)
 from .mesh import graded_nodes
 from .model import build_props, dimension_of
 from .results import (
@@ -58,6 +68,9 @@ class Problem:
     phi_rp: np.ndarray
     bed: np.ndarray
     bed_active: np.ndarray
+    stinger: np.ndarray
+    st_active: np.ndarray
+    tip: np.ndarray
     f_node: np.ndarray
     slide_dof: int
     tb: np.ndarray
@@ -83,47 +96,6 @@ class Problem:
         return self.u[slot::self.ndn]
 
 
-def _weights(case: Case):
-    """Effective weight below and above the water surface [N/m] for the guess."""
-    depth = case.environment.water_depth
-    w1 = float(case.effective_weight(0.5 * min(depth, case.pipe.contents_level or depth)))
-    w1 = float(case.effective_weight(0.0)) if case.pipe.contents_level <= 0 else w1
-    w2 = float(case.effective_weight(depth + 1.0))
-    if w1 <= 0.0:
-        raise ValueError(
-            f"the pipe floats: its submerged effective weight is {w1:.1f} N/m; "
-            "increase pipe.steel_density or pipe.coating_density"
-        )
-    return w1, w2
-
-
-def _first_catenary(case: Case) -> Catenary:
-    lay = case.lay
-    depth = case.environment.water_depth
-    x_top = lay.top[0]
-    w1, w2 = _weights(case)
-    if lay.top_tension is not None:
-        return from_top_tension(lay.top_tension, w1, w2, depth, x_top)
-    if lay.bottom_tension is not None:
-        return Catenary(lay.bottom_tension, w1, w2, depth, x_top)
-    # pipe_length: lower end fixed at z = 0; find h so that laid + suspended fits
-    from scipy.optimize import brentq
-
-    length, z_top = lay.pipe_length, lay.top[1]
-
-    def gap(h):
-        cat = Catenary(h, w1, w2, depth, x_top)
-        return (z_top - cat.span) - (length - cat.length)
-
-    lo, hi = 1e-6 * w1 * depth, 1e3 * w1 * max(length, z_top)
-    if gap(lo) * gap(hi) > 0:
-        raise ValueError(
-            f"lay.pipe_length = {length:g} m cannot reach the top {lay.top} from a lower end "
-            "at (0, 0): it is shorter than the straight line or much longer than a slack catenary"
-        )
-    return Catenary(brentq(gap, lo, hi, xtol=1e-10 * w1), w1, w2, depth, x_top)
-
-
 def _mesh_sizes(case: Case, h_bottom: float):
     """h_max, h_min [m] and the flexural length sqrt(EI/T) [m] at touchdown."""
     h_max = case.solver.element_length
@@ -136,48 +108,41 @@ def _mesh_sizes(case: Case, h_bottom: float):
 
 
 def build_problem(case: Case) -> Problem:
-    """Natural-catenary guess, graded mesh and constraints of a case."""
+    """First guess, graded mesh and constraints of a case."""
     nd = dimension_of(case)
     ndn = 2 * nd + 1
-    cat = _first_catenary(case)
-    lay = case.lay
-    z_top = lay.top[1]
-    h_max, h_min, lam = _mesh_sizes(case, cat.h)
-    susp = cat.length
-    if lay.pipe_length is not None:
-        laid = lay.pipe_length - susp
-    elif case.solver.laid_length is not None:
-        laid = case.solver.laid_length
-    else:
-        laid = 2.0 * lam + 5.0 * h_max
-    total = laid + susp
+    h_max = case.solver.element_length
+
+    def laid_default(h):
+        return 2.0 * math.sqrt(case.pipe.bending_stiffness / h) + 5.0 * h_max
+
+    g = first_guess(case, laid_default)
+    h_max, h_min, lam = _mesh_sizes(case, g.cat.h)
     # A stiff pipe touches down about one flexural length before the catenary
     # does (boundary-layer asymptotics): the mesh is finest there and the
     # initial seabed contact ends there.
-    s_focus = max(laid - lam, 0.25 * laid)
-    s = graded_nodes(total, [s_focus, total], h_max, h_min, grading=case.solver.grading)
+    s_focus = max(g.laid - lam, 0.25 * g.laid)
+    foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
+    s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading)
+    x, z, th, te, kappa = shape(case, g, s)
     u = np.zeros(s.size * ndn)
-    z_tdp = z_top - cat.span
-    x, z, th, te = cat.at(np.clip(s - laid, 0.0, None))
-    on_bed = s < laid
-    z = np.where(on_bed, z_tdp - (laid - s), z_tdp + z)
-    x = np.where(on_bed, 0.0, x)
-    th = np.where(on_bed, 0.0, th)
-    te = np.where(on_bed, cat.h, te)
-    kappa = np.where(on_bed, 0.0, np.cos(th) ** 2 * np.asarray(case.effective_weight(x)) / cat.h)
     u[0::ndn] = x
     u[nd - 1::ndn] = z
     u[nd::ndn] = np.sin(th)
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
-    stats = {"catenary": cat, "h_min": h_min, "h_max": h_max, "flexural_length": lam,
-             "focus": s_focus}
-    fref = max(cat.top_tension, abs(cat.w1) * total)
-    return _problem(case, nd, s, u, cat.h, s_focus, fref, stats)
+    stats = {"catenary": g.cat, "h_min": h_min, "h_max": h_max, "flexural_length": lam,
+             "focus": s_focus,
+             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
+    fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
+               case.lay.top_tension or 0.0)
+    s_stinger = g.s_liftoff if g.s_liftoff is not None else np.inf
+    return _problem(case, nd, s, u, g.cat.h, s_focus, s_stinger, fref, stats)
 
 
-def _problem(case: Case, nd, s, u, tb, s_contact, fref, stats) -> Problem:
-    """Constraint arrays for nodes ``s`` with state ``u``; contact below ``s_contact``."""
+def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Problem:
+    """Constraint arrays for nodes ``s`` with state ``u``: seabed contact below
+    ``s_contact``, stinger contact above ``s_stinger`` [m]."""
     ndn = 2 * nd + 1
     nn = s.size
     lay = case.lay
@@ -191,8 +156,15 @@ def _problem(case: Case, nd, s, u, tb, s_contact, fref, stats) -> Problem:
     for i, val in enumerate((x_top, 0.0, z_top) if nd == 3 else (x_top, z_top)):
         fix_mask[base + i] = 1
         fix_val[base + i] = val
-    if lay.top_angle is not None:
-        phi_rp[top] = math.radians(lay.top_angle)
+    stinger = np.zeros(N_STINGER)
+    st = lay.stinger
+    top_angle = lay.top_angle
+    if st is not None:
+        stinger[:] = (st.a, st.b, st.c, st.lower[1], st.upper[1], 1.0)
+        # the firing line: the top is held along the stinger's tangent
+        top_angle = float(st.angle(st.upper[1]))
+    if top_angle is not None:
+        phi_rp[top] = math.radians(top_angle)
         fix_mask[base + nd] = 1  # r' normal to the prescribed direction = 0
         if nd == 3:
             fix_mask[base + nd + 1] = 1  # r'_y = 0
@@ -214,17 +186,21 @@ def _problem(case: Case, nd, s, u, tb, s_contact, fref, stats) -> Problem:
     bed[top] = 0
     x = u[0::ndn]
     bed_active = ((s <= s_contact) & (s > 0.0) & (x <= 1e-6)).astype(np.int8)
+    st_active = ((s >= s_stinger) & (np.arange(nn) < top)).astype(np.int8)
+    if st is None:
+        st_active[:] = 0
     props, table = build_props(case)
     return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
-                   np.zeros(nn * ndn), slide_dof, np.array([float(tb)]), top, top_target, fref,
-                   stats["h_max"], stats=stats)
+                   stinger, st_active, np.zeros(2), np.zeros(nn * ndn), slide_dof, np.array([float(tb)]), top,
+                   top_target, fref, stats["h_max"], stats=stats)
 
 
 def _run_newton(pb: Problem, g_off, tol, maxit):
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
     status = newton(pb.nd, pb.s_el, pb.u, pb.props, pb.table, pb.fix_mask, pb.fix_val,
-                    pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.f_node, g_off,
+                    pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.stinger, pb.st_active,
+                    pb.tip, pb.f_node, g_off,
                     pb.slide_dof, pb.tb, pb.top_node, pb.top_target, tol, pb.fref, pb.href,
                     maxit, react, info)
     return status, react, info
@@ -252,6 +228,18 @@ def _fail(case, step, info, status, extra=""):
     )
 
 
+_STATE = ("u", "tb", "bed_active", "st_active", "tip", "phi_r", "phi_rp")
+
+
+def _snapshot(pb: Problem):
+    return [getattr(pb, name).copy() for name in _STATE]
+
+
+def _restore(pb: Problem, snap):
+    for name, arr in zip(_STATE, snap, strict=True):
+        getattr(pb, name)[:] = arr
+
+
 def newton_with_fallback(case: Case, pb: Problem):
     """Newton from the current state; on failure, the load-path homotopy.
 
@@ -259,14 +247,14 @@ def newton_with_fallback(case: Case, pb: Problem):
     """
     tol = case.solver.tolerance
     maxit = case.solver.max_iterations
-    u0, tb0, act0 = pb.u.copy(), pb.tb.copy(), pb.bed_active.copy()
+    start = _snapshot(pb)
     zero = np.zeros_like(pb.u)
     status, react, info = _run_newton(pb, zero, tol, maxit)
     iters = int(info[I_ITER])
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
     # homotopy: G(u) - (1 - alpha) G(u0) = 0, alpha from 0 to 1
-    pb.u[:], pb.tb[:], pb.bed_active[:] = u0, tb0, act0
+    _restore(pb, start)
     g0 = _residual(pb)
     alpha, step, steps = 0.0, 0.25, 0
     while alpha < 1.0:
@@ -274,7 +262,7 @@ def newton_with_fallback(case: Case, pb: Problem):
             _fail(case, f"load step {steps} (load factor {alpha:.4f})", info, status,
                   "; maximum number of load steps reached")
         trial = min(1.0, alpha + step)
-        saved = pb.u.copy(), pb.tb.copy(), pb.bed_active.copy()
+        saved = _snapshot(pb)
         status, react, info = _run_newton(pb, -(1.0 - trial) * g0, tol, maxit)
         iters += int(info[I_ITER])
         steps += 1
@@ -282,7 +270,7 @@ def newton_with_fallback(case: Case, pb: Problem):
             alpha = trial
             step = min(2.0 * step, 0.5)
         else:
-            pb.u[:], pb.tb[:], pb.bed_active[:] = saved
+            _restore(pb, saved)
             step *= 0.5
             if step < 1e-4:
                 _fail(case, f"load step {steps} (load factor {trial:.4f})", info, status,
@@ -315,34 +303,95 @@ def touchdown_position(case: Case, pb: Problem) -> float:
     return touchdown_estimate(pb.s[lo:hi], moment, k - lo)
 
 
-def solve_problem(case: Case):
-    """Solve, then move the finest part of the mesh onto touchdown until a node
-    sits there (to 2 % of the smallest element).
+def conform_end(case: Case, pb: Problem):
+    """Arc length [m] where the pipe leaves the stinger's curve, None without one.
 
-    Returns (problem, reactions, stats, touchdown arc length [m]).
+    The pipe's curvature meets the stinger's there: their difference,
+    extrapolated from the three free nodes below the last contact node, is zero
+    (as the moment is at touchdown).
+    """
+    k = liftoff_index(pb)
+    if k < 0:
+        return None
+    lo, hi = max(k - 4, 0), min(k + 2, pb.nn)
+    ndn = pb.ndn
+    r, rp, rpp = nodal_fields(pb.nd, pb.s[lo:hi], pb.u[lo * ndn:hi * ndn])
+    kvec, _ = signed_curvature_vector(pb.nd, rp, rpp)
+    st = case.lay.stinger
+    slope = np.asarray(st.slope(r[:, pb.nd - 1]))
+    mismatch = kvec[:, 1] - 2.0 * st.a / (1.0 + slope**2) ** 1.5
+    # mirror so that the free side lies at larger index, as for touchdown
+    s_m = -pb.s[lo:hi][::-1]
+    return -touchdown_estimate(s_m, mismatch[::-1], hi - 1 - k)
+
+
+def tip_position(pb: Problem):
+    """Arc length [m] of the material point on the stinger's tip when it bears."""
+    if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
+        return None
+    found, _gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger, np.zeros_like(pb.u))
+    return float(s_tip) if found else None
+
+
+def liftoff_position(case: Case, pb: Problem):
+    """Arc length of lift-off [m]: the tip when it bears, else where the pipe
+    leaves the stinger's curve; None without a stinger."""
+    if pb.stinger[ST_ON] == 0.0:
+        return None
+    s_tip = tip_position(pb)
+    if s_tip is not None:
+        return s_tip
+    s_c = conform_end(case, pb)
+    return float(pb.s[-1]) if s_c is None else s_c
+
+
+def _stinger_foci(case: Case, pb: Problem):
+    """Arc lengths [m] the mesh should hold as nodes on the stinger side."""
+    out = [x for x in (tip_position(pb), conform_end(case, pb)) if x is not None]
+    return out
+
+
+def solve_problem(case: Case):
+    """Solve, then move the finest part of the mesh onto touchdown (and onto
+    lift-off: the end of conforming stinger contact and the bearing tip) until
+    a node sits on each (to 2 % of the smallest element).
+
+    Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
     t0 = time.perf_counter()
     pb = build_problem(case)
     react, stats = newton_with_fallback(case, pb)
     passes = 1
-    s_t = touchdown_position(case, pb)
-    while case.solver.grading and passes < MAX_MESH_PASSES:
+    while True:
+        s_t = touchdown_position(case, pb)
+        foci = _stinger_foci(case, pb)
+        if not case.solver.grading or passes >= MAX_MESH_PASSES:
+            break
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
-        if abs(s_t - pb.stats["focus"]) <= 0.02 * pb.stats["h_min"] and not short_laid:
+        near = 0.02 * pb.stats["h_min"]
+        held = pb.stats.get("stinger_foci", [])
+        lift_ok = all(any(abs(f - h) <= near for h in held) for f in foci)
+        if abs(s_t - pb.stats["focus"]) <= near and lift_ok and not short_laid:
             break
-        pb = remesh(case, pb, s_t)
+        pb = remesh(case, pb, s_t, foci)
         react, more = newton_with_fallback(case, pb)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
-        s_t = touchdown_position(case, pb)
     stats["mesh_passes"] = passes
     stats["seconds"] = time.perf_counter() - t0
-    return pb, react, stats, s_t
+    return pb, react, stats, s_t, liftoff_position(case, pb)
 
 
-def remesh(case: Case, pb: Problem, s_tdp: float) -> Problem:
-    """A mesh graded at ``s_tdp`` with the state interpolated onto it.
+def liftoff_index(pb: Problem) -> int:
+    """Index of the lowest node on the stinger (-1 without stinger contact)."""
+    act = np.flatnonzero(pb.st_active)
+    return int(act[0]) if act.size else -1
+
+
+def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
+    """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
+    state interpolated onto it.
 
     Laid pipe is prepended when touchdown came closer to the lower end than one
     flexural length.
@@ -354,7 +403,8 @@ def remesh(case: Case, pb: Problem, s_tdp: float) -> Problem:
         extra = 2.0 * lam - s_tdp
     total = pb.s[-1] + extra
     focus = s_tdp + extra
-    s = graded_nodes(total, [focus, total], pb.stats["h_max"], pb.stats["h_min"])
+    held = [f + extra for f in stinger_foci]
+    s = graded_nodes(total, [focus, total, *held], pb.stats["h_max"], pb.stats["h_min"])
     u = interpolate_state(pb.s + extra, pb.u, nd, s)
     first = s < extra
     if first.any():
@@ -366,12 +416,19 @@ def remesh(case: Case, pb: Problem, s_tdp: float) -> Problem:
         if nd == 3:
             u[1::ndn][first] = pb.u[1]
             u[nd + 1::ndn][first] = 0.0
-    stats = dict(pb.stats, focus=focus)
-    return _problem(case, nd, s, u, pb.tb[0], focus + 1e-9 * pb.stats["h_min"], pb.fref, stats)
+    stats = dict(pb.stats, focus=focus, stinger_foci=held)
+    tol = 1e-9 * pb.stats["h_min"]
+    s_c = conform_end(case, pb)
+    s_stinger = np.inf if s_c is None else s_c + extra - tol
+    return _problem(case, nd, s, u, pb.tb[0], focus + tol, s_stinger, pb.fref, stats)
 
 
-def solve(case: Case) -> Result:
+def solve(case: Case, *, allow_unvalidated: bool = False) -> Result:
     """Solve one case.
+
+    S-lay (stinger contact) is implemented but not yet validated against its
+    independent reference (issue 3): it is refused unless
+    ``allow_unvalidated=True``.
 
     Returns
     -------
@@ -385,9 +442,14 @@ def solve(case: Case) -> Result:
         When Newton and the load-path fallback both fail; the message names the
         case, the load step, the residual and the reason.
     """
-    pb, react, stats, s_t = solve_problem(case)
+    if case.lay.method == "S" and not allow_unvalidated:
+        raise NotImplementedError(
+            f"case {case.name!r}: S-lay (lay.method = 'S') is not validated yet; its results "
+            "may be wrong. Pass allow_unvalidated=True to pipelay_fast.solve to try it."
+        )
+    pb, react, stats, s_t, s_l = solve_problem(case)
     columns = build_profile(case, pb, react)
-    summary = build_summary(case, pb, columns, stats, s_t)
+    summary = build_summary(case, pb, columns, stats, s_t, s_l)
     return Result(case, summary, columns, state=pb)
 
 

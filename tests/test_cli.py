@@ -75,3 +75,11 @@ def test_example_round_trips_through_load_case(tmp_path, capsys):
 
     assert main(["example", "j12"]) == 2
     assert "available: j125, s125, s67" in capsys.readouterr().err
+
+
+def test_slay_is_refused_until_validated(capsys):
+    import pipelay_fast
+
+    path = str(Path(pipelay_fast.__file__).resolve().parent / "examples" / "s67.toml")
+    assert main(["solve", path]) == 1
+    assert "S-lay" in capsys.readouterr().err

@@ -63,10 +63,11 @@ def hermite(xi, le, n, dn, ddn):
 
 
 @jit
-def _crossing(xa, pa, xb, pb, le, level):
-    """xi in (0, 1) where the Hermite height x(xi) crosses ``level``, else -1.
+def hermite_crossing(xa, pa, xb, pb, le, level):
+    """xi in (0, 1) where a Hermite coordinate crosses ``level``, else -1.
 
-    ``xa, xb`` are the nodal heights, ``pa, pb`` their slopes dx/ds. Newton from
+    ``xa, xb`` are the nodal values of the coordinate, ``pa, pb`` their
+    derivatives d/ds (the height x at the water surface, z at the stinger tip). Newton from
     the chord estimate; the root is unique when the element is monotone in x,
     which holds for any element shorter than the local radius of curvature.
     """
@@ -188,7 +189,7 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, ws,
     ncut = 1
     for lev in range(2):
         level = props[L.DEPTH] if lev == 0 else props[L.H_CONT]
-        xi_c = _crossing(ue[0], ue[nd], ue[ndn], ue[ndn + nd], le, level)
+        xi_c = hermite_crossing(ue[0], ue[nd], ue[ndn], ue[ndn + nd], le, level)
         if xi_c > 0.0:
             cuts[ncut] = xi_c
             ncut += 1

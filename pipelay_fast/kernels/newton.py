@@ -32,6 +32,7 @@ from .._jit import jit
 from . import layout as L
 from .assembly import assemble, distribute_torque, rotate_node
 from .banded import band_factor, band_solve
+from .element import hermite_crossing
 
 # info slots
 I_STATUS = 0
@@ -180,10 +181,176 @@ def _weighted_max(nd, g, cmask, fref, href):
     return worst, ssq
 
 
+# stinger vector slots
+ST_A = 0
+ST_B = 1
+ST_C = 2
+ST_ZL = 3
+ST_ZU = 4
+ST_ON = 5
+N_STINGER = 6
+
+# contact-region state slots (one int64 vector per region)
+CS_FROZEN = 0
+CS_RUN = 1
+CS_DIR = 2
+CS_COUNT = 3
+CS_HIST = 4  # eight recent boundaries follow
+N_CSTATE = 12
+
+
+@jit
+def stinger_angle(stinger, z):
+    """Angle of the stinger tangent above horizontal at z [rad]."""
+    return math.atan(2.0 * stinger[ST_A] * z + stinger[ST_B])
+
+
+@jit
+def stinger_gap(stinger, x, z):
+    """Normal clearance [m] of the point (x, z) above the stinger (negative inside)."""
+    f = (stinger[ST_A] * z + stinger[ST_B]) * z + stinger[ST_C]
+    return (x - f) * math.cos(stinger_angle(stinger, z))
+
+
+@jit
+def _seen(cs, p):
+    for k in range(CS_HIST, N_CSTATE):
+        if cs[k] == p:
+            return True
+    return False
+
+
+@jit
+def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
+    """Active-set update of one contiguous contact region; returns True if changed.
+
+    The region grows from one end of the pipe: from the lower end (``sign`` = 1,
+    the seabed) or from the top (``sign`` = -1, the stinger). ``gap`` is the
+    clearance of every node [m] (+inf where the node cannot touch), ``reac``
+    the normal reaction of every node [N]. Contact first extends to the
+    furthest node that penetrates; else a pull at the boundary node releases it
+    (consecutive releases double in size up to 16 nodes: touchdown or lift-off
+    may have to recede by many elements from the first guess), and a pull further in
+    releases everything beyond. The node next to the boundary is not tested:
+    the slope clamp there shares a couple with the boundary node. When the
+    boundary falls inside an element it cycles between nearby nodes: once a
+    change would return it to one of its last eight positions the region is
+    extended only past penetrations deeper than ``pen_frozen`` [m], so the
+    iteration ends with every reaction pushing and at most a
+    discretisation-sized penetration next to it, which the caller removes by
+    moving a node onto the boundary.
+    """
+    nn = active.shape[0]
+    last = -1
+    for p in range(nn):
+        node = p if sign > 0 else nn - 1 - p
+        if active[node] != 0:
+            last = p
+    changed = False
+    direction = 0
+    deepest = -1
+    # frozen, only a penetration beyond discretisation size still extends
+    limit = pen_tol if cs[CS_FROZEN] == 0 else pen_frozen
+    for p in range(last + 1, nn):
+        node = p if sign > 0 else nn - 1 - p
+        if gap[node] < -limit:
+            deepest = p
+    if deepest >= 0 and cs[CS_FROZEN] == 0 and _seen(cs, deepest):
+        cs[CS_FROZEN] = 1
+        deepest = -1
+    if deepest >= 0:
+        for p in range(last + 1, deepest + 1):
+            node = p if sign > 0 else nn - 1 - p
+            if gap[node] < np.inf:
+                active[node] = 1
+        changed = True
+        direction = 1
+    else:
+        start = -1
+        for p in range(last - 1):
+            node = p if sign > 0 else nn - 1 - p
+            if active[node] != 0 and reac[node] < -pull_tol:
+                start = p
+                break
+        if start < 0 and last >= 0:
+            node = last if sign > 0 else nn - 1 - last
+            if reac[node] < -pull_tol:
+                run = 1 if cs[CS_DIR] != -1 else min(2 * cs[CS_RUN], 16)
+                cs[CS_RUN] = run
+                start = max(0, last - run + 1)
+        if start >= 0:
+            if _seen(cs, start - 1):
+                cs[CS_FROZEN] = 1
+            for p in range(start, last + 1):
+                node = p if sign > 0 else nn - 1 - p
+                active[node] = 0
+            changed = True
+            direction = -1
+    if changed:
+        cs[CS_HIST + cs[CS_COUNT] % 8] = last
+        cs[CS_DIR] = direction
+        cs[CS_COUNT] += 1
+    return changed
+
+
+@jit
+def tip_geometry(nd, s_el, u, stinger, grad):
+    """The pipe over the stinger tip (x_L, z_L): point against element.
+
+    Finds the material point whose z equals z_L (the element spanning it and
+    xi there), and returns (found, gap, cos theta): the vertical clearance
+    x - x_L [m] and the pipe's inclination there. ``grad`` (length ndof) gets
+    d(gap)/du, whose x part is N_k(xi) and z part -(x'/z') N_k(xi): it points
+    along the pipe's normal, so the tip's reaction mu * grad is frictionless.
+    """
+    ndn = 2 * nd + 1
+    nel = s_el.shape[0]
+    z_l = stinger[ST_ZL]
+    x_l = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
+    grad[:] = 0.0
+    zi = nd - 1
+    e = -1
+    for k in range(nel):
+        if u[k * ndn + zi] <= z_l < u[(k + 1) * ndn + zi]:
+            e = k
+            break
+    if e < 0:
+        return False, 0.0, 1.0, 0.0
+    a = e * ndn
+    b = a + ndn
+    le = s_el[e]
+    za, zb = u[a + zi], u[b + zi]
+    pa, pb = u[a + nd + zi], u[b + nd + zi]
+    xi = 0.0 if za == z_l else hermite_crossing(za, pa, zb, pb, le, z_l)
+    x2 = xi * xi
+    x3 = x2 * xi
+    n0 = 1 - 3 * x2 + 2 * x3
+    n1 = le * (xi - 2 * x2 + x3)
+    n2 = 3 * x2 - 2 * x3
+    n3 = le * (-x2 + x3)
+    d0 = (-6 * xi + 6 * x2) / le
+    d1 = 1 - 4 * xi + 3 * x2
+    d2 = (6 * xi - 6 * x2) / le
+    d3 = -2 * xi + 3 * x2
+    x = n0 * u[a] + n1 * u[a + nd] + n2 * u[b] + n3 * u[b + nd]
+    xs = d0 * u[a] + d1 * u[a + nd] + d2 * u[b] + d3 * u[b + nd]
+    zs = d0 * za + d1 * pa + d2 * zb + d3 * pb
+    ratio = xs / zs
+    offs = (a, a + nd, b, b + nd)
+    shapes = (n0, n1, n2, n3)
+    for k in range(4):
+        grad[offs[k]] = shapes[k]
+        grad[offs[k] + zi] = -ratio * shapes[k]
+    s_tip = 0.0
+    for k in range(e):
+        s_tip += s_el[k]
+    return True, x - x_l, zs / math.sqrt(xs * xs + zs * zs), s_tip + xi * le
+
+
 @jit
 def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
-           f_node, g_off, slide_dof, tb, top_node, top_target, tol, fref, href, maxit,
-           react, info):
+           stinger, st_active, tip, f_node, g_off, slide_dof, tb, top_node, top_target, tol,
+           fref, href, maxit, react, info):
     """Solve G(u) = reactions for one load level; see the module docstring.
 
     Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
@@ -195,6 +362,9 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     phi_r, phi_rp : (nn,) rotation angles of the nodal frames of r and r' [rad]
     bed : (nn,) int8, 1 where the node may touch the seabed
     bed_active : (nn,) int8, current seabed contacts; updated in place
+    stinger : (N_STINGER,) the curve x = a z^2 + b z + c on [zL, zU] (``ST_*``)
+    st_active : (nn,) int8, current stinger contacts; updated in place
+    tip : (2,) tip contact: [active (0/1), multiplier mu [N]]; updated in place
     f_node : (ndof,) nodal external loads [N]
     g_off : (ndof,) residual offset (load-path homotopy)
     slide_dof : dof of the sliding lower end (-1: none); T_b = tb[0] pulls it along -z
@@ -234,30 +404,84 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     solve_tb = top_target > 0.0 and slide_dof >= 0
     kv = kl + ku
     pen_tol = 1e-7 * href  # penetration that adds a contact [m]
+    pen_frozen = 1e-4 * href  # ... once the boundary has cycled [m]
     pull_tol = 1e-9 * fref  # pull that releases one [N]
     for k in range(N_INFO):
         info[k] = 0.0
     status = L.MAX_ITERATIONS
     changed = True
-    frozen = False
-    history = np.full(8, -2, dtype=np.int64)  # recent contact boundaries
-    run = 1
-    last_direction = 0
+    cs_bed = np.full(N_CSTATE, -2, dtype=np.int64)
+    cs_st = np.full(N_CSTATE, -2, dtype=np.int64)
+    for cs in (cs_bed, cs_st):
+        cs[CS_FROZEN] = 0
+        cs[CS_RUN] = 1
+        cs[CS_DIR] = 0
+        cs[CS_COUNT] = 0
+    gap = np.full(nn, np.inf)
+    reac = np.zeros(nn)
+    grad = np.zeros(n)
+    grad_t = np.zeros(n)
+    rows = np.zeros((2, n))
+    cols = np.zeros((2, n))
+    ys = np.zeros((2, n))
+    res_b = np.zeros(2)
+    dz = np.zeros(2)
+    kind = np.zeros(2, dtype=np.int64)  # 0: bottom tension, 1: tip multiplier
+    g_tip = 0.0
+    has_stinger = stinger[ST_ON] != 0.0
     last_step = np.inf
     r_max = 0.0
     changes_total = 0
     cuts_total = 0
     it = 0
     for it in range(1, maxit + 1):
+        # ---- 0: nodal frames of the stinger contacts ---------------------
+        if has_stinger:
+            for node in range(1, nn):
+                if node == top_node:
+                    continue
+                if st_active[node] != 0:
+                    psi = stinger_angle(stinger, u[node * ndn + nd - 1])
+                    phi_r[node] = psi
+                    phi_rp[node] = psi
+                else:
+                    phi_r[node] = 0.0
+                    phi_rp[node] = 0.0
         # ---- 1-2: system in nodal frames --------------------------------
         _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
                 slide_dof, tb, phi_r, phi_rp, True)
+        tip_on = False
+        if has_stinger and tip[0] != 0.0:
+            found, g_tip, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
+            if found:
+                tip_on = True
+                for i in range(n):
+                    g[i] -= tip[1] * grad[i]
+            else:
+                tip[0] = 0.0
+                tip[1] = 0.0
         te_top = 0.0
         if solve_tb:
             te_top = _top_tension_row(nd, ab, kl, ku, g, u, top_node, d)
         _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, True)
+        # border unknowns: rows (constraint gradients) and columns (dG/dz)
+        nb = 0
         if solve_tb:
             _rotate_all(nd, dummy_ab, kl, ku, d, phi_r, phi_rp, False)
+            rows[nb, :] = d
+            cols[nb, :] = 0.0
+            cols[nb, slide_dof] = 1.0
+            res_b[nb] = te_top - top_target
+            kind[nb] = 0
+            nb += 1
+        if tip_on:
+            _rotate_all(nd, dummy_ab, kl, ku, grad, phi_r, phi_rp, False)
+            rows[nb, :] = grad
+            for i in range(n):
+                cols[nb, i] = -grad[i]
+            res_b[nb] = g_tip
+            kind[nb] = 1
+            nb += 1
         # ---- constrained set and prescribed increments -----------------
         max_delta = 0.0
         for i in range(n):
@@ -280,6 +504,20 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             if on_bed and not touchdown and fix_mask[base + nd] == 0:
                 cmask[base + nd] = True
                 delta[base + nd] = -u[base + nd]
+            if has_stinger and node != top_node and fix_mask[base] == 0:
+                x_n = u[base]
+                z_n = u[base + nd - 1]
+                if st_active[node] != 0:
+                    # on the stinger: on the curve, and tangent to it except at
+                    # lift-off (the contact node with free pipe below it)
+                    cmask[base] = True
+                    delta[base] = -stinger_gap(stinger, x_n, z_n)
+                    if node > 0 and st_active[node - 1] != 0:
+                        cmask[base + nd] = True
+                        delta[base + nd] = -_local_value(nd, u, node, nd, phi_r, phi_rp)
+                if nd == 3 and stinger[ST_ZL] <= z_n <= stinger[ST_ZU]:
+                    cmask[base + 1] = True  # held laterally over the stinger
+                    delta[base + 1] = -u[base + 1]
         for i in range(n):
             slot = i % ndn
             lim = href if slot < nd else 1.0
@@ -290,6 +528,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         top_res = 0.0
         if solve_tb:
             top_res = abs(te_top - top_target) / top_target
+        if tip_on:
+            max_delta = max(max_delta, abs(g_tip) / href)
         if not (res_max < 1e300):
             status = L.NOT_FINITE
             break
@@ -333,26 +573,49 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             status = L.SINGULAR
             break
         band_solve(ab, kl, ku, ipiv, du)
+        # bordered unknowns: du = y0 - sum_j dz_j Y_j with S dz = rows . y0 + res
+        for j in range(nb):
+            for i in range(n):
+                ys[j, i] = 0.0 if cmask[i] else cols[j, i] * scale[i % ndn]
+            band_solve(ab, kl, ku, ipiv, ys[j])
+        sm = np.zeros((2, 2))
+        rh = np.zeros(2)
+        for i2 in range(nb):
+            acc = 0.0
+            for k in range(n):
+                acc += rows[i2, k] * scale[k % ndn] * du[k]
+            rh[i2] = acc + res_b[i2]
+            for j in range(nb):
+                acc = 0.0
+                for k in range(n):
+                    acc += rows[i2, k] * scale[k % ndn] * ys[j, k]
+                sm[i2, j] = acc
+        singular_border = False
+        if nb == 1:
+            if sm[0, 0] == 0.0:
+                singular_border = True
+            else:
+                dz[0] = rh[0] / sm[0, 0]
+        elif nb == 2:
+            det = sm[0, 0] * sm[1, 1] - sm[0, 1] * sm[1, 0]
+            if det == 0.0:
+                singular_border = True
+            else:
+                dz[0] = (rh[0] * sm[1, 1] - sm[0, 1] * rh[1]) / det
+                dz[1] = (sm[0, 0] * rh[1] - sm[1, 0] * rh[0]) / det
+        if singular_border:
+            status = L.SINGULAR
+            break
+        for j in range(nb):
+            for i in range(n):
+                du[i] -= dz[j] * ys[j, i]
         dtb = 0.0
-        if solve_tb:
-            y2[:] = 0.0
-            y2[slide_dof] = scale[slide_dof % ndn]
-            if cmask[slide_dof]:
-                status = L.SINGULAR
-                break
-            band_solve(ab, kl, ku, ipiv, y2)
-            dy1 = 0.0
-            dy2 = 0.0
-            for i in range(n):
-                si = scale[i % ndn]
-                dy1 += d[i] * si * du[i]
-                dy2 += d[i] * si * y2[i]
-            if dy2 == 0.0:
-                status = L.SINGULAR
-                break
-            dtb = (dy1 + te_top - top_target) / dy2
-            for i in range(n):
-                du[i] -= dtb * y2[i]
+        dmu = 0.0
+        for j in range(nb):
+            if kind[j] == 0:
+                dtb = dz[j]
+            else:
+                dmu = dz[j]
         # reactions (linearised) on the constrained rows, physical units
         for i in range(n):
             react[i] = 0.0
@@ -363,29 +626,36 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             for j in range(max(0, i - ku), min(n - 1, i + kl) + 1):
                 acc += ab0[kv + i - j, j] * du[j]
             react[i] = g[i] + acc / scale[i % ndn]
-            if solve_tb and i == slide_dof:
-                react[i] += dtb
+            for j in range(nb):
+                react[i] += cols[j, i] * dz[j]
         # ---- 4: line search ---------------------------------------------
         for i in range(n):
             du_free[i] = du[i] * scale[i % ndn]
         _to_global(nd, du_free, phi_r, phi_rp)
         u_old[:] = u
         tb_old = tb[0]
-        merit0 = res_ssq + top_res * top_res
+        mu_old = tip[1]
+        merit0 = res_ssq + top_res * top_res + (g_tip / href) ** 2 * tip_on
         alpha = 1.0
         accepted = False
         for _ls in range(12):
             for i in range(n):
                 u[i] = u_old[i] + alpha * du_free[i]
             tb[0] = tb_old + alpha * dtb
+            tip[1] = mu_old + alpha * dmu
             _system(nd, s_el, u, props, table, torques, dummy_ab, kl, ku, g_trial, f_node,
                     g_off, slide_dof, tb, phi_r, phi_rp, False)
+            gt = 0.0
+            if tip_on:
+                found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
+                for i in range(n):
+                    g_trial[i] -= tip[1] * grad_t[i]
             tr = 0.0
             if solve_tb:
                 tr = (_top_te(nd, g_trial, u, top_node) - top_target) / top_target
             _rotate_all(nd, dummy_ab, kl, ku, g_trial, phi_r, phi_rp, False)
             _rm, rs = _weighted_max(nd, g_trial, cmask, fref, href)
-            m1 = rs + tr * tr
+            m1 = rs + tr * tr + (gt / href) ** 2
             if m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < (tol * tol) or m1 < 1e-300:
                 accepted = True
                 break
@@ -399,6 +669,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             for i in range(n):
                 u[i] = u_old[i] + du_free[i]
             tb[0] = tb_old + dtb
+            tip[1] = mu_old + dmu
         last_step = 0.0
         r_max = 0.0
         for i in range(n):
@@ -408,61 +679,37 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                     last_step = v
                 if abs(u[i]) > r_max:
                     r_max = abs(u[i])
-        # ---- 5: active set ----------------------------------------------
-        # Seabed contact is one contiguous stretch from the lower end (a flat
-        # rigid seabed under vertical loads cannot hold a pipe that lifts off
-        # and lands again). Contact first extends to the last node that
-        # penetrates; else a pull at the last node releases it, and a pull
-        # further in releases everything from there. The second-last node is
-        # not tested: the slope clamp there shares a couple with the last one.
-        # When touchdown falls inside an element the boundary cycles between
-        # nearby nodes: once a change would return the boundary to one of its
-        # last eight positions, contact is no longer extended, so
-        # the iteration ends with every reaction pushing and at most a
-        # discretisation-sized penetration at the next node, which the caller
-        # removes by moving a node onto touchdown.
-        last = -1
+        # ---- 5: active sets (see update_region) ---------------------------
         for node in range(nn):
-            if bed_active[node] != 0:
-                last = node
-        changed = False
-        direction = 0
-        deepest = -1
-        if not frozen:
-            for node in range(last + 1, nn):
+            base = node * ndn
+            reac[node] = react[base]
+            if bed[node] != 0 and fix_mask[base] == 0 and st_active[node] == 0:
+                gap[node] = u[base]
+            else:
+                gap[node] = np.inf
+        changed = update_region(bed_active, gap, reac, 1, pen_tol, pen_frozen, pull_tol, cs_bed)
+        if has_stinger:
+            for node in range(nn):
                 base = node * ndn
-                if bed[node] != 0 and fix_mask[base] == 0 and u[base] < -pen_tol:
-                    deepest = node
-            if deepest >= 0 and _seen(history, deepest):
-                frozen = True
-                deepest = -1
-        if deepest >= 0:
-            for node in range(last + 1, deepest + 1):
-                if bed[node] != 0 and fix_mask[node * ndn] == 0:
-                    bed_active[node] = 1
-            changed = True
-            direction = 1
-        else:
-            start = -1
-            for node in range(last - 1):
-                if bed_active[node] != 0 and react[node * ndn] < -pull_tol:
-                    start = node
-                    break
-            if start < 0 and last >= 0 and react[last * ndn] < -pull_tol:
-                # consecutive releases double in size: touchdown may have to
-                # recede by many elements from the first guess
-                run = 1 if last_direction != -1 else 2 * run
-                start = max(0, last - run + 1)
-            if start >= 0:
-                if _seen(history, start - 1):
-                    frozen = True
-                for node in range(start, last + 1):
-                    bed_active[node] = 0
+                z_n = u[base + nd - 1]
+                if (node != top_node and fix_mask[base] == 0 and bed_active[node] == 0
+                        and stinger[ST_ZL] <= z_n <= stinger[ST_ZU]):
+                    gap[node] = stinger_gap(stinger, u[base], z_n)
+                else:
+                    gap[node] = np.inf
+            if update_region(st_active, gap, reac, -1, pen_tol, pen_frozen, pull_tol, cs_st):
                 changed = True
-                direction = -1
-        if changed:
-            history[changes_total % history.shape[0]] = last
-            last_direction = direction
+            # the tip: engaged when the pipe passes below it, released when it pulls
+            found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
+            if tip[0] == 0.0:
+                if found and gt < -pen_tol:
+                    tip[0] = 1.0
+                    tip[1] = 0.0
+                    changed = True
+            elif tip[1] < -pull_tol or not found:
+                tip[0] = 0.0
+                tip[1] = 0.0
+                changed = True
         if changed:
             changes_total += 1
             if changes_total > 2 * nn:

@@ -1,0 +1,194 @@
+"""First guess of a lay: laid pipe, natural catenary, and the stinger for S-lay.
+
+The catenary leaves the stinger where its tangent matches the stinger's: on a
+frictionless stinger the effective tension falls by the weight of the height
+climbed, Te(x) = T_top - (W(x_top) - W(x)) with W(x) = int_0^x w dx, and a
+catenary touching the seabed has Te = h + W(x) and cos(theta) = h / Te, so
+lift-off is the root z of  Te(x(z)) (1 - cos psi(z)) = W(x(z))  (psi the stinger
+angle). Without a root the catenary is steeper than the stinger's tip and the
+pipe leaves from the tip. The guess is only a starting point: Newton corrects
+the bending boundary layers, which shift touchdown by about sqrt(EI/h).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .case import Case
+from .catenary import Catenary, from_top_tension
+
+
+@dataclass
+class Guess:
+    """A first shape along unstretched arc length from the lower end.
+
+    Attributes
+    ----------
+    cat : Catenary
+        The free span, touchdown to lift-off (J-lay: to the top).
+    laid : float
+        Laid length before touchdown [m].
+    s_liftoff : float or None
+        Arc length of lift-off from the stinger [m] (S-lay).
+    total : float
+        Total modelled length [m].
+    liftoff_z : float or None
+        z of lift-off [m] (S-lay).
+    at_tip : bool
+        The pipe leaves the stinger at its tip.
+    """
+
+    cat: Catenary
+    laid: float
+    s_liftoff: float | None
+    total: float
+    liftoff_z: float | None = None
+    at_tip: bool = False
+
+
+def weights(case: Case):
+    """Effective weight below and above the water surface [N/m]."""
+    depth = case.environment.water_depth
+    w1 = float(case.effective_weight(0.0))
+    w2 = float(case.effective_weight(depth + 1.0))
+    if w1 <= 0.0:
+        raise ValueError(
+            f"the pipe floats: its submerged effective weight is {w1:.1f} N/m; "
+            "increase pipe.steel_density or pipe.coating_density"
+        )
+    return w1, w2
+
+
+def _rise(w1, w2, depth, x):
+    """W(x) = int_0^x w dx [N]."""
+    return w1 * min(x, depth) + w2 * max(x - depth, 0.0)
+
+
+def free_span(case: Case) -> Catenary:
+    """The J-lay catenary from the lay's tension keys."""
+    lay = case.lay
+    depth = case.environment.water_depth
+    x_top = lay.top[0]
+    w1, w2 = weights(case)
+    if lay.top_tension is not None:
+        return from_top_tension(lay.top_tension, w1, w2, depth, x_top)
+    if lay.bottom_tension is not None:
+        return Catenary(lay.bottom_tension, w1, w2, depth, x_top)
+    length, z_top = lay.pipe_length, lay.top[1]
+
+    def gap(h):
+        cat = Catenary(h, w1, w2, depth, x_top)
+        return (z_top - cat.span) - (length - cat.length)
+
+    lo, hi = 1e-6 * w1 * depth, 1e3 * w1 * max(length, z_top)
+    if gap(lo) * gap(hi) > 0:
+        raise ValueError(
+            f"lay.pipe_length = {length:g} m cannot reach the top {lay.top} from a lower end "
+            "at (0, 0): it is shorter than the straight line or much longer than a slack catenary"
+        )
+    return Catenary(brentq(gap, lo, hi, xtol=1e-10 * w1), w1, w2, depth, x_top)
+
+
+def stinger_arc(stinger, z0, z1, n=401):
+    """z samples from z0 to z1 and the stinger arc length from z0 [m]."""
+    z = np.linspace(z0, z1, n)
+    ds = np.sqrt(1.0 + stinger.slope(z) ** 2)
+    arc = np.concatenate(([0.0], np.cumsum(0.5 * (ds[1:] + ds[:-1]) * np.diff(z))))
+    return z, arc
+
+
+def slay_liftoff(case: Case):
+    """(z of lift-off [m], horizontal tension h [N], leaves at the tip) for S-lay."""
+    lay, st = case.lay, case.lay.stinger
+    depth = case.environment.water_depth
+    w1, w2 = weights(case)
+    (x_l, z_l), (x_u, z_u) = st.lower, st.upper
+    if lay.pipe_length is not None:
+        raise ValueError("lay.pipe_length is not supported for S-lay yet: give "
+                         "lay.top_tension or lay.bottom_tension")
+
+    def tension(x):
+        if lay.top_tension is not None:
+            return lay.top_tension - (_rise(w1, w2, depth, x_u) - _rise(w1, w2, depth, x))
+        return lay.bottom_tension + _rise(w1, w2, depth, x)
+
+    def mismatch(z):
+        x = float(st.height(z))
+        cos_psi = 1.0 / math.sqrt(1.0 + float(st.slope(z)) ** 2)
+        return tension(x) * (1.0 - cos_psi) - _rise(w1, w2, depth, x)
+
+    zs = np.linspace(z_l, z_u, 201)
+    f = np.array([mismatch(z) for z in zs])
+    change = np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:]))
+    if change.size:
+        k = change[0]
+        z_lo = brentq(mismatch, zs[k], zs[k + 1], xtol=1e-10)
+        at_tip = False
+    else:
+        z_lo, at_tip = z_l, True
+    x_lo = float(st.height(z_lo))
+    t_lo = tension(x_lo)
+    h = t_lo - _rise(w1, w2, depth, x_lo)
+    if h <= 0.0:
+        raise ValueError(
+            f"lay.top_tension = {lay.top_tension:g} N cannot hold the pipe off the stinger: "
+            f"the tension left at lift-off (x = {x_lo:.1f} m) is below the weight hanging from it"
+        )
+    return z_lo, h, at_tip
+
+
+def first_guess(case: Case, laid_default) -> Guess:
+    """The first shape; ``laid_default(h)`` gives the laid length for tension h."""
+    lay = case.lay
+    depth = case.environment.water_depth
+    if lay.method == "J":
+        cat = free_span(case)
+        susp = cat.length
+        if lay.pipe_length is not None:
+            laid = lay.pipe_length - susp
+        else:
+            laid = case.solver.laid_length or laid_default(cat.h)
+        return Guess(cat, laid, None, laid + susp)
+    w1, w2 = weights(case)
+    z_lo, h, at_tip = slay_liftoff(case)
+    st = lay.stinger
+    x_lo = float(st.height(z_lo))
+    cat = Catenary(h, w1, w2, depth, x_lo)
+    laid = case.solver.laid_length or laid_default(h)
+    _, arc = stinger_arc(st, z_lo, st.upper[1])
+    s_lo = laid + cat.length
+    return Guess(cat, laid, s_lo, s_lo + arc[-1], liftoff_z=z_lo, at_tip=at_tip)
+
+
+def shape(case: Case, g: Guess, s):
+    """x, z [m], theta [rad], Te [N], curvature [1/m] of the guess at arc lengths s."""
+    lay = case.lay
+    cat = g.cat
+    z_top = lay.top[1]
+    span_end = z_top if g.s_liftoff is None else g.liftoff_z
+    z_tdp = span_end - cat.span
+    x, z, th, te = cat.at(np.clip(s - g.laid, 0.0, cat.length))
+    on_bed = s < g.laid
+    z = np.where(on_bed, z_tdp - (g.laid - s), z_tdp + z)
+    x = np.where(on_bed, 0.0, x)
+    th = np.where(on_bed, 0.0, th)
+    te = np.where(on_bed, cat.h, te)
+    kappa = np.where(on_bed, 0.0, np.cos(th) ** 2 * np.asarray(case.effective_weight(x)) / cat.h)
+    if g.s_liftoff is not None:
+        st = lay.stinger
+        zs, arc = stinger_arc(st, g.liftoff_z, st.upper[1])
+        on_st = s >= g.s_liftoff
+        zz = np.interp(s[on_st] - g.s_liftoff, arc, zs)
+        slope = np.asarray(st.slope(zz))
+        z[on_st] = zz
+        x[on_st] = np.asarray(st.height(zz))
+        th[on_st] = np.arctan(slope)
+        # frictionless stinger: Te = h + W(x), continuing the catenary's law
+        depth = case.environment.water_depth
+        te[on_st] = cat.h + np.array([_rise(cat.w1, cat.w2, depth, xi) for xi in x[on_st]])
+        kappa[on_st] = 2.0 * st.a / (1.0 + slope**2) ** 1.5
+    return x, z, th, te, kappa
