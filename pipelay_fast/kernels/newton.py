@@ -275,7 +275,7 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
         if start < 0 and last >= 0:
             node = last if sign > 0 else nn - 1 - last
             if reac[node] < -pull_tol:
-                run = 1 if cs[CS_DIR] != -1 else min(2 * cs[CS_RUN], 16)
+                run = 1 if cs[CS_DIR] != -1 or cs[CS_FROZEN] else min(2 * cs[CS_RUN], 16)
                 cs[CS_RUN] = run
                 start = max(0, last - run + 1)
         if start >= 0:
@@ -429,6 +429,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     kind = np.zeros(2, dtype=np.int64)  # 0: bottom tension, 1: tip multiplier
     g_tip = 0.0
     has_stinger = stinger[ST_ON] != 0.0
+    tip_toggles = 0
     last_step = np.inf
     r_max = 0.0
     changes_total = 0
@@ -700,16 +701,21 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             if update_region(st_active, gap, reac, -1, pen_tol, pen_frozen, pull_tol, cs_st):
                 changed = True
             # the tip: engaged when the pipe passes below it, released when it pulls
+            # (after two toggles, as for the regions, only a penetration beyond
+            # discretisation size engages it again)
             found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
             if tip[0] == 0.0:
-                if found and gt < -pen_tol:
+                limit = pen_tol if tip_toggles < 2 else pen_frozen
+                if found and gt < -limit:
                     tip[0] = 1.0
                     tip[1] = 0.0
                     changed = True
+                    tip_toggles += 1
             elif tip[1] < -pull_tol or not found:
                 tip[0] = 0.0
                 tip[1] = 0.0
                 changed = True
+                tip_toggles += 1
         if changed:
             changes_total += 1
             if changes_total > 2 * nn:
