@@ -61,6 +61,7 @@ def build_props(case: Case, gravity_factor: float = 1.0, current_factor: float =
     p[L.MOM_X], p[L.MOM_Y], p[L.MOM_Z] = case.lay.distributed_moment
     p[L.GRAVITY_FACTOR] = gravity_factor
     p[L.CURRENT_FACTOR] = current_factor
+    p[L.MU_Y] = case.seabed.lateral_friction
     if cur.profile == "table" and cur.table:
         table = np.ascontiguousarray(np.array(cur.table, dtype=np.float64).reshape(-1, 2))
     else:

@@ -71,6 +71,7 @@ class Problem:
     stinger: np.ndarray
     st_active: np.ndarray
     tip: np.ndarray
+    fric: np.ndarray
     f_node: np.ndarray
     slide_dof: int
     tb: np.ndarray
@@ -190,8 +191,11 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
     if st is None:
         st_active[:] = 0
     props, table = build_props(case)
+    fric = np.zeros((nn, 3))
+    if nd == 3:
+        fric[:, L.FR_Y] = u[1::ndn]
     return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
-                   stinger, st_active, np.zeros(2), np.zeros(nn * ndn), slide_dof, np.array([float(tb)]), top,
+                   stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof, np.array([float(tb)]), top,
                    top_target, fref, stats["h_max"], stats=stats)
 
 
@@ -200,7 +204,7 @@ def _run_newton(pb: Problem, g_off, tol, maxit):
     info = np.zeros(N_INFO)
     status = newton(pb.nd, pb.s_el, pb.u, pb.props, pb.table, pb.fix_mask, pb.fix_val,
                     pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.stinger, pb.st_active,
-                    pb.tip, pb.f_node, g_off,
+                    pb.tip, pb.fric, pb.f_node, g_off,
                     pb.slide_dof, pb.tb, pb.top_node, pb.top_target, tol, pb.fref, pb.href,
                     maxit, react, info)
     return status, react, info
@@ -228,7 +232,7 @@ def _fail(case, step, info, status, extra=""):
     )
 
 
-_STATE = ("u", "tb", "bed_active", "st_active", "tip", "phi_r", "phi_rp")
+_STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp")
 
 
 def _snapshot(pb: Problem):
@@ -360,6 +364,10 @@ def solve_problem(case: Case):
     """
     t0 = time.perf_counter()
     pb = build_problem(case)
+    # friction is path dependent: gravity first, then the current in steps
+    path = pb.nd == 3 and case.seabed.lateral_friction > 0.0 and case.environment.current.speed > 0.0
+    if path:
+        pb.props[L.CURRENT_FACTOR] = 0.0
     react, stats = newton_with_fallback(case, pb)
     passes = 1
     while True:
@@ -378,9 +386,36 @@ def solve_problem(case: Case):
         react, more = newton_with_fallback(case, pb)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
+    if path:
+        react, more = apply_current(case, pb)
+        stats = {key: stats[key] + more[key] for key in stats}
+        s_t = touchdown_position(case, pb)
     stats["mesh_passes"] = passes
     stats["seconds"] = time.perf_counter() - t0
     return pb, react, stats, s_t, liftoff_position(case, pb)
+
+
+def apply_current(case: Case, pb: Problem, first_step=0.25):
+    """Raise the current factor from 0 to 1 in steps, halving a step that fails."""
+    factor, step = 0.0, first_step
+    stats = {"iterations": 0, "load_steps": 0}
+    react = None
+    while factor < 1.0:
+        trial = min(1.0, factor + step)
+        saved = _snapshot(pb)
+        pb.props[L.CURRENT_FACTOR] = trial
+        try:
+            react, more = newton_with_fallback(case, pb)
+        except SolveError:
+            _restore(pb, saved)
+            step *= 0.5
+            if step < 1e-3:
+                raise
+            continue
+        stats = {key: stats[key] + more[key] for key in stats}
+        factor = trial
+        step = min(2.0 * step, 0.5)
+    return react, stats
 
 
 def liftoff_index(pb: Problem) -> int:

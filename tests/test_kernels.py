@@ -63,7 +63,7 @@ def laid_pipe(case, nd, n_el=40, length=50.0, tension=2e5, lift=0.3):
     props, table = build_props(case)
     return Problem(nd, s, props, table, u, fix, np.zeros_like(u), np.zeros(s.size),
                    np.zeros(s.size), bed, np.zeros(s.size, dtype=np.int8), np.zeros(N_STINGER),
-                   np.zeros(s.size, dtype=np.int8), np.zeros(2), f_node, -1, np.zeros(1), s.size - 1, 0.0,
+                   np.zeros(s.size, dtype=np.int8), np.zeros(2), np.zeros((s.size, 3)), f_node, -1, np.zeros(1), s.size - 1, 0.0,
                    tension, 1.0)
 
 
@@ -117,3 +117,81 @@ def test_newton_converges_quadratically(j125):
     # ... and divides the residual after it by 4 or more: order >= 2 - 0.2
     order = np.log2(after[:-1] / after[1:])
     assert (order >= 1.8).all(), order
+
+
+def lateral_drag(pb, q0):
+    """Total y drag [N] of a current q0 = 1/2 rho C_D D_h V^2 along +y on the
+    solved pipe: the component of the current normal to the deformed pipe,
+    Gauss-Legendre on each Hermite element (written here, not taken from the
+    kernels)."""
+    xg, wg = np.polynomial.legendre.leggauss(6)
+    xi, wq = 0.5 * (xg + 1.0), 0.5 * wg
+    ndn, total = pb.ndn, 0.0
+    for e in range(pb.nn - 1):
+        le = pb.s[e + 1] - pb.s[e]
+        a, b = pb.u[e * ndn:e * ndn + 3], pb.u[(e + 1) * ndn:(e + 1) * ndn + 3]
+        pa, pbb = pb.u[e * ndn + 3:e * ndn + 6], pb.u[(e + 1) * ndn + 3:(e + 1) * ndn + 6]
+        for t_, w_ in zip(xi, wq, strict=True):
+            d = np.array([(-6 * t_ + 6 * t_**2) / le, 1 - 4 * t_ + 3 * t_**2,
+                          (6 * t_ - 6 * t_**2) / le, -2 * t_ + 3 * t_**2])
+            rp = d[0] * a + d[1] * pa + d[2] * b + d[3] * pbb
+            t = rp / np.linalg.norm(rp)
+            vn = np.array([0.0, 1.0, 0.0]) - t[1] * t
+            total += w_ * le * q0 * np.linalg.norm(vn) * vn[1] * np.linalg.norm(rp)
+    return total
+
+
+@pytest.mark.parametrize("ratio", [0.5, 2.0])
+def test_lateral_friction_on_laid_pipe(j125, ratio):
+    """Uniform lateral drag q on a laid pipe pinned laterally at both ends.
+
+    q < mu w: every node sticks, nothing moves. q > mu w: every node slips
+    carrying mu W, and the pipe deflects as a tensioned beam under q - mu w.
+    """
+    mu, tension, length = 0.5, 2.0e7, 400.0  # taut: slopes ~6e-3, drag ~ constant
+    w = float(j125.effective_weight(0.0))
+    q_target = ratio * mu * w
+    c_drag = 0.5 * 1025.0 * 1.0 * 0.71  # 1/2 rho C_D D_h of the J125 pipe
+    case = j125.with_changes({"environment.current.speed": float(np.sqrt(q_target / c_drag)),
+                              "environment.current.heading": 90.0,
+                              "environment.current.profile": "uniform",
+                              "seabed.lateral_friction": mu, "pipe.extensible": False})
+    pb = laid_pipe(case, 3, n_el=200, length=length, tension=tension)
+    ndn = pb.ndn
+    pb.fix_mask[(pb.nn - 1) * ndn + 1] = 1  # far end held laterally too
+    pb.props[L.CURRENT_FACTOR] = 0.0  # gravity first ...
+    status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
+    assert status == L.OK
+    pb.props[L.CURRENT_FACTOR] = 1.0  # ... then the current
+    status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 80)
+    assert status == L.OK
+    y = pb.u[1::ndn]
+    h = length / 200
+    inner = np.arange(1, pb.nn - 1)
+    q = c_drag * case.environment.current.speed**2
+    assert q == pytest.approx(q_target, rel=1e-12)
+    if ratio < 1.0:
+        assert np.abs(y).max() < 1e-9
+        assert (pb.fric[inner, L.FR_DIR] == 0.0).all()
+        # away from the pinned ends (a continuous beam on point supports there)
+        # each contact holds the drag of its length
+        np.testing.assert_allclose(-react[1::ndn][inner[10:-10]], q * h, rtol=1e-6)
+        assert -react[1::ndn].sum() == pytest.approx(q * length, rel=1e-9)
+        return
+    assert (pb.fric[inner, L.FR_DIR] != 0.0).all()
+    np.testing.assert_allclose(pb.fric[inner, L.FR_W], react[0::ndn][inner], rtol=1e-9)
+    np.testing.assert_allclose(pb.fric[inner, L.FR_W], w * h, rtol=1e-6)
+    # lateral equilibrium: drag + friction forces + held reactions = 0, to 1e-8
+    friction = (pb.fric[:, L.FR_DIR] * mu * pb.fric[:, L.FR_W]).sum()
+    held = react[1::ndn].sum()
+    drag = lateral_drag(pb, c_drag * case.environment.current.speed**2)
+    assert drag == pytest.approx(q * length, rel=1e-2)  # less where the pipe turns
+    assert drag + friction + held == pytest.approx(0.0, abs=1e-8 * q * length)
+    # deflection: tensioned beam, pinned ends, load p = q - mu w
+    p, ei = q - mu * w, j125.pipe.bending_stiffness
+    lam = np.sqrt(ei / tension)
+    s = pb.s
+    exact = (p * s * (length - s) / (2 * tension)
+             + p * lam**2 / tension * (np.cosh((s - length / 2) / lam)
+                                       / np.cosh(length / (2 * lam)) - 1.0))
+    np.testing.assert_allclose(y, exact, rtol=2e-3, atol=1e-4 * exact.max())

@@ -42,7 +42,13 @@ MOM_Y = 21
 MOM_Z = 22
 GRAVITY_FACTOR = 23  # load factor on the effective weight [-]
 CURRENT_FACTOR = 24  # load factor on the current drag [-]
-N_PROPS = 25
+MU_Y = 25  # lateral seabed friction coefficient [-]
+N_PROPS = 26
+
+# --- seabed friction state per node (columns of the ``fric`` array) -----------
+FR_DIR = 0  # 0 sticks; +1 / -1 slips with the friction force along +y / -y
+FR_Y = 1  # y where the node stuck [m]
+FR_W = 2  # normal reaction carried [N] (lagged one iteration while slipping)
 
 # --- current profiles ---------------------------------------------------------
 PROFILE_UNIFORM = 0

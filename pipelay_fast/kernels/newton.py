@@ -60,6 +60,56 @@ def _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
 
 
 @jit
+def _friction_forces(nd, g, props, bed_active, fric):
+    """Slipping seabed contacts carry mu W along their friction direction."""
+    if nd != 3:
+        return
+    mu = props[L.MU_Y]
+    ndn = 2 * nd + 1
+    for node in range(bed_active.shape[0]):
+        if bed_active[node] != 0 and fric[node, L.FR_DIR] != 0.0:
+            g[node * ndn + 1] -= fric[node, L.FR_DIR] * mu * fric[node, L.FR_W]
+
+
+@jit
+def update_friction(nd, u, props, bed_active, react, fric, pull_tol):
+    """Stick or slip of each seabed contact (Coulomb, |R_y| <= mu W); True if changed.
+
+    A sticking node slips when the lateral reaction needed to hold it exceeds
+    mu W, the friction then acting along that reaction; a slipping node sticks
+    again where it stands once it has moved back to where it slipped from (its
+    motion would reverse the friction). A node that has just landed sticks.
+    """
+    if nd != 3 or props[L.MU_Y] <= 0.0:
+        return False
+    mu = props[L.MU_Y]
+    ndn = 2 * nd + 1
+    changed = False
+    for node in range(bed_active.shape[0]):
+        base = node * ndn
+        if bed_active[node] == 0:
+            fric[node, L.FR_DIR] = 0.0
+            fric[node, L.FR_Y] = u[base + 1]
+            fric[node, L.FR_W] = 0.0
+            continue
+        w = max(react[base], 0.0)
+        if fric[node, L.FR_DIR] == 0.0:
+            ry = react[base + 1]
+            if abs(ry) > mu * w + pull_tol:
+                fric[node, L.FR_DIR] = 1.0 if ry > 0.0 else -1.0
+                fric[node, L.FR_W] = w
+                changed = True
+        else:
+            fric[node, L.FR_W] = w
+            # slipping against the friction force: -dir (y - y_stick) >= 0
+            if fric[node, L.FR_DIR] * (u[base + 1] - fric[node, L.FR_Y]) > 0.0:
+                fric[node, L.FR_DIR] = 0.0
+                fric[node, L.FR_Y] = u[base + 1]
+                changed = True
+    return changed
+
+
+@jit
 def _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, want_tangent):
     for node in range(phi_r.shape[0]):
         if phi_r[node] != 0.0 or phi_rp[node] != 0.0:
@@ -349,8 +399,8 @@ def tip_geometry(nd, s_el, u, stinger, grad):
 
 @jit
 def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
-           stinger, st_active, tip, f_node, g_off, slide_dof, tb, top_node, top_target, tol,
-           fref, href, maxit, react, info):
+           stinger, st_active, tip, fric, f_node, g_off, slide_dof, tb, top_node, top_target,
+           tol, fref, href, maxit, react, info):
     """Solve G(u) = reactions for one load level; see the module docstring.
 
     Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
@@ -365,6 +415,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     stinger : (N_STINGER,) the curve x = a z^2 + b z + c on [zL, zU] (``ST_*``)
     st_active : (nn,) int8, current stinger contacts; updated in place
     tip : (2,) tip contact: [active (0/1), multiplier mu [N]]; updated in place
+    fric : (nn, 3) lateral seabed friction state (layout ``FR_*``); updated in place
     f_node : (ndof,) nodal external loads [N]
     g_off : (ndof,) residual offset (load-path homotopy)
     slide_dof : dof of the sliding lower end (-1: none); T_b = tb[0] pulls it along -z
@@ -451,6 +502,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # ---- 1-2: system in nodal frames --------------------------------
         _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
                 slide_dof, tb, phi_r, phi_rp, True)
+        _friction_forces(nd, g, props, bed_active, fric)
         tip_on = False
         if has_stinger and tip[0] != 0.0:
             found, g_tip, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
@@ -497,6 +549,9 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             if bed_active[node] != 0 and fix_mask[base] == 0:
                 cmask[base] = True
                 delta[base] = -_local_value(nd, u, node, 0, phi_r, phi_rp)
+                if nd == 3 and props[L.MU_Y] > 0.0 and fric[node, L.FR_DIR] == 0.0:
+                    cmask[base + 1] = True  # sticking: held where it stuck
+                    delta[base + 1] = fric[node, L.FR_Y] - u[base + 1]
             # a pipe lying on the flat seabed is tangent to it: the slope is held
             # at every contact node (a lower end resting on the seabed included)
             # except at touchdown, the contact node followed by free pipe
@@ -646,6 +701,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             tip[1] = mu_old + alpha * dmu
             _system(nd, s_el, u, props, table, torques, dummy_ab, kl, ku, g_trial, f_node,
                     g_off, slide_dof, tb, phi_r, phi_rp, False)
+            _friction_forces(nd, g_trial, props, bed_active, fric)
             gt = 0.0
             if tip_on:
                 found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
@@ -689,6 +745,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             else:
                 gap[node] = np.inf
         changed = update_region(bed_active, gap, reac, 1, pen_tol, pen_frozen, pull_tol, cs_bed)
+        if update_friction(nd, u, props, bed_active, react, fric, pull_tol):
+            changed = True
         if has_stinger:
             for node in range(nn):
                 base = node * ndn
