@@ -480,7 +480,7 @@ class Solver:
     tolerance : float
         Relative convergence tolerance [-], in (0, 1e-2); default 1e-8.
     max_iterations, max_load_steps : int
-        Newton iterations per step and load steps; defaults 50 and 64.
+        Newton iterations per step and load steps; defaults 100 and 64.
     """
 
     dimension: str = "auto"
@@ -489,7 +489,7 @@ class Solver:
     grading: bool = True
     laid_length: float | None = None
     tolerance: float = 1e-8
-    max_iterations: int = 50
+    max_iterations: int = 100
     max_load_steps: int = 64
 
     def __post_init__(self):

@@ -300,7 +300,8 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         sag_vm = interior_peak(vm[beyond])
         sag_m = interior_peak(mom[beyond])
         suspended = float(s[-1] - s_tdp)
-    tip = float(pb.tip[1]) if pb.tip[0] != 0.0 else 0.0
+    bearing = tip_force(pb)
+    tip = 0.0 if bearing is None else float(bearing[2])
     return {
         "case_id": case_id(case),
         "method": case.lay.method,

@@ -455,7 +455,9 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
     tol = 1e-9 * pb.stats["h_min"]
     s_c = conform_end(case, pb)
     s_stinger = np.inf if s_c is None else s_c + extra - tol
-    return _problem(case, nd, s, u, pb.tb[0], focus + tol, s_stinger, pb.fref, stats)
+    new = _problem(case, nd, s, u, pb.tb[0], focus + tol, s_stinger, pb.fref, stats)
+    new.tip[:] = pb.tip  # a bearing tip keeps bearing (its point moves with the pipe)
+    return new
 
 
 def solve(case: Case, *, allow_unvalidated: bool = False) -> Result:

@@ -235,7 +235,7 @@ def test_defaults_of_a_minimal_j_lay_case():
     assert (solver.dimension, solver.element_length, solver.min_element_length) == (
         "auto", 1.0, None)
     assert (solver.grading, solver.laid_length, solver.tolerance) == (True, None, 1e-8)
-    assert (solver.max_iterations, solver.max_load_steps) == (50, 64)
+    assert (solver.max_iterations, solver.max_load_steps) == (100, 64)
 
 
 def test_values_are_normalised_to_float_and_tuples():

@@ -96,3 +96,35 @@ def test_2d_and_3d_agree_on_the_stinger(s67):
     vm3 = np.interp(z, p3["z"], p3["von_mises"])
     np.testing.assert_allclose(vm3, vm2, rtol=2e-2)
     assert np.abs(p3.loc[p3["contact"] == "stinger", "y"]).max() < 1e-9
+
+
+S67_A = {
+    "lift-off on the stinger (a = -0.0012)": -0.0012,
+    "lift-off on the stinger (a = -0.0019)": -0.0019,
+    "bearing on the tip (a = -0.0009)": -0.0009,
+}
+
+
+@pytest.mark.parametrize("name", list(S67_A))
+def test_s67_matches_planar_elastica(s67, name):
+    """FE against the independent elastica of tests/reference/slay.py (S67 2D,
+    no current): peaks within 1 %, touchdown and lift-off within 0.5 m."""
+    from reference.slay import slay_elastica
+
+    a = S67_A[name]
+    case = s67.with_changes({"environment.current.speed": 0.0, "lay.stinger.a": a,
+                             "pipe.extensible": False})
+    d = case.environment.water_depth
+    ref = slay_elastica(case.pipe.bending_stiffness, float(case.effective_weight(0.0)),
+                        float(case.effective_weight(d + 1.0)), d, a, case.lay.stinger.lower,
+                        case.lay.stinger.upper, T_top=case.lay.top_tension)
+    sm = solve(case).summary
+    assert sm["overbend_max_moment"] == pytest.approx(ref["overbend_max_moment"], rel=1e-2)
+    assert sm["sagbend_max_moment"] == pytest.approx(ref["sagbend_max_moment"], rel=1e-2)
+    assert abs(sm["tdp_z"] - ref["tdp_z"]) < 0.5
+    assert abs(sm["liftoff_z"] - ref["liftoff_z"]) < 0.5
+    assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-3)
+    if ref["regime"] == "tip":
+        assert sm["tip_reaction"] == pytest.approx(ref["tip_reaction"], rel=2e-2)
+    else:
+        assert sm["tip_reaction"] == 0.0

@@ -291,12 +291,16 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
     moving a node onto the boundary.
     """
     nn = active.shape[0]
+    changed = False
+    for node in range(nn):
+        if active[node] != 0 and gap[node] == np.inf:
+            active[node] = 0  # slid off the support (past the stinger's tip)
+            changed = True
     last = -1
     for p in range(nn):
         node = p if sign > 0 else nn - 1 - p
         if active[node] != 0:
             last = p
-    changed = False
     direction = 0
     deepest = -1
     # frozen, only a penetration beyond discretisation size still extends
