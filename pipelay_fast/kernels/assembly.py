@@ -8,6 +8,7 @@ import numpy as np
 
 from .._jit import jit
 from . import layout as L
+from .banded import band_add_block
 from .element import WORK_SIZE, element_force_ws
 
 
@@ -26,7 +27,6 @@ def assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent):
     ke = np.empty((ne, ne))
     ws = np.empty(WORK_SIZE)
     wm = np.empty((3, 3))
-    kv = kl + ku
     g[:] = 0.0
     if want_tangent:
         ab[:, :] = 0.0
@@ -37,11 +37,7 @@ def assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent):
         for a in range(ne):
             g[g0 + a] += fe[a]
         if want_tangent:
-            for a in range(ne):
-                i = g0 + a
-                for b in range(ne):
-                    j = g0 + b
-                    ab[kv + i - j, j] += ke[a, b]
+            band_add_block(ab, kl, ku, g0, ke)
 
 
 @jit
