@@ -24,7 +24,7 @@ PROFILE_UNITS = {
     "moment_x": "N m", "moment_y": "N m", "moment_z": "N m", "moment": "N m",
     "curvature": "1/m", "torque": "N m", "axial_strain": "-", "von_mises": "Pa",
     "seabed_reaction": "N", "seabed_reaction_y": "N", "stinger_reaction": "N",
-    "reaction_x": "N", "reaction_y": "N", "reaction_z": "N", "contact": "",
+    "reaction_x": "N", "reaction_y": "N", "reaction_z": "N", "slipping": "", "contact": "",
 }
 
 SUMMARY_UNITS = {
@@ -263,6 +263,7 @@ def build_profile(case: Case, pb, react) -> dict:
         "von_mises": vm, "seabed_reaction": seabed, "seabed_reaction_y": seabed_y,
         "stinger_reaction": stinger,
         "reaction_x": reaction[:, 0], "reaction_y": reaction[:, 1], "reaction_z": reaction[:, 2],
+        "slipping": act & (pb.fric[:, L.FR_DIR] != 0.0),
         "contact": contact.astype(str),
     }
 

@@ -355,7 +355,34 @@ def _stinger_foci(case: Case, pb: Problem):
     return out
 
 
+MAX_LAID_DOUBLINGS = 6
+
+
 def solve_problem(case: Case):
+    """Solve with enough laid pipe: when seabed friction lets slip reach the
+    modelled lower end, the laid length is doubled and the case solved again.
+
+    Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
+    """
+    t0 = time.perf_counter()
+    current = case
+    for _ in range(MAX_LAID_DOUBLINGS + 1):
+        pb, react, stats, s_t, s_l = _solve_mesh(current)
+        contacts = np.flatnonzero(pb.bed_active)
+        slipping = pb.fric[contacts[:3], L.FR_DIR] != 0.0 if contacts.size else np.array([])
+        if not slipping.any() or case.lay.pipe_length is not None:
+            stats["seconds"] = time.perf_counter() - t0
+            return pb, react, stats, s_t, s_l
+        laid = s_t + pb.stats["flexural_length"]  # what this mesh modelled behind touchdown
+        current = current.with_changes({"solver.laid_length": 2.0 * laid})
+    raise SolveError(
+        f"case {case.name!r}: the laid pipe slips all the way to the modelled lower end "
+        f"even with {current.solver.laid_length:.0f} m of it; raise seabed.lateral_friction "
+        "or set solver.laid_length"
+    )
+
+
+def _solve_mesh(case: Case):
     """Solve, then move the finest part of the mesh onto touchdown (and onto
     lift-off: the end of conforming stinger contact and the bearing tip) until
     a node sits on each (to 2 % of the smallest element).
@@ -365,7 +392,7 @@ def solve_problem(case: Case):
     t0 = time.perf_counter()
     pb = build_problem(case)
     # friction is path dependent: gravity first, then the current in steps
-    path = pb.nd == 3 and case.seabed.lateral_friction > 0.0 and case.environment.current.speed > 0.0
+    path = friction_path(case)
     if path:
         pb.props[L.CURRENT_FACTOR] = 0.0
     react, stats = newton_with_fallback(case, pb)
@@ -479,15 +506,33 @@ def solve(case: Case, *, allow_unvalidated: bool = False) -> Result:
         When Newton and the load-path fallback both fail; the message names the
         case, the load step, the residual and the reason.
     """
-    if case.lay.method == "S" and not allow_unvalidated:
-        raise NotImplementedError(
-            f"case {case.name!r}: S-lay (lay.method = 'S') is not validated yet; its results "
-            "may be wrong. Pass allow_unvalidated=True to pipelay_fast.solve to try it."
-        )
+    if not allow_unvalidated:
+        what = None
+        if case.lay.method == "S":
+            what = "S-lay (lay.method = 'S')"
+        elif friction_path(case):
+            what = "a lateral current on a seabed with friction (the slip path)"
+        if what is not None:
+            raise NotImplementedError(
+                f"case {case.name!r}: {what} is not validated yet; its results may be wrong. "
+                "Pass allow_unvalidated=True to pipelay_fast.solve to try it."
+            )
     pb, react, stats, s_t, s_l = solve_problem(case)
     columns = build_profile(case, pb, react)
     summary = build_summary(case, pb, columns, stats, s_t, s_l)
+    bad = [key for key, val in summary.items() if isinstance(val, float) and np.isinf(val)]
+    bad += [key for key, col in columns.items()
+            if col.dtype.kind == "f" and not np.isfinite(col).all()]
+    if bad:
+        raise SolveError(f"case {case.name!r}: the solution has non-finite values in "
+                         f"{', '.join(bad)}; it is not returned")
     return Result(case, summary, columns, state=pb)
+
+
+def friction_path(case: Case) -> bool:
+    """True when seabed friction meets a lateral load: the slip path is followed."""
+    return (dimension_of(case) == 3 and case.seabed.lateral_friction > 0.0
+            and case.environment.current.speed > 0.0)
 
 
 def interpolate_state(s_old, u_old, nd, s_new):
