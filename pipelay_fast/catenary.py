@@ -50,7 +50,8 @@ class Catenary:
     @property
     def top_tension(self) -> float:
         """Effective tension at the top [N]."""
-        return self.h + self.w1 * min(self.x_top, self.depth) + self.w2 * max(self.x_top - self.depth, 0.0)
+        below = min(self.x_top, self.depth)
+        return self.h + self.w1 * below + self.w2 * max(self.x_top - self.depth, 0.0)
 
     @property
     def length(self) -> float:
@@ -67,7 +68,8 @@ class Catenary:
         s = np.asarray(s, dtype=np.float64)
         sd = self._s_surface
         below = s <= sd
-        v = np.where(below, self.w1 * s, self.w1 * sd + self.w2 * (s - sd) if np.isfinite(sd) else 0.0)
+        above = self.w1 * sd + self.w2 * (s - sd) if np.isfinite(sd) else 0.0
+        v = np.where(below, self.w1 * s, above)
         tan = v / self.h
         sec = np.sqrt(1.0 + tan * tan)
         x1 = self.h / self.w1 * (sec - 1.0)
@@ -76,7 +78,8 @@ class Catenary:
             tan_d = self.w1 * sd / self.h
             sec_d = np.sqrt(1.0 + tan_d * tan_d)
             x2 = self.depth + self.h / self.w2 * (sec - sec_d)
-            z2 = self.h / self.w1 * np.arcsinh(tan_d) + self.h / self.w2 * (np.arcsinh(tan) - np.arcsinh(tan_d))
+            z2 = (self.h / self.w1 * np.arcsinh(tan_d)
+                  + self.h / self.w2 * (np.arcsinh(tan) - np.arcsinh(tan_d)))
             x = np.where(below, x1, x2)
             z = np.where(below, z1, z2)
         else:

@@ -106,7 +106,7 @@ def slay_liftoff(case: Case):
     lay, st = case.lay, case.lay.stinger
     depth = case.environment.water_depth
     w1, w2 = weights(case)
-    (x_l, z_l), (x_u, z_u) = st.lower, st.upper
+    z_l, (x_u, z_u) = st.lower[1], st.upper
     if lay.pipe_length is not None:
         raise ValueError("lay.pipe_length is not supported for S-lay yet: give "
                          "lay.top_tension or lay.bottom_tension")

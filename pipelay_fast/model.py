@@ -23,7 +23,8 @@ def dimension_of(case: Case) -> int:
         if not case.is_planar:
             raise ValueError(
                 "solver.dimension = '2d' but the loads are not planar "
-                "(lateral current, torque or an out-of-plane distributed moment): use '3d' or 'auto'"
+                "(lateral current, torque or an out-of-plane distributed moment): "
+                "use '3d' or 'auto'"
             )
         return 2
     if case.solver.dimension == "3d":

@@ -16,7 +16,7 @@ import pandas as pd
 
 from .case import Case
 from .kernels import layout as L
-from .kernels.newton import ST_ON, tip_geometry
+from .kernels.contact import ST_ON, tip_geometry
 
 PROFILE_UNITS = {
     "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
@@ -192,7 +192,8 @@ def tip_force(pb):
     mu = float(pb.tip[1])
     shares = x_part[nodes]
     z_part = grad[zi::ndn][nodes]
-    force = np.array([mu, mu * (z_part[0] / shares[0] if shares[0] != 0 else z_part[1] / shares[1])])
+    k = 0 if shares[0] != 0 else 1
+    force = np.array([mu, mu * z_part[k] / shares[k]])
     return nodes, shares, mu / cos_t, force
 
 

@@ -26,17 +26,8 @@ import numpy as np
 from .case import Case
 from .guess import first_guess, shape
 from .kernels import layout as L
-from .kernels.newton import (
-    I_DELTA,
-    I_ITER,
-    I_RES,
-    I_TOP_RES,
-    N_INFO,
-    N_STINGER,
-    ST_ON,
-    newton,
-    tip_geometry,
-)
+from .kernels.contact import N_STINGER, ST_ON, tip_geometry
+from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, newton
 from .mesh import graded_nodes
 from .model import build_props, dimension_of
 from .results import (
@@ -195,7 +186,8 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
     if nd == 3:
         fric[:, L.FR_Y] = u[1::ndn]
     return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
-                   stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof, np.array([float(tb)]), top,
+                   stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof,
+                   np.array([float(tb)]), top,
                    top_target, fref, stats["h_max"], stats=stats)
 
 

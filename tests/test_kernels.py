@@ -11,7 +11,8 @@ import pytest
 import pipelay_fast as pf
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.banded import band_factor, band_matvec, band_solve, dense_to_band
-from pipelay_fast.kernels.newton import I_RES, N_STINGER
+from pipelay_fast.kernels.contact import N_STINGER
+from pipelay_fast.kernels.newton import I_RES
 from pipelay_fast.model import build_props
 from pipelay_fast.solver import Problem, _run_newton
 
@@ -63,7 +64,8 @@ def laid_pipe(case, nd, n_el=40, length=50.0, tension=2e5, lift=0.3):
     props, table = build_props(case)
     return Problem(nd, s, props, table, u, fix, np.zeros_like(u), np.zeros(s.size),
                    np.zeros(s.size), bed, np.zeros(s.size, dtype=np.int8), np.zeros(N_STINGER),
-                   np.zeros(s.size, dtype=np.int8), np.zeros(2), np.zeros((s.size, 3)), f_node, -1, np.zeros(1), s.size - 1, 0.0,
+                   np.zeros(s.size, dtype=np.int8), np.zeros(2), np.zeros((s.size, 3)), f_node,
+                   -1, np.zeros(1), s.size - 1, 0.0,
                    tension, 1.0)
 
 

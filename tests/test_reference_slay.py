@@ -190,7 +190,7 @@ def _stinger_force(r):
 def _check_equilibrium(r):
     pieces = _stinger_force(r)
     p_scale = max(np.max(np.abs(pc[5])) for pc in pieces)
-    for s, z, x, p, p_t, p_n, F in pieces:
+    for _s, z, _x, _p, p_t, p_n, _f in pieces:
         # frictionless: the recovered reaction is normal (checks the Te formula)
         assert np.max(np.abs(p_t[2:-2])) < 2e-3 * p_scale
         # ... equals the closed form, and pushes
@@ -427,7 +427,7 @@ def _crossings(sweep):
     A = sorted(sweep)
     d = [sweep[a]["overbend_max_moment"] - sweep[a]["sagbend_max_moment"] for a in A]
     roots = []
-    for a0, a1, d0, d1 in zip(A[:-1], A[1:], d[:-1], d[1:]):
+    for a0, a1, d0, d1 in zip(A[:-1], A[1:], d[:-1], d[1:], strict=True):
         if d0 * d1 < 0:
             def f(a):
                 r = solve(a)

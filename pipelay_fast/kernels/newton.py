@@ -32,7 +32,22 @@ from .._jit import jit
 from . import layout as L
 from .assembly import assemble, distribute_torque, rotate_node
 from .banded import band_factor, band_solve
-from .element import hermite_crossing
+from .contact import (
+    CS_COUNT,
+    CS_DIR,
+    CS_FROZEN,
+    CS_RUN,
+    N_CSTATE,
+    ST_ON,
+    ST_ZL,
+    ST_ZU,
+    friction_forces,
+    stinger_angle,
+    stinger_gap,
+    tip_geometry,
+    update_friction,
+    update_region,
+)
 
 # info slots
 I_STATUS = 0
@@ -57,56 +72,6 @@ def _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
         g[i] += g_off[i] - f_node[i]
     if slide_dof >= 0:
         g[slide_dof] += tb[0]
-
-
-@jit
-def _friction_forces(nd, g, props, bed_active, fric):
-    """Slipping seabed contacts carry mu W along their friction direction."""
-    if nd != 3:
-        return
-    mu = props[L.MU_Y]
-    ndn = 2 * nd + 1
-    for node in range(bed_active.shape[0]):
-        if bed_active[node] != 0 and fric[node, L.FR_DIR] != 0.0:
-            g[node * ndn + 1] -= fric[node, L.FR_DIR] * mu * fric[node, L.FR_W]
-
-
-@jit
-def update_friction(nd, u, props, bed_active, react, fric, pull_tol):
-    """Stick or slip of each seabed contact (Coulomb, |R_y| <= mu W); True if changed.
-
-    A sticking node slips when the lateral reaction needed to hold it exceeds
-    mu W, the friction then acting along that reaction; a slipping node sticks
-    again where it stands once it has moved back to where it slipped from (its
-    motion would reverse the friction). A node that has just landed sticks.
-    """
-    if nd != 3 or props[L.MU_Y] <= 0.0:
-        return False
-    mu = props[L.MU_Y]
-    ndn = 2 * nd + 1
-    changed = False
-    for node in range(bed_active.shape[0]):
-        base = node * ndn
-        if bed_active[node] == 0:
-            fric[node, L.FR_DIR] = 0.0
-            fric[node, L.FR_Y] = u[base + 1]
-            fric[node, L.FR_W] = 0.0
-            continue
-        w = max(react[base], 0.0)
-        if fric[node, L.FR_DIR] == 0.0:
-            ry = react[base + 1]
-            if abs(ry) > mu * w + pull_tol:
-                fric[node, L.FR_DIR] = 1.0 if ry > 0.0 else -1.0
-                fric[node, L.FR_W] = w
-                changed = True
-        else:
-            fric[node, L.FR_W] = w
-            # slipping against the friction force: -dir (y - y_stick) >= 0
-            if fric[node, L.FR_DIR] * (u[base + 1] - fric[node, L.FR_Y]) > 0.0:
-                fric[node, L.FR_DIR] = 0.0
-                fric[node, L.FR_Y] = u[base + 1]
-                changed = True
-    return changed
 
 
 @jit
@@ -231,176 +196,6 @@ def _weighted_max(nd, g, cmask, fref, href):
     return worst, ssq
 
 
-# stinger vector slots
-ST_A = 0
-ST_B = 1
-ST_C = 2
-ST_ZL = 3
-ST_ZU = 4
-ST_ON = 5
-N_STINGER = 6
-
-# contact-region state slots (one int64 vector per region)
-CS_FROZEN = 0
-CS_RUN = 1
-CS_DIR = 2
-CS_COUNT = 3
-CS_HIST = 4  # eight recent boundaries follow
-N_CSTATE = 12
-
-
-@jit
-def stinger_angle(stinger, z):
-    """Angle of the stinger tangent above horizontal at z [rad]."""
-    return math.atan(2.0 * stinger[ST_A] * z + stinger[ST_B])
-
-
-@jit
-def stinger_gap(stinger, x, z):
-    """Normal clearance [m] of the point (x, z) above the stinger (negative inside)."""
-    f = (stinger[ST_A] * z + stinger[ST_B]) * z + stinger[ST_C]
-    return (x - f) * math.cos(stinger_angle(stinger, z))
-
-
-@jit
-def _seen(cs, p):
-    for k in range(CS_HIST, N_CSTATE):
-        if cs[k] == p:
-            return True
-    return False
-
-
-@jit
-def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
-    """Active-set update of one contiguous contact region; returns True if changed.
-
-    The region grows from one end of the pipe: from the lower end (``sign`` = 1,
-    the seabed) or from the top (``sign`` = -1, the stinger). ``gap`` is the
-    clearance of every node [m] (+inf where the node cannot touch), ``reac``
-    the normal reaction of every node [N]. Contact first extends to the
-    furthest node that penetrates; else a pull at the boundary node releases it
-    (consecutive releases double in size up to 16 nodes: touchdown or lift-off
-    may have to recede by many elements from the first guess), and a pull further in
-    releases everything beyond. The node next to the boundary is not tested:
-    the slope clamp there shares a couple with the boundary node. When the
-    boundary falls inside an element it cycles between nearby nodes: once a
-    change would return it to one of its last eight positions the region is
-    extended only past penetrations deeper than ``pen_frozen`` [m], so the
-    iteration ends with every reaction pushing and at most a
-    discretisation-sized penetration next to it, which the caller removes by
-    moving a node onto the boundary.
-    """
-    nn = active.shape[0]
-    changed = False
-    for node in range(nn):
-        if active[node] != 0 and gap[node] == np.inf:
-            active[node] = 0  # slid off the support (past the stinger's tip)
-            changed = True
-    last = -1
-    for p in range(nn):
-        node = p if sign > 0 else nn - 1 - p
-        if active[node] != 0:
-            last = p
-    direction = 0
-    deepest = -1
-    # frozen, only a penetration beyond discretisation size still extends
-    limit = pen_tol if cs[CS_FROZEN] == 0 else pen_frozen
-    for p in range(last + 1, nn):
-        node = p if sign > 0 else nn - 1 - p
-        if gap[node] < -limit:
-            deepest = p
-    if deepest >= 0 and cs[CS_FROZEN] == 0 and _seen(cs, deepest):
-        cs[CS_FROZEN] = 1
-        deepest = -1
-    if deepest >= 0:
-        for p in range(last + 1, deepest + 1):
-            node = p if sign > 0 else nn - 1 - p
-            if gap[node] < np.inf:
-                active[node] = 1
-        changed = True
-        direction = 1
-    else:
-        start = -1
-        for p in range(last - 1):
-            node = p if sign > 0 else nn - 1 - p
-            if active[node] != 0 and reac[node] < -pull_tol:
-                start = p
-                break
-        if start < 0 and last >= 0:
-            node = last if sign > 0 else nn - 1 - last
-            if reac[node] < -pull_tol:
-                run = 1 if cs[CS_DIR] != -1 or cs[CS_FROZEN] else min(2 * cs[CS_RUN], 16)
-                cs[CS_RUN] = run
-                start = max(0, last - run + 1)
-        if start >= 0:
-            if _seen(cs, start - 1):
-                cs[CS_FROZEN] = 1
-            for p in range(start, last + 1):
-                node = p if sign > 0 else nn - 1 - p
-                active[node] = 0
-            changed = True
-            direction = -1
-    if changed:
-        cs[CS_HIST + cs[CS_COUNT] % 8] = last
-        cs[CS_DIR] = direction
-        cs[CS_COUNT] += 1
-    return changed
-
-
-@jit
-def tip_geometry(nd, s_el, u, stinger, grad):
-    """The pipe over the stinger tip (x_L, z_L): point against element.
-
-    Finds the material point whose z equals z_L (the element spanning it and
-    xi there), and returns (found, gap, cos theta): the vertical clearance
-    x - x_L [m] and the pipe's inclination there. ``grad`` (length ndof) gets
-    d(gap)/du, whose x part is N_k(xi) and z part -(x'/z') N_k(xi): it points
-    along the pipe's normal, so the tip's reaction mu * grad is frictionless.
-    """
-    ndn = 2 * nd + 1
-    nel = s_el.shape[0]
-    z_l = stinger[ST_ZL]
-    x_l = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
-    grad[:] = 0.0
-    zi = nd - 1
-    e = -1
-    for k in range(nel):
-        if u[k * ndn + zi] <= z_l < u[(k + 1) * ndn + zi]:
-            e = k
-            break
-    if e < 0:
-        return False, 0.0, 1.0, 0.0
-    a = e * ndn
-    b = a + ndn
-    le = s_el[e]
-    za, zb = u[a + zi], u[b + zi]
-    pa, pb = u[a + nd + zi], u[b + nd + zi]
-    xi = 0.0 if za == z_l else hermite_crossing(za, pa, zb, pb, le, z_l)
-    x2 = xi * xi
-    x3 = x2 * xi
-    n0 = 1 - 3 * x2 + 2 * x3
-    n1 = le * (xi - 2 * x2 + x3)
-    n2 = 3 * x2 - 2 * x3
-    n3 = le * (-x2 + x3)
-    d0 = (-6 * xi + 6 * x2) / le
-    d1 = 1 - 4 * xi + 3 * x2
-    d2 = (6 * xi - 6 * x2) / le
-    d3 = -2 * xi + 3 * x2
-    x = n0 * u[a] + n1 * u[a + nd] + n2 * u[b] + n3 * u[b + nd]
-    xs = d0 * u[a] + d1 * u[a + nd] + d2 * u[b] + d3 * u[b + nd]
-    zs = d0 * za + d1 * pa + d2 * zb + d3 * pb
-    ratio = xs / zs
-    offs = (a, a + nd, b, b + nd)
-    shapes = (n0, n1, n2, n3)
-    for k in range(4):
-        grad[offs[k]] = shapes[k]
-        grad[offs[k] + zi] = -ratio * shapes[k]
-    s_tip = 0.0
-    for k in range(e):
-        s_tip += s_el[k]
-    return True, x - x_l, zs / math.sqrt(xs * xs + zs * zs), s_tip + xi * le
-
-
 @jit
 def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
            stinger, st_active, tip, fric, f_node, g_off, slide_dof, tb, top_node, top_target,
@@ -441,7 +236,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     ipiv = np.zeros(n, dtype=np.int64)
     du = np.zeros(n)
     du_free = np.zeros(n)
-    y2 = np.zeros(n)
     d = np.zeros(n)
     delta = np.zeros(n)
     cmask = np.zeros(n, dtype=np.bool_)
@@ -506,7 +300,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # ---- 1-2: system in nodal frames --------------------------------
         _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
                 slide_dof, tb, phi_r, phi_rp, True)
-        _friction_forces(nd, g, props, bed_active, fric)
+        friction_forces(nd, g, props, bed_active, fric)
         tip_on = False
         if has_stinger and tip[0] != 0.0:
             found, g_tip, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
@@ -705,7 +499,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             tip[1] = mu_old + alpha * dmu
             _system(nd, s_el, u, props, table, torques, dummy_ab, kl, ku, g_trial, f_node,
                     g_off, slide_dof, tb, phi_r, phi_rp, False)
-            _friction_forces(nd, g_trial, props, bed_active, fric)
+            friction_forces(nd, g_trial, props, bed_active, fric)
             gt = 0.0
             if tip_on:
                 found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)

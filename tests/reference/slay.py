@@ -468,7 +468,7 @@ def _solve_regime(model, regime, T_top, T_bottom, tol, z_c0, R_c0=0.0, R_tip0=0.
     T_guess = T_top if T_top is not None else T_bottom + float(model.W(st.xU))
     layout = _Layout(regime, float(st.x(z_c0)), model)
     last = None
-    for attempt in range(3):
+    for _attempt in range(3):
         tau = _tau_mesh()
         y0, p0 = _guess(model, layout, T_guess, z_c0, R_c0, R_tip0, tau, lower)
         sc = _Scaled(model, layout, T_top, T_bottom)
