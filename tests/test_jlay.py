@@ -157,3 +157,24 @@ def test_given_pipe_length_keeps_lower_end_fixed(j125):
     # inextensible-ish: the stretched length differs from 520 m by the strain only
     seg = np.hypot(np.diff(res.profile["x"]), np.diff(res.profile["z"]))
     assert seg.sum() == pytest.approx(520.0, rel=1e-3)
+
+
+@pytest.mark.parametrize("name,dimension", [
+    ("j125", "2d"), ("j125_2d", "2d"), ("j125_3d", "3d"),
+    ("s67", "2d"), ("s67_3d", "3d"), ("s125", "2d"), ("s125_3d", "3d"),
+])
+def test_bundled_scenes_load_with_their_dimension(name, dimension):
+    from conftest import EXAMPLES
+
+    case = pf.load_case(EXAMPLES / f"{name}.toml")
+    assert case.resolved_dimension == dimension
+
+
+def test_inplane_current_pushes_the_span_towards_the_vessel(j125):
+    """A current along +z drags the suspended pipe towards the vessel: touchdown
+    moves to larger z, and the planar answer needs no 3D."""
+    still = pf.solve(j125).summary
+    pushed = pf.solve(j125.with_changes({"environment.current.speed": 1.0})).summary
+    assert pushed["dimension"] == "2d"
+    assert pushed["tdp_z"] > still["tdp_z"] + 1.0
+    assert pushed["top_tension"] == pytest.approx(580e3, rel=1e-6)
