@@ -32,8 +32,9 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True):
     if not grading:
         n = max(2, int(np.ceil(length / h_max)))
         return np.linspace(0.0, length, n + 1)
-    anchors = sorted({0.0, float(length), *(float(f) for f in foci if 0.0 < f < length)})
-    focus = np.array([f for f in anchors if f in {float(f) for f in foci}] or [0.0])
+    inside = [float(f) for f in foci if 0.0 < f <= length]
+    anchors = sorted({0.0, float(length), *inside})
+    focus = np.array(inside or [0.0])
     rate = growth - 1.0
     nodes = [0.0]
     for a, b in zip(anchors[:-1], anchors[1:], strict=True):

@@ -27,7 +27,7 @@ from .case import Case
 from .guess import first_guess, shape
 from .kernels import layout as L
 from .kernels.contact import N_STINGER, ST_ON, tip_geometry
-from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, newton
+from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
 from .mesh import graded_nodes
 from .model import build_props, dimension_of
 from .results import (
@@ -84,9 +84,6 @@ class Problem:
     def s_el(self) -> np.ndarray:
         return np.diff(self.s)
 
-    def node_values(self, slot):
-        return self.u[slot::self.ndn]
-
 
 def _mesh_sizes(case: Case, h_bottom: float):
     """h_max, h_min [m] and the flexural length sqrt(EI/T) [m] at touchdown."""
@@ -123,7 +120,7 @@ def build_problem(case: Case) -> Problem:
     u[nd::ndn] = np.sin(th)
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
-    stats = {"catenary": g.cat, "h_min": h_min, "h_max": h_max, "flexural_length": lam,
+    stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
              "focus": s_focus,
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
@@ -204,8 +201,6 @@ def _run_newton(pb: Problem, g_off, tol, maxit):
 
 def _residual(pb: Problem):
     """Residual at the current state with constrained rows zeroed (for the homotopy)."""
-    from .kernels.newton import _system
-
     g = np.zeros_like(pb.u)
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
     _system(pb.nd, pb.s_el, pb.u, pb.props, pb.table, torques, np.zeros((1, 1)), 1, 1, g,
@@ -288,13 +283,19 @@ def touchdown_index(pb: Problem) -> int:
 MAX_MESH_PASSES = 4
 
 
+def _curvature_window(pb: Problem, lo: int, hi: int):
+    """Node positions r [m] and curvature vectors [1/m] of nodes lo..hi-1."""
+    ndn = pb.ndn
+    r, rp, rpp = nodal_fields(pb.nd, pb.s[lo:hi], pb.u[lo * ndn:hi * ndn])
+    kvec, _ = signed_curvature_vector(pb.nd, rp, rpp)
+    return r, kvec
+
+
 def touchdown_position(case: Case, pb: Problem) -> float:
     """Arc length of touchdown [m], located inside its element (see results)."""
     k = touchdown_index(pb)
     lo, hi = max(k - 1, 0), min(k + 5, pb.nn)
-    ndn = pb.ndn
-    _, rp, rpp = nodal_fields(pb.nd, pb.s[lo:hi], pb.u[lo * ndn:hi * ndn])
-    kvec, _ = signed_curvature_vector(pb.nd, rp, rpp)
+    _, kvec = _curvature_window(pb, lo, hi)
     moment = case.pipe.bending_stiffness * np.linalg.norm(kvec, axis=1)
     return touchdown_estimate(pb.s[lo:hi], moment, k - lo)
 
@@ -310,9 +311,7 @@ def conform_end(case: Case, pb: Problem):
     if k < 0:
         return None
     lo, hi = max(k - 4, 0), min(k + 2, pb.nn)
-    ndn = pb.ndn
-    r, rp, rpp = nodal_fields(pb.nd, pb.s[lo:hi], pb.u[lo * ndn:hi * ndn])
-    kvec, _ = signed_curvature_vector(pb.nd, rp, rpp)
+    r, kvec = _curvature_window(pb, lo, hi)
     st = case.lay.stinger
     slope = np.asarray(st.slope(r[:, pb.nd - 1]))
     mismatch = kvec[:, 1] - 2.0 * st.a / (1.0 + slope**2) ** 1.5

@@ -20,12 +20,6 @@ from .._jit import jit
 
 
 @jit
-def band_rows(kl, ku):
-    """Number of rows of band storage for ``kl`` sub- and ``ku`` super-diagonals."""
-    return 2 * kl + ku + 1
-
-
-@jit
 def band_add_block(ab, kl, ku, g0, ke):
     """Scatter the dense square block ``ke`` into ``ab`` at global rows/cols ``g0...``.
 
@@ -55,17 +49,6 @@ def band_matvec(ab, kl, ku, x, out):
         i1 = min(n - 1, j + kl)
         for i in range(i0, i1 + 1):
             out[i] += ab[kv + i - j, j] * xj
-
-
-@jit
-def band_row_dot(ab, kl, ku, i, x):
-    """Row ``i`` of ``A`` (band storage, before factorisation) dotted with ``x``."""
-    kv = kl + ku
-    n = x.shape[0]
-    acc = 0.0
-    for j in range(max(0, i - kl), min(n - 1, i + ku) + 1):
-        acc += ab[kv + i - j, j] * x[j]
-    return acc
 
 
 @jit

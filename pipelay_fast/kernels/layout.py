@@ -73,7 +73,3 @@ STATUS_TEXT = {
     ACTIVE_SET_CYCLE: "contact active set did not settle",
 }
 
-
-def dofs_per_node(nd):
-    """Unknowns per node for ``nd`` = 2 or 3 space dimensions."""
-    return 2 * nd + 1

@@ -105,9 +105,7 @@ def _top_tension_row(nd, ab, kl, ku, g, u, top_node, d):
     for i in range(nd):
         a += u[base + nd + i] ** 2
     a = math.sqrt(a)
-    te = 0.0
-    for i in range(nd):
-        te += g[base + i] * u[base + nd + i] / a
+    te = _top_te(nd, g, u, top_node)
     d[:] = 0.0
     for i in range(nd):
         row = base + i
