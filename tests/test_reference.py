@@ -27,13 +27,9 @@ from reference.catenary import (  # noqa: E402
 from reference.elastica import jlay_elastica  # noqa: E402
 
 # ---------------------------------------------------------------- the paper's pipe
-G, RHO_W = 9.81, 1025.0
-DO, DI, DC = 0.61, 0.58, 0.71
-A_STEEL = math.pi * (DO**2 - DI**2) / 4
-A_COAT = math.pi * (DC**2 - DO**2) / 4
-W_DRY = G * (7900.0 * A_STEEL + 3000.0 * A_COAT)  # [N/m] ~ 5224
-W_SUB = W_DRY - RHO_W * G * math.pi * DC**2 / 4  # [N/m] ~ 1243
-EI_REAL = 207e9 * math.pi * (DO**4 - DI**4) / 64  # [N m^2] ~ 2.570e8
+from reference.paper import EI, W_DRY, W_SUB  # noqa: E402
+
+EI_REAL = EI
 EI_TINY = 1e-6 * 2.59e8  # [N m^2]: flexural length ~ 2.5 cm
 DEPTH, X_TOP, Z_TOP = 125.0, 130.0, 440.0  # J125 hang-off 5 m above the water
 

@@ -25,16 +25,10 @@ _HERE = str(Path(__file__).resolve().parent)
 if _HERE not in sys.path:  # tests/ has no __init__.py; works in any import mode
     sys.path.insert(0, _HERE)
 
+# ---------------------------------------------------------------- scene S67
+from reference.paper import EI, W_DRY, W_SUB  # noqa: E402
 from reference.slay import Stinger, slay_elastica, slay_regime_switch  # noqa: E402
 
-# ---------------------------------------------------------------- scene S67
-G, RHO_W = 9.81, 1025.0
-DO, DI, DC = 0.61, 0.58, 0.71
-A_STEEL = math.pi * (DO**2 - DI**2) / 4
-A_COAT = math.pi * (DC**2 - DO**2) / 4
-W_DRY = G * (7900.0 * A_STEEL + 3000.0 * A_COAT)  # [N/m] ~ 5224
-W_SUB = W_DRY - RHO_W * G * math.pi * DC**2 / 4  # [N/m] ~ 1243
-EI = 207e9 * math.pi * (DO**4 - DI**4) / 64  # [N m^2] ~ 2.570e8
 DEPTH = 67.0
 LOWER, UPPER = (41.5, 265.0), (72.0, 400.0)  # (x, z) [m]
 T_TOP = 580e3  # [N]

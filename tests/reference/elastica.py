@@ -66,6 +66,38 @@ _NS = 5  # states per segment: x, z, theta, M, Fx
 _X, _Z, _TH, _M, _FX = range(_NS)
 
 
+def rod_segment(y, o, L, EI, w, Fz, dy=None, dfdy=None, dfdp_k=None):
+    """The planar rod's equations on one segment, shared by the references.
+
+    States at offset ``o`` of ``y``: x, z, theta, M, Fx (slots ``_X .. _FX``);
+    arc length scaled by the segment length L, horizontal force Fz constant.
+    x' = L sin, z' = L cos, theta' = L M/EI, M' = L (Fz sin - Fx cos), Fx' = L w.
+    Writes the rates into ``dy``, their derivatives with respect to those five
+    states into ``dfdy`` and with respect to L into the column ``dfdp_k``.
+    """
+    th, M, Fx = y[o + _TH], y[o + _M], y[o + _FX]
+    c, s = np.cos(th), np.sin(th)
+    if dy is not None:
+        dy[o + _X] = L * s
+        dy[o + _Z] = L * c
+        dy[o + _TH] = L * M / EI
+        dy[o + _M] = L * (Fz * s - Fx * c)
+        dy[o + _FX] = L * w
+    if dfdy is not None:
+        dfdy[o + _X, o + _TH] = L * c
+        dfdy[o + _Z, o + _TH] = -L * s
+        dfdy[o + _TH, o + _M] = L / EI
+        dfdy[o + _M, o + _TH] = L * (Fz * c + Fx * s)
+        dfdy[o + _M, o + _FX] = -L * c
+    if dfdp_k is not None:
+        dfdp_k[o + _X] = s
+        dfdp_k[o + _Z] = c
+        dfdp_k[o + _TH] = M / EI
+        dfdp_k[o + _M] = Fz * s - Fx * c
+        dfdp_k[o + _FX] = w
+    return s
+
+
 class _Scaled:
     """The problem in scaled units: length ell = x_top, force F0 = w_sub ell."""
 
@@ -91,14 +123,7 @@ class _Scaled:
         lengths, Fz = self.split(p)
         dy = np.empty_like(y)
         for k in range(self.nseg):
-            o, L = _NS * k, lengths[k]
-            th, M, Fx = y[o + _TH], y[o + _M], y[o + _FX]
-            c, s = np.cos(th), np.sin(th)
-            dy[o + _X] = L * s
-            dy[o + _Z] = L * c
-            dy[o + _TH] = L * M / self.EI
-            dy[o + _M] = L * (Fz * s - Fx * c)
-            dy[o + _FX] = L * self.w[k]
+            rod_segment(y, _NS * k, lengths[k], self.EI, self.w[k], Fz, dy=dy)
         return dy
 
     def fun_jac(self, tau, y, p):
@@ -108,18 +133,7 @@ class _Scaled:
         dfdp = np.zeros((n, len(p), m))
         for k in range(self.nseg):
             o, L = _NS * k, lengths[k]
-            th, M, Fx = y[o + _TH], y[o + _M], y[o + _FX]
-            c, s = np.cos(th), np.sin(th)
-            dfdy[o + _X, o + _TH] = L * c
-            dfdy[o + _Z, o + _TH] = -L * s
-            dfdy[o + _TH, o + _M] = L / self.EI
-            dfdy[o + _M, o + _TH] = L * (Fz * c + Fx * s)
-            dfdy[o + _M, o + _FX] = -L * c
-            dfdp[o + _X, k] = s
-            dfdp[o + _Z, k] = c
-            dfdp[o + _TH, k] = M / self.EI
-            dfdp[o + _M, k] = Fz * s - Fx * c
-            dfdp[o + _FX, k] = self.w[k]
+            s = rod_segment(y, o, L, self.EI, self.w[k], Fz, dfdy=dfdy, dfdp_k=dfdp[:, k])
             if self.Fz_known is None:
                 dfdp[o + _M, self.nseg] = L * s
         return dfdy, dfdp

@@ -110,6 +110,7 @@ from scipy.integrate import solve_bvp
 from scipy.optimize import brentq
 
 from .catenary import catenary_profile, natural_catenary_two_weights
+from .elastica import rod_segment
 
 _NS = 6  # states per segment
 _X, _Z, _TH, _M, _FX, _FZ = range(_NS)
@@ -271,14 +272,8 @@ class _Scaled:
     def fun(self, tau, y, p):
         dy = np.zeros_like(y)
         for k in range(self.lay.nseg):
-            o, L = _NS * k, p[k]
-            th, M, Fx, Fz = y[o + _TH], y[o + _M], y[o + _FX], y[o + _FZ]
-            c, s = np.cos(th), np.sin(th)
-            dy[o + _X] = L * s
-            dy[o + _Z] = L * c
-            dy[o + _TH] = L * M / self.EI
-            dy[o + _M] = L * (Fz * s - Fx * c)
-            dy[o + _FX] = L * self.w[k]
+            o = _NS * k
+            rod_segment(y, o, p[k], self.EI, self.w[k], y[o + _FZ], dy=dy)
         return dy
 
     def fun_jac(self, tau, y, p):
@@ -287,19 +282,9 @@ class _Scaled:
         dfdp = np.zeros((n, len(p), m))
         for k in range(self.lay.nseg):
             o, L = _NS * k, p[k]
-            th, M, Fx, Fz = y[o + _TH], y[o + _M], y[o + _FX], y[o + _FZ]
-            c, s = np.cos(th), np.sin(th)
-            dfdy[o + _X, o + _TH] = L * c
-            dfdy[o + _Z, o + _TH] = -L * s
-            dfdy[o + _TH, o + _M] = L / self.EI
-            dfdy[o + _M, o + _TH] = L * (Fz * c + Fx * s)
-            dfdy[o + _M, o + _FX] = -L * c
-            dfdy[o + _M, o + _FZ] = L * s
-            dfdp[o + _X, k] = s
-            dfdp[o + _Z, k] = c
-            dfdp[o + _TH, k] = M / self.EI
-            dfdp[o + _M, k] = Fz * s - Fx * c
-            dfdp[o + _FX, k] = self.w[k]
+            s = rod_segment(y, o, L, self.EI, self.w[k], y[o + _FZ], dfdy=dfdy,
+                            dfdp_k=dfdp[:, k])
+            dfdy[o + _M, o + _FZ] = L * s  # Fz is a state here
         return dfdy, dfdp
 
     def conforming_scaled(self, zs, T_top_s):
