@@ -2,10 +2,14 @@
 
     pipelay-fast solve CASE.toml [--out DIR] [--quiet]
     pipelay-fast example [NAME] [--out FILE] [--force]
+    pipelay-fast sweep SWEEP.toml [--out DIR] [--workers N] [--backend loky|dask|ray] ...
+    pipelay-fast select RESULTS_DIR [--no-refine]
     pipelay-fast --version
 
-Exit codes: 0 success, 1 the case did not converge (or a file could not be
-written), 2 bad input (usage, unreadable or invalid case file, unknown example).
+Exit codes: 0 success (a sweep whose cases failed has still succeeded: the
+failures are rows of its summary), 1 the case did not converge (or a file could
+not be written), 2 bad input (usage, unreadable or invalid case or sweep file,
+unknown example, a results directory without a sweep).
 """
 
 from __future__ import annotations
@@ -66,6 +70,41 @@ def _parser() -> argparse.ArgumentParser:
     example_cmd.add_argument("--out", type=Path, metavar="FILE", help="write to FILE instead")
     example_cmd.add_argument("--force", action="store_true", help="overwrite an existing FILE")
     example_cmd.set_defaults(run=_example)
+
+    sweep_cmd = commands.add_parser(
+        "sweep", help="run a sweep file into a Parquet dataset",
+        description="Expand a sweep file into cases, solve them in warm-started chains on "
+        "worker processes and write the summary and profiles tables (hive-partitioned by "
+        "scene) into DIR. Rerunning into the same DIR skips the cases already written.",
+    )
+    sweep_cmd.add_argument("sweep", type=Path, metavar="SWEEP.toml", help="sweep file")
+    sweep_cmd.add_argument("--out", type=Path, metavar="DIR",
+                           help="results directory (default results/<sweep name>)")
+    sweep_cmd.add_argument("--workers", type=int, default=2, metavar="N",
+                           help="worker processes (default 2; 1 runs in this process)")
+    sweep_cmd.add_argument("--backend", choices=("loky", "dask", "ray"), default="loky",
+                           help="joblib backend (dask and ray need their extras)")
+    sweep_cmd.add_argument("--scheduler", metavar="ADDRESS",
+                           help="dask scheduler or ray cluster address (default: start one)")
+    sweep_cmd.add_argument("--chunk-size", type=int, metavar="N",
+                           help="cases per task and per Parquet chunk (whole chains)")
+    sweep_cmd.add_argument("--no-profiles", action="store_true",
+                           help="write the summary table only")
+    sweep_cmd.add_argument("--dry-run", action="store_true",
+                           help="print the cases per scene and stop")
+    sweep_cmd.add_argument("--quiet", action="store_true", help="no progress bar or report")
+    sweep_cmd.set_defaults(run=_sweep)
+
+    select_cmd = commands.add_parser(
+        "select", help="choose the stinger curvature a from a sweep's results",
+        description="For each S-lay scene and current: the a minimising the maximum von "
+        "Mises stress and the a where the overbend and sagbend peaks are equal, refined "
+        "between grid points; writes RESULTS_DIR/selection.parquet and prints it.",
+    )
+    select_cmd.add_argument("results", type=Path, metavar="RESULTS_DIR")
+    select_cmd.add_argument("--no-refine", action="store_true",
+                            help="grid values only (no further solves)")
+    select_cmd.set_defaults(run=_select)
     return parser
 
 
@@ -150,4 +189,59 @@ def _example(args: argparse.Namespace) -> int:
     except OSError as err:
         return _error(f"cannot write {args.out}: {err.strerror or err}", EXIT_FAILED)
     print(f"wrote {args.out}")
+    return EXIT_OK
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from .runner import run_sweep
+    from .sweep import load_sweep
+
+    try:
+        sweep = load_sweep(args.sweep)
+        cases = sweep.cases()
+    except OSError as err:
+        return _error(f"cannot read {args.sweep}: {err.strerror or err}", EXIT_USAGE)
+    except ValueError as err:
+        return _error(str(err), EXIT_USAGE)
+    out = args.out or Path("results") / sweep.name
+    if args.dry_run:
+        table = sweep.case_table()
+        counts = table.groupby("scene", sort=False).agg(
+            cases=("case_id", "size"), chains=("chain", "nunique"),
+            invalid=("error", lambda e: int((e != "").sum())))
+        print(f"sweep {sweep.name}: {len(cases)} cases -> {out}")
+        print(counts.to_string())
+        return EXIT_OK
+    try:
+        report = run_sweep(sweep, out, workers=args.workers, backend=args.backend,
+                           scheduler=args.scheduler, chunk_size=args.chunk_size,
+                           profiles=not args.no_profiles, progress=not args.quiet)
+    except ValueError as err:
+        return _error(str(err), EXIT_USAGE)
+    except (ImportError, RuntimeError) as err:
+        return _error(str(err), EXIT_FAILED)
+    except OSError as err:
+        return _error(f"cannot write to {out}: {err.strerror or err}", EXIT_FAILED)
+    if not args.quiet:
+        print(f"sweep {sweep.name}: {report}")
+        print(f"results in {out} (next: pipelay-fast select {out})")
+    return EXIT_OK
+
+
+def _select(args: argparse.Namespace) -> int:
+    from .select import format_selection, select
+
+    if not (args.results / "sweep.json").is_file():
+        return _error(f"{args.results} holds no sweep results (no sweep.json)", EXIT_USAGE)
+    try:
+        table = select(args.results, refine=not args.no_refine)
+    except ValueError as err:
+        return _error(str(err), EXIT_USAGE)
+    except OSError as err:
+        return _error(f"cannot write to {args.results}: {err.strerror or err}", EXIT_FAILED)
+    if table.empty:
+        print("no S-lay scene with solved cases: nothing to choose")
+    else:
+        print(format_selection(table))
+    print(f"\nwrote {args.results / 'selection.parquet'}")
     return EXIT_OK

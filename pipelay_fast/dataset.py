@@ -1,0 +1,202 @@
+"""The results directory of a sweep: a Parquet dataset, hive-partitioned by scene.
+
+Layout of ``OUT/``::
+
+    sweep.json                           the sweep's scenes (base cases, axes)
+    summary/scene=<name>/<chunk>.parquet  one row per case
+    profiles/scene=<name>/<chunk>.parquet one row per node per case (column case_id)
+    selection.parquet                    written by ``pipelay-fast select``
+
+Every file carries the unit of each column in its schema metadata
+(:func:`pipelay_fast.io.write_table`). A chunk is written atomically, profiles
+first and its summary last, under the same file name in both tables; the
+summary file is the chunk's commit mark. On opening, leftovers of an
+interrupted run (temporary files, profile chunks without their summary) are
+removed, so a rerun sees exactly the committed cases and recomputes the rest.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import hashlib
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pyarrow.parquet as pq
+
+from .io import write_table
+from .results import PROFILE_UNITS, SUMMARY_UNITS
+from .sweep import INPUT_UNITS, Sweep
+
+__all__ = ["Dataset", "PROFILE_COLUMNS", "SUMMARY_COLUMNS", "read_profiles", "read_summary"]
+
+# bookkeeping columns of the summary: the chain and place of a case, whether
+# its solve started from the previous solution of its chain
+RUN_UNITS = {"chain": "", "chain_position": "", "warm_started": ""}
+SUMMARY_COLUMNS = {**SUMMARY_UNITS, **INPUT_UNITS, **RUN_UNITS}
+PROFILE_COLUMNS = {"case_id": "", "node": "", **PROFILE_UNITS}
+_INTEGER = ("n_elements", "n_iterations", "chain_position")
+_BOOLEAN = ("warm_started",)
+
+
+class Dataset:
+    """A sweep's results directory, locked for writing while open.
+
+    Use as a context manager: ``with Dataset(out, sweep) as ds: ...``.
+    """
+
+    def __init__(self, root: str | os.PathLike, sweep: Sweep | None = None):
+        self.root = Path(root)
+        self.sweep = sweep
+        self._lock = self.root / ".lock"
+
+    def __enter__(self) -> Dataset:
+        self.root.mkdir(parents=True, exist_ok=True)
+        self._acquire()
+        try:
+            self._clean()
+            if self.sweep is not None:
+                self._write_spec(self.sweep)
+        except BaseException:
+            self._lock.unlink(missing_ok=True)
+            raise
+        return self
+
+    def __exit__(self, *exc):
+        self._lock.unlink(missing_ok=True)
+
+    # ------------------------------------------------------------------ state
+
+    def _acquire(self):
+        """Create ``.lock`` holding our pid; take over a lock whose process is gone."""
+        for _ in range(2):
+            try:
+                fd = os.open(self._lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+            except FileExistsError:
+                try:
+                    pid = int(self._lock.read_text() or 0)
+                except (OSError, ValueError):
+                    pid = 0
+                if pid and _alive(pid):
+                    raise RuntimeError(f"{self.root} is being written by process {pid} "
+                                       f"(remove {self._lock} if that is wrong)") from None
+                self._lock.unlink(missing_ok=True)
+                continue
+            with os.fdopen(fd, "w") as stream:
+                stream.write(str(os.getpid()))
+            return
+        raise RuntimeError(f"cannot lock {self.root}")
+
+    def _clean(self):
+        for tmp in self.root.glob("*/scene=*/.*.tmp"):
+            tmp.unlink(missing_ok=True)
+        for chunk in self.root.glob("profiles/scene=*/*.parquet"):
+            if not (self.root / "summary" / chunk.parent.name / chunk.name).exists():
+                chunk.unlink()
+
+    def _write_spec(self, sweep: Sweep):
+        """Store the scenes in ``sweep.json``; refuse a scene redefined under an old name."""
+        path = self.root / "sweep.json"
+        new = sweep.to_spec()
+        if path.exists():
+            old = json.loads(path.read_text())
+            old_scenes = {s["name"]: s for s in old["scenes"]}
+            for scene in new["scenes"]:
+                before = old_scenes.get(scene["name"])
+                if before is not None and before["case"] != scene["case"]:
+                    raise ValueError(
+                        f"{self.root} holds a scene {scene['name']!r} with another base case; "
+                        "write this sweep to a new directory or rename the scene")
+                old_scenes[scene["name"]] = scene
+            new["scenes"] = list(old_scenes.values())
+        tmp = path.with_name(f".sweep.json.{os.getpid()}.tmp")
+        tmp.write_text(json.dumps(new, indent=1, default=_json_default))
+        os.replace(tmp, path)
+
+    def case_ids(self) -> set[str]:
+        """Ids of the cases already written (committed summary chunks)."""
+        ids: set[str] = set()
+        for chunk in self.root.glob("summary/scene=*/*.parquet"):
+            ids.update(pq.read_table(chunk, columns=["case_id"]).column(0).to_pylist())
+        return ids
+
+    # ------------------------------------------------------------------ writing
+
+    def write_chunk(self, scene: str, rows: list[dict], profile: dict | None) -> str:
+        """Write one chunk (summary rows of one scene, and their profiles); its name."""
+        name = "chunk-" + hashlib.sha1(
+            "".join(sorted(r["case_id"] for r in rows)).encode()).hexdigest()[:16] + ".parquet"
+        part = f"scene={scene}"
+        meta = {"sweep": self.sweep.name if self.sweep else "", "scene": scene}
+        if profile is not None:
+            folder = self.root / "profiles" / part
+            folder.mkdir(parents=True, exist_ok=True)
+            frame = pd.DataFrame({k: profile[k] for k in PROFILE_COLUMNS})
+            write_table(frame, folder / name, PROFILE_COLUMNS, meta)
+        folder = self.root / "summary" / part
+        folder.mkdir(parents=True, exist_ok=True)
+        write_table(summary_frame(rows), folder / name, SUMMARY_COLUMNS, meta)
+        return name
+
+
+def summary_frame(rows: list[dict]) -> pd.DataFrame:
+    """Summary rows as a DataFrame with the dataset's fixed column types."""
+    frame = pd.DataFrame(rows, columns=list(SUMMARY_COLUMNS))
+    for column, unit in SUMMARY_COLUMNS.items():
+        if column in _INTEGER:
+            frame[column] = frame[column].astype("Int64")
+        elif column in _BOOLEAN:
+            frame[column] = frame[column].astype(bool)
+        elif unit == "":
+            frame[column] = frame[column].fillna("").astype(str)
+        else:
+            frame[column] = frame[column].astype(np.float64)
+    return frame
+
+
+def read_summary(root: str | os.PathLike, filters=None) -> pd.DataFrame:
+    """The summary table of a results directory (``scene`` a column), sorted by
+    scene, chain and position; ``filters`` as for :func:`pandas.read_parquet`."""
+    frame = _read(Path(root) / "summary", filters)
+    if frame.empty:
+        return frame
+    return frame.sort_values(["scene", "chain", "chain_position"], kind="stable",
+                             ignore_index=True)
+
+
+def read_profiles(root: str | os.PathLike, filters=None) -> pd.DataFrame:
+    """The profiles table of a results directory (``scene`` a column)."""
+    return _read(Path(root) / "profiles", filters)
+
+
+def _read(folder: Path, filters) -> pd.DataFrame:
+    if not any(folder.glob("scene=*/*.parquet")):
+        return pd.DataFrame()
+    frame = pd.read_parquet(folder, filters=filters)
+    frame["scene"] = frame["scene"].astype(str)
+    return frame
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except OSError as err:
+        return err.errno == errno.EPERM
+    with contextlib.suppress(OSError):  # a zombie child of ours counts as gone
+        with open(f"/proc/{pid}/stat") as stat:
+            if stat.read().split(")")[-1].split()[0] == "Z":
+                return False
+    return True
+
+
+def _json_default(value):
+    if isinstance(value, float) and math.isnan(value):
+        return None
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"not JSON-able: {value!r}")

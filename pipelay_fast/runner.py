@@ -1,0 +1,326 @@
+"""Run a sweep: chains of cases on joblib workers, chunks into the Parquet dataset.
+
+Each chain (cases that differ only in the chain axis) is solved in order, each
+case warm-started from the previous solution of its chain; a chain's first case
+(and a case after a change of dimension or method) starts cold. Results do not
+depend on the number of workers or on how chains are packed into tasks: a
+chain never crosses a task, and nothing else carries over between cases.
+
+Workers are the backend's processes (loky by default; dask.distributed or Ray
+through joblib). A worker keeps its compiled kernels for all the tasks it runs,
+so kernels are loaded (from Numba's on-disk cache) once per worker process, not
+once per case. The parent process is the only writer of the dataset.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import inspect
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .dataset import Dataset
+from .results import SUMMARY_UNITS
+from .solver import SolveError, solve
+from .sweep import Sweep, SweepCase, chains
+
+__all__ = ["ALLOW_UNVALIDATED", "BACKENDS", "SweepReport", "run_sweep", "solve_chain"]
+
+# S-lay and "3D + seabed friction + current" are still gated in pf.solve; the
+# sweep runs them. Set to False (or delete) once the solver drops its gate.
+ALLOW_UNVALIDATED = True
+BACKENDS = ("loky", "dask", "ray")
+# errors of one case that make it a failed row; anything else stops the sweep
+CASE_ERRORS = (SolveError, NotImplementedError, ValueError)
+
+_ACCEPTS_WARM = "warm" in inspect.signature(solve).parameters
+
+
+@dataclass
+class SweepReport:
+    """What a run did. Times in seconds; ``solve_seconds`` sums the time spent in
+    ``pf.solve`` over all workers."""
+
+    total: int = 0
+    skipped: int = 0
+    solved: int = 0
+    failed: int = 0
+    chunks: int = 0
+    seconds: float = 0.0
+    solve_seconds: float = 0.0
+    workers: int = 1
+    worker_pids: set = field(default_factory=set)
+
+    @property
+    def overhead_share(self) -> float:
+        """Share of the worker time not spent solving: 1 - solve time / (workers x wall)."""
+        if self.seconds <= 0 or self.solved == 0:
+            return math.nan
+        return 1.0 - self.solve_seconds / (self.workers * self.seconds)
+
+    def __str__(self):
+        rate = self.solved / self.seconds if self.seconds > 0 else math.nan
+        return (f"{self.total} cases: {self.solved} solved ({self.failed} failed), "
+                f"{self.skipped} already written; {self.chunks} chunks in {self.seconds:.1f} s "
+                f"({rate:.1f} cases/s on {self.workers} workers)")
+
+
+def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
+              scheduler: str | None = None, chunk_size: int | None = None,
+              profiles: bool = True, progress: bool = True) -> SweepReport:
+    """Solve every case of ``sweep`` not yet in the results directory ``out``.
+
+    Parameters
+    ----------
+    workers : int
+        Worker processes (1: in this process).
+    backend : str
+        "loky" (default), "dask" (a running ``distributed.Client`` is used, else
+        the ``scheduler`` address, else a LocalCluster of ``workers`` processes)
+        or "ray".
+    chunk_size : int, optional
+        Cases per task and per Parquet chunk, rounded up to whole chains;
+        default about a quarter of each worker's share, at most 256.
+    profiles : bool
+        Write the profiles table (one row per node per case).
+    progress : bool
+        Show cases done, failures and an ETA on stderr.
+    """
+    if backend not in BACKENDS:
+        raise ValueError(f"backend = {backend!r} must be one of {', '.join(BACKENDS)}")
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers = {workers!r} must be a positive integer")
+    if chunk_size is not None and (not isinstance(chunk_size, int) or chunk_size < 1):
+        raise ValueError(f"chunk_size = {chunk_size!r} must be a positive integer")
+    start = time.perf_counter()
+    cases = sweep.cases()
+    report = SweepReport(total=len(cases), workers=workers)
+    with Dataset(out, sweep) as dataset:
+        done = dataset.case_ids()
+        todo = [c for c in cases if c.case_id not in done]
+        report.skipped = len(cases) - len(todo)
+        tasks = pack(chains(todo), chunk_size or _default_chunk(len(todo), workers))
+        bar = Progress(len(todo), enabled=progress)
+        with _backend(backend, workers, scheduler):
+            for result in _parallel(tasks, workers, profiles):
+                scene, rows, profile, seconds, pid = result
+                dataset.write_chunk(scene, rows, profile)
+                report.chunks += 1
+                report.solved += len(rows)
+                report.failed += sum(r["status"] != "ok" for r in rows)
+                report.solve_seconds += seconds
+                report.worker_pids.add(pid)
+                bar.update(report.solved, report.failed)
+        bar.close()
+    report.seconds = time.perf_counter() - start
+    return report
+
+
+def pack(chain_list: list[list[SweepCase]], size: int) -> list[list[list[SweepCase]]]:
+    """Chains packed in order into tasks of about ``size`` cases, one scene per task."""
+    tasks, current, count = [], [], 0
+    for chain in chain_list:
+        if current and (count + len(chain) > size or current[0][0].scene != chain[0].scene):
+            tasks.append(current)
+            current, count = [], 0
+        current.append(chain)
+        count += len(chain)
+    if current:
+        tasks.append(current)
+    return tasks
+
+
+def _default_chunk(n: int, workers: int) -> int:
+    return int(min(256, max(1, math.ceil(n / (4 * workers)))))
+
+
+# --------------------------------------------------------------------------- workers
+
+
+def solve_task(task: list[list[SweepCase]], profiles: bool):
+    """Solve the chains of one task (runs in a worker).
+
+    Returns (scene, summary rows, profile columns or None when there are none,
+    seconds in ``pf.solve``, pid).
+    """
+    rows, parts, seconds = [], [], 0.0
+    for chain in task:
+        for sc, row, result, dt in solve_chain(chain):
+            rows.append(row)
+            seconds += dt
+            if profiles and result is not None:
+                n = len(result.columns["s"])
+                parts.append({"case_id": np.full(n, sc.case_id), "node": np.arange(n),
+                              **result.columns})
+    profile = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]} if parts else None
+    return task[0][0].scene, rows, profile, seconds, os.getpid()
+
+
+def solve_chain(chain: list[SweepCase]):
+    """Yield (case, summary row, Result or None, seconds) along one chain.
+
+    Each case is warm-started from the last successful solution of the chain
+    when it has the same lay method and dimension; a case that fails (invalid
+    inputs, SolveError, a gated case) becomes a row with status "failed".
+    """
+    previous = None
+    for sc in chain:
+        base = {"case_id": sc.case_id, "chain": sc.chain, "chain_position": sc.position}
+        if sc.case is None:
+            yield sc, _failed_row(sc, base, f"invalid case: {sc.error}"), None, 0.0
+            continue
+        warm = previous if _compatible(previous, sc) else None
+        t0 = time.perf_counter()
+        try:
+            if _ACCEPTS_WARM:
+                result = solve(sc.case, warm=warm, allow_unvalidated=ALLOW_UNVALIDATED)
+            else:
+                warm = None
+                result = solve(sc.case, allow_unvalidated=ALLOW_UNVALIDATED)
+        except CASE_ERRORS as err:
+            dt = time.perf_counter() - t0
+            yield sc, _failed_row(sc, base, f"{type(err).__name__}: {err}"), None, dt
+            continue
+        dt = time.perf_counter() - t0
+        previous = result
+        row = {**result.summary, **_given(sc), **base, "warm_started": warm is not None}
+        yield sc, row, result, dt
+
+
+def _compatible(previous, sc: SweepCase) -> bool:
+    return (previous is not None and previous.case.lay.method == sc.case.lay.method
+            and previous.summary["dimension"] == sc.case.resolved_dimension)
+
+
+def _given(sc: SweepCase) -> dict:
+    return {k: v for k, v in sc.inputs.items() if k.startswith("given_")}
+
+
+def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:
+    row = {name: math.nan for name, unit in SUMMARY_UNITS.items() if unit}
+    row.update(sc.inputs)
+    row.update(base)
+    row.update({"status": "failed", "message": message, "warm_started": False,
+                "n_elements": None, "n_iterations": None})
+    return row
+
+
+# --------------------------------------------------------------------------- scheduling
+
+
+def _parallel(tasks, workers: int, profiles: bool):
+    """Results of ``solve_task`` over ``tasks`` as they finish."""
+    if workers == 1 or len(tasks) <= 1:
+        for task in tasks:
+            yield solve_task(task, profiles)
+        return
+    from joblib import Parallel, delayed
+
+    calls = (delayed(solve_task)(task, profiles) for task in tasks)
+    try:
+        runner = Parallel(n_jobs=workers, return_as="generator_unordered", batch_size=1,
+                          pre_dispatch="2*n_jobs")
+    except ValueError:  # a backend without result streaming: run in rounds
+        runner = None
+    if runner is not None:
+        yield from runner(calls)
+        return
+    size = 2 * workers
+    for i in range(0, len(tasks), size):
+        yield from Parallel(n_jobs=workers, batch_size=1)(
+            delayed(solve_task)(task, profiles) for task in tasks[i:i + size])
+
+
+@contextlib.contextmanager
+def _backend(backend: str, workers: int, scheduler: str | None):
+    """joblib's backend for the run; dask and ray are imported only when asked for."""
+    from joblib import parallel_config
+
+    if backend == "loky":
+        with parallel_config(backend="loky", n_jobs=workers):
+            yield
+        return
+    if backend == "dask":
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError:
+            raise ImportError("backend 'dask' needs dask.distributed: "
+                              "pip install 'pipelay-fast[dask]'") from None
+        with contextlib.ExitStack() as stack:
+            try:
+                Client.current()  # a client the caller started
+            except ValueError:
+                if scheduler:
+                    stack.enter_context(Client(scheduler))
+                else:
+                    cluster = stack.enter_context(LocalCluster(
+                        n_workers=workers, threads_per_worker=1, processes=True,
+                        dashboard_address=None))
+                    stack.enter_context(Client(cluster))
+            with parallel_config(backend="dask", n_jobs=workers):
+                yield
+        return
+    try:
+        import ray
+        from ray.util.joblib import register_ray
+    except ImportError:
+        raise ImportError("backend 'ray' needs Ray: pip install 'pipelay-fast[ray]'") from None
+    register_ray()
+    if not ray.is_initialized():
+        ray.init(address=scheduler, num_cpus=None if scheduler else workers)
+    with parallel_config(backend="ray", n_jobs=workers):
+        yield
+
+
+# --------------------------------------------------------------------------- progress
+
+
+class Progress:
+    """A one-line progress bar on stderr: cases done, failures, rate and ETA.
+
+    On a terminal the line is redrawn in place; otherwise a line is printed at
+    most every 10 s, and once at the end.
+    """
+
+    def __init__(self, total: int, *, enabled: bool = True, stream=None, width: int = 24):
+        self.total, self.width = total, width
+        self.stream = stream or sys.stderr
+        self.enabled = enabled and total > 0
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.start = self.last = time.perf_counter()
+        self.text = ""
+
+    def update(self, done: int, failed: int):
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        elapsed = now - self.start
+        rate = done / elapsed if elapsed > 0 else 0.0
+        eta = (self.total - done) / rate if rate > 0 else math.nan
+        filled = int(self.width * done / self.total)
+        self.text = (f"[{'#' * filled}{'.' * (self.width - filled)}] {done}/{self.total} cases, "
+                     f"{failed} failed, {rate:.1f} cases/s, ETA {_clock(eta)}")
+        if self.tty:
+            self.stream.write("\r" + self.text)
+            self.stream.flush()
+        elif now - self.last >= 10.0 or done == self.total:
+            self.stream.write(self.text + "\n")
+            self.stream.flush()
+            self.last = now
+
+    def close(self):
+        if self.enabled and self.tty and self.text:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+def _clock(seconds: float) -> str:
+    if not math.isfinite(seconds):
+        return "--:--"
+    seconds = int(round(seconds))
+    return f"{seconds // 3600}:{seconds % 3600 // 60:02d}:{seconds % 60:02d}"

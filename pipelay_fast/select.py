@@ -1,0 +1,181 @@
+"""Choosing the stinger curvature ``a`` from a sweep's results.
+
+For every S-lay scene and every combination of the other inputs (current speed
+and heading, tension) two choices are made from the grid of ``a`` values:
+
+* ``a_min_stress``: the ``a`` that minimises the maximum von Mises stress. The
+  grid minimum is refined between its two neighbours with a bounded scalar
+  search (:func:`scipy.optimize.minimize_scalar`, ``method="bounded"``), each
+  evaluation a solve warm-started from the nearest case solved so far.
+* ``a_equal_peaks``: the ``a`` at which the overbend and sagbend peaks are
+  equal, the root of ``overbend_max_von_mises - sagbend_max_von_mises`` found
+  by :func:`scipy.optimize.brentq` between the two grid points that bracket
+  it (the bracket of lowest stress when there are several), warm-started too.
+
+Refinement needs the scenes' base cases, which the sweep stores in
+``sweep.json``; ``refine=False`` reports the grid values only.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import brentq, minimize_scalar
+
+from .dataset import read_summary
+from .io import write_table
+from .runner import ALLOW_UNVALIDATED, CASE_ERRORS
+from .solver import solve
+from .sweep import AXES, Scene, Sweep
+
+__all__ = ["SELECTION_UNITS", "select"]
+
+SELECTION_UNITS = {
+    "scene": "", "method": "", "dimension": "", "water_depth": "m",
+    "current_speed": "m/s", "current_heading_deg": "deg",
+    "given_top_tension": "N", "given_bottom_tension": "N", "given_pipe_length": "m",
+    "n_grid": "", "a_grid_min": "1/m", "a_grid_max": "1/m",
+    "a_min_stress": "1/m", "min_max_von_mises": "Pa",
+    "a_equal_peaks": "1/m", "equal_peaks_von_mises": "Pa",
+    "reference_a": "1/m", "n_solves": "", "note": "",
+}
+# the inputs that, with the scene, make one selection group
+GROUP_COLUMNS = ("current_speed", "current_heading_deg", "given_top_tension",
+                 "given_bottom_tension", "given_pipe_length")
+XTOL_FRACTION = 1e-4  # search tolerance as a share of the grid spacing of a
+
+
+def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) -> pd.DataFrame:
+    """The selection table of the results directory ``root`` (one row per group).
+
+    Written to ``root/selection.parquet`` (units in the schema) when ``write``.
+    """
+    root = Path(root)
+    summary = read_summary(root)
+    if summary.empty:
+        raise ValueError(f"{root}: no summary table (run a sweep into it first)")
+    sweep = Sweep.from_spec(json.loads((root / "sweep.json").read_text())) if refine else None
+    rows = []
+    ok = summary[(summary["status"] == "ok") & (summary["method"] == "S")]
+    keys = ["scene", *GROUP_COLUMNS]
+    for key, group in ok.groupby(keys, dropna=False, sort=True):
+        values = dict(zip(keys, key, strict=True))
+        scene = sweep.scene(values["scene"]) if sweep is not None else None
+        rows.append(_select_group(group.sort_values("a"), values, scene))
+    table = pd.DataFrame(rows, columns=list(SELECTION_UNITS))
+    for column, unit in SELECTION_UNITS.items():
+        table[column] = table[column].astype(str if unit == "" else np.float64) \
+            if column not in ("n_grid", "n_solves") else table[column].astype(np.int64)
+    if write:
+        write_table(table, root / "selection.parquet", SELECTION_UNITS)
+    return table
+
+
+def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dict:
+    a = group["a"].to_numpy()
+    vm = group["max_von_mises"].to_numpy()
+    gap = (group["overbend_max_von_mises"] - group["sagbend_max_von_mises"]).to_numpy()
+    first = group.iloc[0]
+    row = {**values, "method": first["method"], "dimension": first["dimension"],
+           "water_depth": first["water_depth"], "n_grid": len(a),
+           "a_grid_min": float(a.min()), "a_grid_max": float(a.max()),
+           "reference_a": scene.reference_a if scene is not None else math.nan}
+    notes = []
+    evaluate = _Evaluator(scene, values, group) if scene is not None and len(a) > 1 else None
+
+    i = int(np.argmin(vm))
+    row["a_min_stress"], row["min_max_von_mises"] = float(a[i]), float(vm[i])
+    if len(a) < 3 or i in (0, len(a) - 1):
+        notes.append("stress minimum at the end of the grid" if len(a) > 1 else "one grid point")
+    elif evaluate is not None:
+        step = min(a[i] - a[i - 1], a[i + 1] - a[i])
+        try:
+            best = minimize_scalar(lambda x: evaluate(x)["max_von_mises"], method="bounded",
+                                   bounds=(a[i - 1], a[i + 1]),
+                                   options={"xatol": XTOL_FRACTION * step})
+            if best.fun <= vm[i]:
+                row["a_min_stress"], row["min_max_von_mises"] = float(best.x), float(best.fun)
+        except CASE_ERRORS as err:
+            notes.append(f"minimum not refined: {type(err).__name__}: {err}")
+
+    row["a_equal_peaks"] = row["equal_peaks_von_mises"] = math.nan
+    finite = np.isfinite(gap)
+    brackets = [j for j in range(len(a) - 1) if finite[j] and finite[j + 1]
+                and np.sign(gap[j]) != np.sign(gap[j + 1])]
+    if not brackets:
+        notes.append("overbend and sagbend peaks do not cross on the grid")
+    else:
+        j = min(brackets, key=lambda j: max(vm[j], vm[j + 1]))
+        k = j if abs(gap[j]) <= abs(gap[j + 1]) else j + 1  # grid estimate
+        row["a_equal_peaks"], row["equal_peaks_von_mises"] = float(a[k]), float(vm[k])
+        if gap[j] == 0.0 or gap[j + 1] == 0.0:
+            pass
+        elif evaluate is not None:
+            try:
+                root = brentq(lambda x: _gap(evaluate(x)), a[j], a[j + 1],
+                              xtol=XTOL_FRACTION * (a[j + 1] - a[j]))
+                row["a_equal_peaks"] = float(root)
+                row["equal_peaks_von_mises"] = evaluate(root)["max_von_mises"]
+            except CASE_ERRORS as err:
+                notes.append(f"equal peaks not refined: {type(err).__name__}: {err}")
+        else:
+            notes.append("equal peaks: nearest grid point")
+    row["n_solves"] = evaluate.solves if evaluate is not None else 0
+    row["note"] = "; ".join(notes)
+    return row
+
+
+def _gap(summary: dict) -> float:
+    return summary["overbend_max_von_mises"] - summary["sagbend_max_von_mises"]
+
+
+class _Evaluator:
+    """Summary of the group's case at a given ``a``, solved warm from the nearest
+    ``a`` solved so far (the first from cold); repeated ``a`` values are cached."""
+
+    def __init__(self, scene: Scene, values: dict, group: pd.DataFrame):
+        self.scene = scene
+        given = {name: values[column] for name, (_, column, _) in AXES.items()
+                 if name in scene.axes and name != "a"}
+        self.values = given
+        self.results: dict[float, object] = {}
+        self.solves = 0
+
+    def __call__(self, a: float) -> dict:
+        a = float(a)
+        if a in self.results:
+            return self.results[a].summary
+        case = self.scene.case_for({**self.values, "a": a})
+        warm = None
+        if self.results:
+            warm = self.results[min(self.results, key=lambda b: abs(b - a))]
+        result = solve(case, warm=warm, allow_unvalidated=ALLOW_UNVALIDATED)
+        self.solves += 1
+        self.results[a] = result
+        return result.summary
+
+
+def format_selection(table: pd.DataFrame) -> str:
+    """The selection as a plain-text table: a in 1/m, stresses in MPa."""
+    lines = [f"{'scene':<10} {'dim':<3} {'current':>10} {'a_min_stress':>13} {'max VM':>8} "
+             f"{'a_equal_peaks':>13} {'peak VM':>8} {'reference_a':>11}  note"]
+    for _, r in table.iterrows():
+        current = f"{r['current_speed']:.2g}@{r['current_heading_deg']:.0f}°"
+        lines.append(
+            f"{r['scene']:<10} {r['dimension']:<3} {current:>10} {_a(r['a_min_stress']):>13} "
+            f"{_mpa(r['min_max_von_mises']):>8} {_a(r['a_equal_peaks']):>13} "
+            f"{_mpa(r['equal_peaks_von_mises']):>8} {_a(r['reference_a']):>11}  {r['note']}")
+    return "\n".join(lines)
+
+
+def _a(value: float) -> str:
+    return "n/a" if not math.isfinite(value) else f"{value:.6f}"
+
+
+def _mpa(value: float) -> str:
+    return "n/a" if not math.isfinite(value) else f"{value / 1e6:.1f}"

@@ -1,0 +1,455 @@
+"""Sweep files: a base case, scenes, and the values to vary, expanded into cases.
+
+A sweep file is TOML (examples in ``sweeps/``)::
+
+    name = "quick"                   # default: the file stem
+    case = "j125"                    # base case: a bundled example or a path
+                                     # relative to this file
+    [set]                            # dotted case keys set in every case
+    "solver.element_length" = 8.0
+
+    [vary]                           # axes: a list, or a range table
+    a = { start = -0.0009, stop = -0.0021, num = 13 }       # 1/m, ends included
+    current_speed = [0.0, 1.0]                             # m/s
+    current_heading = { start = 0.0, stop = 90.0, step = 45.0 }  # deg
+
+    [[scenes]]                       # optional; default one scene named after the case
+    name = "S67"                     # letters, digits, "_" and "-": the partition name
+    case = "s67"
+    water_depth = 67.0               # m
+    stinger_lower = [41.5, 265.0]    # (x, z) m; stinger_upper likewise
+    reference_a = -0.0012            # 1/m, a published choice shown by `select`
+    set = { "seabed.lateral_friction" = 0.3 }
+    vary = { a = [-0.0011, -0.0012] }   # replaces the file's axis of that name
+
+Axes (the inputs that vary, with their summary column): ``a`` (``a``, 1/m; S-lay
+scenes only, J-lay scenes ignore it), ``current_speed`` (m/s),
+``current_heading`` (``current_heading_deg``, deg), ``top_tension``,
+``bottom_tension`` (``given_top_tension``, ``given_bottom_tension``, N) and
+``pipe_length`` (``given_pipe_length``, m); a tension axis replaces whichever
+tension the base case gives. Scene keys: ``case``, ``method`` ("S" or "J"),
+``water_depth``, ``stinger_lower``, ``stinger_upper``, ``top`` (J-lay hang-off
+(x, z), m), ``top_angle`` (deg), ``reference_a``, ``set`` and ``vary``.
+
+A structural mistake (unknown key, a value of the wrong type, a bad range, a
+scene whose base case is invalid) refuses the whole file with a ValueError
+naming the key. A combination of axis values that makes an invalid case (a
+negative tension, a stinger dipping below the seabed) is kept as a case with
+its error message: the sweep records it as a failed row.
+
+Cases that differ only in the chain axis (``a``; for J-lay the first varied of
+current speed, tension, heading) form a chain, solved in order with warm starts.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+import numbers
+import os
+import re
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from importlib.resources import files
+from pathlib import Path
+
+import pandas as pd
+
+from ._validate import fail, put_path, reject_unknown
+from .case import Case, load_case
+from .results import case_id
+
+__all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains", "load_sweep"]
+
+# axis name -> (case key, summary column, unit)
+AXES = {
+    "a": ("lay.stinger.a", "a", "1/m"),
+    "current_speed": ("environment.current.speed", "current_speed", "m/s"),
+    "current_heading": ("environment.current.heading", "current_heading_deg", "deg"),
+    "top_tension": ("lay.top_tension", "given_top_tension", "N"),
+    "bottom_tension": ("lay.bottom_tension", "given_bottom_tension", "N"),
+    "pipe_length": ("lay.pipe_length", "given_pipe_length", "m"),
+}
+TENSION_AXES = ("top_tension", "bottom_tension", "pipe_length")
+# the chain axis is the first of these that a scene varies
+CHAIN_ORDER = ("a", "current_speed", "top_tension", "bottom_tension", "pipe_length",
+               "current_heading")
+# a chain longer than this is cut into pieces (each starts cold), so that one
+# long axis still spreads over the workers; independent of the worker count
+MAX_CHAIN_LENGTH = 64
+# input columns of the summary table that come from the case, with units
+INPUT_UNITS = {"given_top_tension": "N", "given_bottom_tension": "N", "given_pipe_length": "m"}
+
+_SCENE_GEOMETRY = {  # scene key -> case key
+    "water_depth": "environment.water_depth",
+    "stinger_lower": "lay.stinger.lower",
+    "stinger_upper": "lay.stinger.upper",
+    "top": "lay.top",
+    "top_angle": "lay.top_angle",
+}
+_SCENE_KEYS = ("name", "case", "method", *_SCENE_GEOMETRY, "reference_a", "set", "vary")
+_FILE_KEYS = ("name", "description", "case", "set", "vary", "scenes")
+_NAME = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+# --------------------------------------------------------------------------- data
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One scene: a validated base case, the axes it varies, a reference ``a``.
+
+    Attributes
+    ----------
+    name : str
+        Partition name.
+    case : Case
+        Base case (the file's ``set`` and the scene's geometry applied).
+    axes : dict
+        Axis name -> tuple of values (SI, see :data:`AXES`), in sweep order.
+    reference_a : float
+        A published stinger curvature [1/m] to print beside the chosen one; NaN if none.
+    """
+
+    name: str
+    case: Case
+    axes: dict
+    reference_a: float = math.nan
+
+    @property
+    def chain_axis(self) -> str | None:
+        """The axis along which this scene's cases are warm-started."""
+        return next((n for n in CHAIN_ORDER if len(self.axes.get(n, ())) > 1), None)
+
+    def case_for(self, values: Mapping[str, float]) -> Case:
+        """The base case with axis values (axis name -> value) applied; ValueError if invalid."""
+        return self.case.with_changes(_changes(values))
+
+    def to_spec(self) -> dict:
+        """JSON-able description, read back by :meth:`Sweep.from_spec`."""
+        return {"name": self.name, "case": self.case.to_dict(),
+                "axes": {k: list(v) for k, v in self.axes.items()},
+                "reference_a": None if math.isnan(self.reference_a) else self.reference_a}
+
+
+@dataclass(frozen=True)
+class SweepCase:
+    """One case of an expanded sweep.
+
+    ``case`` is None when the axis values make an invalid case; ``error`` then
+    holds the validation message and ``case_id`` hashes the requested inputs.
+    ``inputs`` are the summary's input columns (method, a, water_depth, ...).
+    """
+
+    scene: str
+    case_id: str
+    chain: str
+    position: int
+    values: dict
+    inputs: dict
+    case: Case | None = None
+    error: str = ""
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """A parsed sweep file: its name and scenes."""
+
+    name: str
+    scenes: tuple[Scene, ...]
+    description: str = ""
+    source: str = ""
+    _cases: list = field(default_factory=list, compare=False, repr=False)
+
+    def scene(self, name: str) -> Scene:
+        for scene in self.scenes:
+            if scene.name == name:
+                return scene
+        raise KeyError(f"sweep {self.name!r} has no scene {name!r}")
+
+    def cases(self) -> list[SweepCase]:
+        """Every case, scene by scene, each chain's cases together in chain order."""
+        if not self._cases:
+            seen = {}
+            for scene in self.scenes:
+                for c in _expand(scene):
+                    if c.case_id in seen:
+                        raise ValueError(f"scenes {seen[c.case_id]!r} and {c.scene!r} give the "
+                                         f"same case {c.values} (case_id {c.case_id})")
+                    seen[c.case_id] = c.scene
+                    self._cases.append(c)
+        return self._cases
+
+    def case_table(self) -> pd.DataFrame:
+        """One row per case: scene, case_id, chain, position, inputs, error."""
+        rows = [{"scene": c.scene, "case_id": c.case_id, "chain": c.chain,
+                 "position": c.position, **c.inputs, "error": c.error} for c in self.cases()]
+        return pd.DataFrame(rows)
+
+    def to_spec(self) -> dict:
+        return {"name": self.name, "description": self.description,
+                "scenes": [scene.to_spec() for scene in self.scenes]}
+
+    @classmethod
+    def from_spec(cls, spec: Mapping) -> Sweep:
+        """The sweep stored by :meth:`to_spec` (in a results directory's ``sweep.json``)."""
+        scenes = tuple(
+            Scene(s["name"], load_case(s["case"]),
+                  {k: tuple(v) for k, v in s["axes"].items()},
+                  math.nan if s.get("reference_a") is None else float(s["reference_a"]))
+            for s in spec["scenes"])
+        return cls(spec["name"], scenes, spec.get("description", ""))
+
+
+# --------------------------------------------------------------------------- loading
+
+
+def load_sweep(source: str | os.PathLike | Mapping, *, base_dir=None) -> Sweep:
+    """Read and check a sweep file (TOML path) or a dict of the same keys.
+
+    Relative case paths are taken from the sweep file's folder (``base_dir``
+    for a dict, default the current folder). Raises ValueError naming the key
+    (prefixed by the file name) for any structural mistake.
+    """
+    if isinstance(source, Mapping):
+        return _sweep_from(source, Path(base_dir or "."), "sweep", "")
+    path = Path(source)
+    with path.open("rb") as stream:
+        try:
+            tables = tomllib.load(stream)
+        except tomllib.TOMLDecodeError as err:
+            raise ValueError(f"{path}: invalid TOML: {err}") from None
+    try:
+        return _sweep_from(tables, path.parent, path.stem, str(path))
+    except ValueError as err:
+        raise ValueError(f"{path}: {err}") from None
+
+
+def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -> Sweep:
+    reject_unknown(tables, _FILE_KEYS, "")
+    name = tables.get("name", default_name)
+    _check_name("name", name)
+    description = tables.get("description", "")
+    if not isinstance(description, str):
+        fail("description", description, "must be a string")
+    common = _dotted("set", tables.get("set", {}))
+    axes = _axes("vary", tables.get("vary", {}))
+    scene_tables = tables.get("scenes")
+    if scene_tables is None:
+        if "case" not in tables:
+            raise ValueError("missing key case (the base case) or [[scenes]]")
+        scene_tables = [{"name": _scene_name(tables["case"])}]
+    if not isinstance(scene_tables, list) or not scene_tables:
+        fail("scenes", scene_tables, "must be a non-empty array of tables [[scenes]]")
+    scenes = []
+    for i, table in enumerate(scene_tables):
+        scenes.append(_scene(f"scenes[{i}]", table, tables.get("case"), folder, common, axes))
+    names = [s.name for s in scenes]
+    for i, scene_name in enumerate(names):
+        if scene_name in names[:i]:
+            fail(f"scenes[{i}].name", scene_name, "is used by an earlier scene")
+    return Sweep(name, tuple(scenes), description, source)
+
+
+def _scene(path, table, default_case, folder, common, axes) -> Scene:
+    if not isinstance(table, Mapping):
+        fail(path, table, "must be a table")
+    reject_unknown(table, _SCENE_KEYS, f"{path}.")
+    if "name" not in table:
+        raise ValueError(f"missing key {path}.name")
+    name = table["name"]
+    _check_name(f"{path}.name", name)
+    source = table.get("case", default_case)
+    if source is None:
+        raise ValueError(f"missing key {path}.case (or a top-level case)")
+    base = _base_case(f"{path}.case" if "case" in table else "case", source, folder)
+    scene_axes = {**axes, **_axes(f"{path}.vary", table.get("vary", {}))}
+    changes = dict(common)
+    method = table.get("method", base.lay.method)
+    if method not in ("S", "J"):
+        fail(f"{path}.method", method, "must be 'S' or 'J'")
+    if method == "J" and base.lay.method == "S":
+        changes.update({"lay.method": "J", "lay.stinger": None, "lay.top": None})
+    elif method == "S" and base.lay.method == "J":
+        changes.update({"lay.method": "S", "lay.top": None})
+        if "a" in scene_axes:
+            changes["lay.stinger.a"] = scene_axes["a"][0]
+    for key, case_key in _SCENE_GEOMETRY.items():
+        if key in table:
+            changes[case_key] = table[key]
+    changes.update(_dotted(f"{path}.set", table.get("set", {})))
+    if method == "J":
+        scene_axes.pop("a", None)  # no stinger to vary
+    reference = table.get("reference_a", math.nan)
+    if isinstance(reference, bool) or not isinstance(reference, numbers.Real):
+        fail(f"{path}.reference_a", reference, "must be a number (1/m)")
+    changes["name"] = name
+    try:
+        case = base.with_changes(changes)
+    except ValueError as err:
+        raise ValueError(f"{path} ({name}): {err}") from None
+    return Scene(name, case, scene_axes, float(reference))
+
+
+def _base_case(path, source, folder) -> Case:
+    if not isinstance(source, str) or not source:
+        fail(path, source, "must be a bundled example name or a case file path")
+    examples = files("pipelay_fast").joinpath("examples")
+    bundled = examples.joinpath(f"{source}.toml")
+    if "/" not in source and not source.endswith(".toml") and bundled.is_file():
+        return load_case(Path(str(bundled)))
+    file = folder / source
+    if not file.is_file():
+        fail(path, source, f"is neither a bundled example nor a file (looked for {file})")
+    return load_case(file)
+
+
+def _scene_name(source) -> str:
+    stem = Path(str(source)).stem
+    return re.sub(r"[^A-Za-z0-9_-]", "_", stem) or "scene"
+
+
+def _check_name(path, name):
+    if not isinstance(name, str) or not _NAME.match(name):
+        fail(path, name, "must be a non-empty name of letters, digits, '_' and '-'")
+
+
+def _dotted(path, table) -> dict:
+    """Flatten a table of (possibly nested or dotted) case keys to {dotted key: value}."""
+    if not isinstance(table, Mapping):
+        fail(path, table, "must be a table of case keys, e.g. {\"solver.element_length\" = 8.0}")
+    flat = {}
+    for key, value in table.items():
+        if isinstance(value, Mapping):
+            flat.update({f"{key}.{k}": v for k, v in _dotted(f"{path}.{key}", value).items()})
+        else:
+            flat[str(key)] = value
+    return flat
+
+
+def _axes(path, table) -> dict:
+    if not isinstance(table, Mapping):
+        fail(path, table, "must be a table of axes")
+    reject_unknown(table, list(AXES), f"{path}.")
+    return {name: _values(f"{path}.{name}", spec) for name, spec in table.items()}
+
+
+def _values(path, spec) -> tuple[float, ...]:
+    """An axis's values from a list or a {start, stop, num | step} table (ends included)."""
+    if isinstance(spec, Mapping):
+        reject_unknown(spec, ["start", "stop", "num", "step"], f"{path}.")
+        for key in ("start", "stop"):
+            if key not in spec:
+                raise ValueError(f"missing key {path}.{key}")
+        start, stop = _number(f"{path}.start", spec["start"]), _number(f"{path}.stop", spec["stop"])
+        if ("num" in spec) == ("step" in spec):
+            raise ValueError(f"{path} needs exactly one of {path}.num and {path}.step")
+        if "num" in spec:
+            num = spec["num"]
+            if isinstance(num, bool) or not isinstance(num, int) or num < 1:
+                fail(f"{path}.num", num, "must be a positive integer")
+            if num == 1 and start != stop:
+                fail(f"{path}.num", num, "must be at least 2 when start and stop differ")
+            values = [start + (stop - start) * i / max(num - 1, 1) for i in range(num)]
+        else:
+            step = _number(f"{path}.step", spec["step"])
+            if step == 0 or (stop - start) * step < 0:
+                fail(f"{path}.step", step, f"must be non-zero and lead from {start!r} to {stop!r}")
+            count = (stop - start) / step
+            num = math.floor(count + 1e-9) + 1
+            values = [start + step * i for i in range(num)]
+        values = [round(v, 15) for v in values]
+    elif isinstance(spec, list):
+        if not spec:
+            fail(path, spec, "must not be empty")
+        values = [_number(f"{path}[{i}]", v) for i, v in enumerate(spec)]
+    else:
+        fail(path, spec, "must be a list of numbers or a table {start, stop, num} "
+             "or {start, stop, step}")
+    for i, v in enumerate(values):
+        if v in values[:i]:
+            fail(path, spec, f"repeats the value {v!r}")
+    return tuple(values)
+
+
+def _number(path, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+        fail(path, value, "must be a finite number")
+    return float(value)
+
+
+# --------------------------------------------------------------------------- expansion
+
+
+def _changes(values: Mapping[str, float]) -> dict:
+    changes = {}
+    for name, value in values.items():
+        if name in TENSION_AXES:
+            changes.update({f"lay.{t}": None for t in TENSION_AXES})
+        changes[AXES[name][0]] = value
+    return changes
+
+
+def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dict:
+    """The summary's input columns of a case (from the requested values if invalid)."""
+    ref = case or scene.case
+    lay, cur = ref.lay, ref.environment.current
+    inputs = {
+        "method": ref.lay.method,
+        "dimension": ref.resolved_dimension if case is not None else "",
+        "a": lay.stinger.a if lay.stinger is not None else math.nan,
+        "water_depth": ref.environment.water_depth,
+        "current_speed": cur.speed,
+        "current_heading_deg": cur.heading,
+    }
+    given = {f"given_{t}": getattr(lay, t) for t in TENSION_AXES}
+    if case is None and any(t in values for t in TENSION_AXES):
+        given = dict.fromkeys(given)
+    inputs.update({k: math.nan if v is None else float(v) for k, v in given.items()})
+    for name, value in values.items():  # the requested values, valid or not
+        inputs[AXES[name][1]] = value
+    return inputs
+
+
+def _raw_id(scene: Scene, values: Mapping[str, float]) -> str:
+    """Stable id of an invalid case: a hash of its requested tables."""
+    tables = scene.case.to_dict()
+    tables.pop("name", None)
+    for key, value in _changes(values).items():
+        put_path(tables, key, value)
+    text = json.dumps(tables, sort_keys=True, separators=(",", ":"), default=float)
+    return hashlib.sha1(text.encode()).hexdigest()[:16]
+
+
+def _expand(scene: Scene) -> list[SweepCase]:
+    chain_axis = scene.chain_axis
+    others = [n for n in AXES if n in scene.axes and n != chain_axis]
+    outer = itertools.product(*(scene.axes[n] for n in others))
+    inner = scene.axes[chain_axis] if chain_axis else (None,)
+    cases = []
+    for number_, combo in enumerate(outer):
+        fixed = dict(zip(others, combo, strict=True))
+        for position, value in enumerate(inner):
+            values = dict(fixed) if chain_axis is None else {**fixed, chain_axis: value}
+            try:
+                case = scene.case_for(values)
+                error, cid = "", case_id(case)
+            except ValueError as err:
+                case, error, cid = None, str(err), _raw_id(scene, values)
+            piece, pos = divmod(position, MAX_CHAIN_LENGTH)
+            cases.append(SweepCase(
+                scene=scene.name, case_id=cid, chain=f"{scene.name}/{number_}.{piece}",
+                position=pos, values=values, inputs=_inputs(scene, case, values),
+                case=case, error=error))
+    return cases
+
+
+def chains(cases: list[SweepCase]) -> list[list[SweepCase]]:
+    """Group cases by chain, each in chain order; chains in first-seen order."""
+    grouped: dict[str, list[SweepCase]] = {}
+    for c in cases:
+        grouped.setdefault(c.chain, []).append(c)
+    return [sorted(g, key=lambda c: c.position) for g in grouped.values()]
