@@ -271,6 +271,11 @@ def _scene(path, table, default_case, folder, common, axes) -> Scene:
     method = table.get("method", base.lay.method)
     if method not in ("S", "J"):
         fail(f"{path}.method", method, "must be 'S' or 'J'")
+    misplaced = ("stinger_lower", "stinger_upper") if method == "J" else ("top",)
+    for key in misplaced:
+        if key in table:
+            fail(f"{path}.{key}", table[key], f"does not apply to a scene with method = "
+                 f"{method!r}" + (" (the S-lay top is stinger_upper)" if method == "S" else ""))
     if method == "J" and base.lay.method == "S":
         changes.update({"lay.method": "J", "lay.stinger": None, "lay.top": None})
     elif method == "S" and base.lay.method == "J":
