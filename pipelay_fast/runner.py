@@ -43,8 +43,9 @@ _ACCEPTS_WARM = "warm" in inspect.signature(solve).parameters
 
 @dataclass
 class SweepReport:
-    """What a run did. Times in seconds; ``solve_seconds`` sums the time spent in
-    ``pf.solve`` over all workers."""
+    """What a run did. Times in seconds: ``seconds`` wall time of the run (case
+    expansion included), ``solve_seconds`` the time spent in ``pf.solve`` summed
+    over the workers, ``write_seconds`` the time spent writing Parquet."""
 
     total: int = 0
     skipped: int = 0
@@ -53,6 +54,7 @@ class SweepReport:
     chunks: int = 0
     seconds: float = 0.0
     solve_seconds: float = 0.0
+    write_seconds: float = 0.0
     workers: int = 1
     worker_pids: set = field(default_factory=set)
 
@@ -72,7 +74,8 @@ class SweepReport:
 
 def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
               scheduler: str | None = None, chunk_size: int | None = None,
-              profiles: bool = True, progress: bool = True) -> SweepReport:
+              profiles: bool = True, progress: bool = True,
+              warm_start: bool = True) -> SweepReport:
     """Solve every case of ``sweep`` not yet in the results directory ``out``.
 
     Parameters
@@ -90,6 +93,9 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         Write the profiles table (one row per node per case).
     progress : bool
         Show cases done, failures and an ETA on stderr.
+    warm_start : bool
+        Start each case from the previous solution of its chain (default); False
+        solves every case cold (for comparison).
     """
     if backend not in BACKENDS:
         raise ValueError(f"backend = {backend!r} must be one of {', '.join(BACKENDS)}")
@@ -102,14 +108,18 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
     report = SweepReport(total=len(cases), workers=workers)
     with Dataset(out, sweep) as dataset:
         done = dataset.case_ids()
-        todo = [c for c in cases if c.case_id not in done]
+        # building a case (to know its id) is left to the workers unless some
+        # cases are already written
+        todo = [c for c in cases if c.case_id not in done] if done else cases
         report.skipped = len(cases) - len(todo)
         tasks = pack(chains(todo), chunk_size or _default_chunk(len(todo), workers))
         bar = Progress(len(todo), enabled=progress)
         with _backend(backend, workers, scheduler):
-            for result in _parallel(tasks, workers, profiles):
+            for result in _parallel(tasks, workers, profiles, warm_start):
                 scene, rows, profile, seconds, pid = result
+                t0 = time.perf_counter()
                 dataset.write_chunk(scene, rows, profile)
+                report.write_seconds += time.perf_counter() - t0
                 report.chunks += 1
                 report.solved += len(rows)
                 report.failed += sum(r["status"] != "ok" for r in rows)
@@ -142,7 +152,7 @@ def _default_chunk(n: int, workers: int) -> int:
 # --------------------------------------------------------------------------- workers
 
 
-def solve_task(task: list[list[SweepCase]], profiles: bool):
+def solve_task(task: list[list[SweepCase]], profiles: bool, warm_start: bool = True):
     """Solve the chains of one task (runs in a worker).
 
     Returns (scene, summary rows, profile columns or None when there are none,
@@ -150,7 +160,7 @@ def solve_task(task: list[list[SweepCase]], profiles: bool):
     """
     rows, parts, seconds = [], [], 0.0
     for chain in task:
-        for sc, row, result, dt in solve_chain(chain):
+        for sc, row, result, dt in solve_chain(chain, warm_start):
             rows.append(row)
             seconds += dt
             if profiles and result is not None:
@@ -161,7 +171,7 @@ def solve_task(task: list[list[SweepCase]], profiles: bool):
     return task[0][0].scene, rows, profile, seconds, os.getpid()
 
 
-def solve_chain(chain: list[SweepCase]):
+def solve_chain(chain: list[SweepCase], warm_start: bool = True):
     """Yield (case, summary row, Result or None, seconds) along one chain.
 
     Each case is warm-started from the last successful solution of the chain
@@ -174,7 +184,7 @@ def solve_chain(chain: list[SweepCase]):
         if sc.case is None:
             yield sc, _failed_row(sc, base, f"invalid case: {sc.error}"), None, 0.0
             continue
-        warm = previous if _compatible(previous, sc) else None
+        warm = previous if warm_start and _compatible(previous, sc) else None
         t0 = time.perf_counter()
         try:
             if _ACCEPTS_WARM:
@@ -213,15 +223,15 @@ def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:
 # --------------------------------------------------------------------------- scheduling
 
 
-def _parallel(tasks, workers: int, profiles: bool):
+def _parallel(tasks, workers: int, profiles: bool, warm_start: bool):
     """Results of ``solve_task`` over ``tasks`` as they finish."""
     if workers == 1 or len(tasks) <= 1:
         for task in tasks:
-            yield solve_task(task, profiles)
+            yield solve_task(task, profiles, warm_start)
         return
     from joblib import Parallel, delayed
 
-    calls = (delayed(solve_task)(task, profiles) for task in tasks)
+    calls = (delayed(solve_task)(task, profiles, warm_start) for task in tasks)
     try:
         runner = Parallel(n_jobs=workers, return_as="generator_unordered", batch_size=1,
                           pre_dispatch="2*n_jobs")
@@ -233,7 +243,7 @@ def _parallel(tasks, workers: int, profiles: bool):
     size = 2 * workers
     for i in range(0, len(tasks), size):
         yield from Parallel(n_jobs=workers, batch_size=1)(
-            delayed(solve_task)(task, profiles) for task in tasks[i:i + size])
+            delayed(solve_task)(task, profiles, warm_start) for task in tasks[i:i + size])
 
 
 @contextlib.contextmanager

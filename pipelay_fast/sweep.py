@@ -135,23 +135,60 @@ class Scene:
                 "reference_a": None if math.isnan(self.reference_a) else self.reference_a}
 
 
-@dataclass(frozen=True)
 class SweepCase:
-    """One case of an expanded sweep.
+    """One case of an expanded sweep: its scene, chain, place and axis values.
 
-    ``case`` is None when the axis values make an invalid case; ``error`` then
-    holds the validation message and ``case_id`` hashes the requested inputs.
-    ``inputs`` are the summary's input columns (method, a, water_depth, ...).
+    The case itself is built (and validated) on first use, in the worker that
+    solves it: ``case`` is None when the axis values make an invalid case,
+    ``error`` then holds the validation message and ``case_id`` hashes the
+    requested inputs. ``inputs`` are the summary's input columns (method, a,
+    water_depth, ...).
     """
 
-    scene: str
-    case_id: str
-    chain: str
-    position: int
-    values: dict
-    inputs: dict
-    case: Case | None = None
-    error: str = ""
+    __slots__ = ("_built", "chain", "position", "source", "values")
+
+    def __init__(self, source: Scene, chain: str, position: int, values: dict):
+        self.source, self.chain, self.position, self.values = source, chain, position, values
+        self._built = None
+
+    def __getstate__(self):
+        return {name: getattr(self, name) for name in self.__slots__}
+
+    def __setstate__(self, state):
+        for name, value in state.items():
+            setattr(self, name, value)
+
+    def __repr__(self):
+        return f"SweepCase({self.scene!r}, {self.chain!r}, {self.position}, {self.values})"
+
+    @property
+    def scene(self) -> str:
+        return self.source.name
+
+    def _build(self) -> tuple:
+        if self._built is None:
+            try:
+                case = self.source.case_for(self.values)
+                self._built = (case, "", case_id(case))
+            except ValueError as err:
+                self._built = (None, str(err), _raw_id(self.source, self.values))
+        return self._built
+
+    @property
+    def case(self) -> Case | None:
+        return self._build()[0]
+
+    @property
+    def error(self) -> str:
+        return self._build()[1]
+
+    @property
+    def case_id(self) -> str:
+        return self._build()[2]
+
+    @property
+    def inputs(self) -> dict:
+        return _inputs(self.source, self.case, self.values)
 
 
 @dataclass(frozen=True)
@@ -171,23 +208,23 @@ class Sweep:
         raise KeyError(f"sweep {self.name!r} has no scene {name!r}")
 
     def cases(self) -> list[SweepCase]:
-        """Every case, scene by scene, each chain's cases together in chain order."""
+        """Every case, scene by scene, each chain's cases together in chain order
+        (not yet built: see :class:`SweepCase`)."""
         if not self._cases:
-            seen = {}
-            for scene in self.scenes:
-                for c in _expand(scene):
-                    if c.case_id in seen:
-                        raise ValueError(f"scenes {seen[c.case_id]!r} and {c.scene!r} give the "
-                                         f"same case {c.values} (case_id {c.case_id})")
-                    seen[c.case_id] = c.scene
-                    self._cases.append(c)
+            self._cases.extend(c for scene in self.scenes for c in _expand(scene))
         return self._cases
 
     def case_table(self) -> pd.DataFrame:
-        """One row per case: scene, case_id, chain, position, inputs, error."""
+        """One row per case (each case built): scene, case_id, chain, position,
+        inputs, error."""
         rows = [{"scene": c.scene, "case_id": c.case_id, "chain": c.chain,
                  "position": c.position, **c.inputs, "error": c.error} for c in self.cases()]
-        return pd.DataFrame(rows)
+        table = pd.DataFrame(rows)
+        twice = table[table["case_id"].duplicated(keep=False)]
+        if not twice.empty:
+            raise ValueError(f"scenes {', '.join(sorted(set(twice['scene'])))} give the same "
+                             f"case(s): {', '.join(sorted(set(twice['case_id'])))}")
+        return table
 
     def to_spec(self) -> dict:
         return {"name": self.name, "description": self.description,
@@ -248,9 +285,13 @@ def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -
     for i, table in enumerate(scene_tables):
         scenes.append(_scene(f"scenes[{i}]", table, tables.get("case"), folder, common, axes))
     names = [s.name for s in scenes]
+    bases = [{**s.case.to_dict(), "name": ""} for s in scenes]
     for i, scene_name in enumerate(names):
         if scene_name in names[:i]:
             fail(f"scenes[{i}].name", scene_name, "is used by an earlier scene")
+        if bases[i] in bases[:i]:
+            fail(f"scenes[{i}]", scene_name, f"has the same case as scene "
+                 f"{names[bases.index(bases[i])]!r}: vary its inputs in one scene instead")
     return Sweep(name, tuple(scenes), description, source)
 
 
@@ -432,23 +473,14 @@ def _raw_id(scene: Scene, values: Mapping[str, float]) -> str:
 def _expand(scene: Scene) -> list[SweepCase]:
     chain_axis = scene.chain_axis
     others = [n for n in AXES if n in scene.axes and n != chain_axis]
-    outer = itertools.product(*(scene.axes[n] for n in others))
     inner = scene.axes[chain_axis] if chain_axis else (None,)
     cases = []
-    for number_, combo in enumerate(outer):
+    for number_, combo in enumerate(itertools.product(*(scene.axes[n] for n in others))):
         fixed = dict(zip(others, combo, strict=True))
         for position, value in enumerate(inner):
             values = dict(fixed) if chain_axis is None else {**fixed, chain_axis: value}
-            try:
-                case = scene.case_for(values)
-                error, cid = "", case_id(case)
-            except ValueError as err:
-                case, error, cid = None, str(err), _raw_id(scene, values)
             piece, pos = divmod(position, MAX_CHAIN_LENGTH)
-            cases.append(SweepCase(
-                scene=scene.name, case_id=cid, chain=f"{scene.name}/{number_}.{piece}",
-                position=pos, values=values, inputs=_inputs(scene, case, values),
-                case=case, error=error))
+            cases.append(SweepCase(scene, f"{scene.name}/{number_}.{piece}", pos, values))
     return cases
 
 

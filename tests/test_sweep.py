@@ -71,6 +71,8 @@ def test_tension_axis_replaces_the_base_tension():
      "scenes[0].name = 'J 125' must be a non-empty name"),
     ({"case": "j125", "scenes": [{"name": "A"}, {"name": "A"}]},
      "scenes[1].name = 'A' is used by an earlier scene"),
+    ({"case": "j125", "scenes": [{"name": "A"}, {"name": "B"}]},
+     "scenes[1] = 'B' has the same case as scene 'A'"),
     ({"case": "j125", "scenes": [{"name": "A", "water_depth": -5.0}]},
      "scenes[0] (A): environment.water_depth = -5.0 must be positive"),
     ({"case": "j125", "scenes": [{"name": "A", "stinger_lower": [1.0, 2.0]}]},
