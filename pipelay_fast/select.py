@@ -48,6 +48,7 @@ SELECTION_UNITS = {
 GROUP_COLUMNS = ("current_speed", "current_heading_deg", "given_top_tension",
                  "given_bottom_tension", "given_pipe_length")
 XTOL_FRACTION = 1e-4  # search tolerance as a share of the grid spacing of a
+FLAT_SHARE = 0.005  # grid points this close to the minimum stress make it "flat"
 
 
 def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) -> pd.DataFrame:
@@ -90,6 +91,10 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
 
     i = int(np.argmin(vm))
     row["a_min_stress"], row["min_max_von_mises"] = float(a[i]), float(vm[i])
+    flat = a[vm <= (1.0 + FLAT_SHARE) * vm[i]]
+    if len(flat) > 1:
+        notes.append(f"flat minimum: max stress within {100 * FLAT_SHARE:g} % of it for a in "
+                     f"[{flat.min():.6f}, {flat.max():.6f}]")
     if len(a) < 3 or i in (0, len(a) - 1):
         notes.append("stress minimum at the end of the grid" if len(a) > 1 else "one grid point")
     elif evaluate is not None:
