@@ -21,7 +21,6 @@ import contextlib
 import errno
 import hashlib
 import json
-import math
 import os
 from pathlib import Path
 
@@ -195,8 +194,6 @@ def _alive(pid: int) -> bool:
 
 
 def _json_default(value):
-    if isinstance(value, float) and math.isnan(value):
-        return None
     if isinstance(value, np.generic):
         return value.item()
     raise TypeError(f"not JSON-able: {value!r}")

@@ -27,7 +27,7 @@ import numpy as np
 from .dataset import Dataset
 from .results import SUMMARY_UNITS
 from .solver import SolveError, solve
-from .sweep import Sweep, SweepCase, chains
+from .sweep import INPUT_UNITS, Sweep, SweepCase, chains
 
 __all__ = ["ALLOW_UNVALIDATED", "BACKENDS", "SweepReport", "run_sweep", "solve_chain"]
 
@@ -208,7 +208,7 @@ def _compatible(previous, sc: SweepCase) -> bool:
 
 
 def _given(sc: SweepCase) -> dict:
-    return {k: v for k, v in sc.inputs.items() if k.startswith("given_")}
+    return {k: v for k, v in sc.inputs.items() if k in INPUT_UNITS}
 
 
 def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:

@@ -80,8 +80,8 @@ CHAIN_ORDER = ("a", "current_speed", "top_tension", "bottom_tension", "pipe_leng
 # a chain longer than this is cut into pieces (each starts cold), so that one
 # long axis still spreads over the workers; independent of the worker count
 MAX_CHAIN_LENGTH = 64
-# input columns of the summary table that come from the case, with units
-INPUT_UNITS = {"given_top_tension": "N", "given_bottom_tension": "N", "given_pipe_length": "m"}
+# the given tension's columns of the summary table (whichever the case gives), with units
+INPUT_UNITS = {AXES[name][1]: AXES[name][2] for name in TENSION_AXES}
 
 _SCENE_GEOMETRY = {  # scene key -> case key
     "water_depth": "environment.water_depth",
@@ -451,7 +451,7 @@ def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dic
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,
     }
-    given = {f"given_{t}": getattr(lay, t) for t in TENSION_AXES}
+    given = {AXES[t][1]: getattr(lay, t) for t in TENSION_AXES}
     if case is None and any(t in values for t in TENSION_AXES):
         given = dict.fromkeys(given)
     inputs.update({k: math.nan if v is None else float(v) for k, v in given.items()})
