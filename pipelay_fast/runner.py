@@ -29,7 +29,8 @@ from .results import SUMMARY_UNITS
 from .solver import SolveError, solve
 from .sweep import INPUT_UNITS, Sweep, SweepCase, chains
 
-__all__ = ["ALLOW_UNVALIDATED", "BACKENDS", "SweepReport", "run_sweep", "solve_chain"]
+__all__ = ["ALLOW_UNVALIDATED", "BACKENDS", "SweepReport", "run_sweep", "solve_case",
+           "solve_chain"]
 
 # S-lay and "3D + seabed friction + current" are still gated in pf.solve; the
 # sweep runs them. Set to False (or delete) once the solver drops its gate.
@@ -175,8 +176,9 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
     """Yield (case, summary row, Result or None, seconds) along one chain.
 
     Each case is warm-started from the last successful solution of the chain
-    when it has the same lay method and dimension; a case that fails (invalid
-    inputs, SolveError, a gated case) becomes a row with status "failed".
+    when it has the same lay method and dimension (see :func:`solve_case`); a
+    case that fails (invalid inputs, SolveError, a gated case) becomes a row
+    with status "failed" and the reason in ``message``.
     """
     previous = None
     for sc in chain:
@@ -187,19 +189,34 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
         warm = previous if warm_start and _compatible(previous, sc) else None
         t0 = time.perf_counter()
         try:
-            if _ACCEPTS_WARM:
-                result = solve(sc.case, warm=warm, allow_unvalidated=ALLOW_UNVALIDATED)
-            else:
-                warm = None
-                result = solve(sc.case, allow_unvalidated=ALLOW_UNVALIDATED)
+            result, warmed, note = solve_case(sc.case, warm)
         except CASE_ERRORS as err:
             dt = time.perf_counter() - t0
             yield sc, _failed_row(sc, base, f"{type(err).__name__}: {err}"), None, dt
             continue
         dt = time.perf_counter() - t0
         previous = result
-        row = {**result.summary, **_given(sc), **base, "warm_started": warm is not None}
+        row = {**result.summary, **_given(sc), **base, "warm_started": warmed}
+        if note:
+            row["message"] = note
         yield sc, row, result, dt
+
+
+def solve_case(case, warm=None):
+    """``pf.solve`` from the solution ``warm`` (a Result) if given, else cold.
+
+    A warm start that fails is retried cold: a neighbouring solution across a
+    change of contact regime can be a worse start than the first guess.
+    Returns (Result, whether it came from the warm start, a note saying so
+    when the warm start failed). Errors of the cold solve propagate.
+    """
+    note = ""
+    if warm is not None and _ACCEPTS_WARM:
+        try:
+            return solve(case, warm=warm, allow_unvalidated=ALLOW_UNVALIDATED), True, note
+        except CASE_ERRORS as err:
+            note = f"solved cold after the warm start failed: {type(err).__name__}: {err}"
+    return solve(case, allow_unvalidated=ALLOW_UNVALIDATED), False, note
 
 
 def _compatible(previous, sc: SweepCase) -> bool:
