@@ -118,6 +118,10 @@ class Scene:
     case: Case
     axes: dict
     reference_a: float = math.nan
+    _tables: dict = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "_tables", self.case.to_dict())
 
     @property
     def chain_axis(self) -> str | None:
@@ -125,8 +129,15 @@ class Scene:
         return next((n for n in CHAIN_ORDER if len(self.axes.get(n, ())) > 1), None)
 
     def case_for(self, values: Mapping[str, float]) -> Case:
-        """The base case with axis values (axis name -> value) applied; ValueError if invalid."""
-        return self.case.with_changes(_changes(values))
+        """The base case with axis values (axis name -> value) applied; ValueError if invalid.
+
+        The same as ``self.case.with_changes(...)`` (no axis key has a derived
+        default that follows it) without re-reading the base case each time.
+        """
+        tables = _copy_tables(self._tables)
+        for key, value in _changes(values).items():
+            put_path(tables, key, value)
+        return load_case(tables)
 
     def to_spec(self) -> dict:
         """JSON-able description, read back by :meth:`Sweep.from_spec`."""
@@ -439,6 +450,11 @@ def _changes(values: Mapping[str, float]) -> dict:
     return changes
 
 
+def _copy_tables(tables: dict) -> dict:
+    """A copy of nested tables deep enough for :func:`put_path` (values are shared)."""
+    return {k: _copy_tables(v) if isinstance(v, dict) else v for k, v in tables.items()}
+
+
 def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dict:
     """The summary's input columns of a case (from the requested values if invalid)."""
     ref = case or scene.case
@@ -462,7 +478,7 @@ def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dic
 
 def _raw_id(scene: Scene, values: Mapping[str, float]) -> str:
     """Stable id of an invalid case: a hash of its requested tables."""
-    tables = scene.case.to_dict()
+    tables = _copy_tables(scene._tables)
     tables.pop("name", None)
     for key, value in _changes(values).items():
         put_path(tables, key, value)

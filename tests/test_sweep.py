@@ -48,6 +48,22 @@ def test_case_ids_are_those_of_the_cases_and_stable():
     assert len(set(direct)) == 2
 
 
+@pytest.mark.parametrize("values", [
+    {"a": -0.0011}, {"a": -0.0013, "current_speed": 0.5, "current_heading": 90.0},
+    {"top_tension": 6e5}, {"bottom_tension": 2e5, "a": -0.001}, {"pipe_length": 600.0}])
+def test_cases_are_the_base_case_with_the_values_changed(values):
+    scene = load_sweep({"case": "s67", "set": {"solver.element_length": 4.0}}).scenes[0]
+    keys = {"a": "lay.stinger.a", "current_speed": "environment.current.speed",
+            "current_heading": "environment.current.heading"}
+    changes = {keys[k]: v for k, v in values.items() if k in keys}
+    for tension in ("top_tension", "bottom_tension", "pipe_length"):
+        if tension in values:
+            changes.update({"lay.top_tension": None, f"lay.{tension}": values[tension]})
+    expected = scene.case.with_changes(changes)
+    assert scene.case_for(values) == expected
+    assert case_id(scene.case_for(values)) == case_id(expected)
+
+
 def test_tension_axis_replaces_the_base_tension():
     (case,) = sweep_of(vary={"bottom_tension": [3e5]}).cases()
     assert case.case.lay.top_tension is None and case.case.lay.bottom_tension == 3e5
