@@ -45,3 +45,10 @@ def test_notebook_runs_on_the_results(quick, monkeypatch):
     assert str(quick) in text and "0 failed case(s)" in text
     images = [out for out in outputs if "image/png" in out.get("data", {})]
     assert len(images) >= 2  # stress against a, and the profiles
+
+
+def test_rerun_into_the_same_directory_reports_the_cases_written(quick, capsys):
+    assert main(["sweep", str(SWEEPS / "quick.toml"), "--out", str(quick), "--workers", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "sweep quick: 8 cases: 0 solved (0 failed), 8 already written; 0 chunks" in out
+    assert f"next: pipelay-fast select {quick}" in out
