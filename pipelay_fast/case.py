@@ -292,17 +292,24 @@ class Seabed:
     Attributes
     ----------
     lateral_friction, axial_friction : float
-        Coulomb coefficients mu_y, mu_z [-]; defaults 0.5 and 0.
+        Coulomb coefficients mu_y, mu_z [-]; defaults 0.5 and 0. Friction is
+        mobilised by the current, from the pipe as laid under gravity.
+    friction_slip : float
+        Displacement that mobilises full friction [m], default 0.01: a contact
+        moves elastically up to it (force mu W d / friction_slip), then slides
+        carrying mu W. The rigid-plastic Coulomb law is its limit as it tends to 0.
     stiffness : float or None
         Elastic support [N/m per m of pipe]; None (TOML ``"rigid"``): rigid.
     """
 
     lateral_friction: float = 0.5
     axial_friction: float = 0.0
+    friction_slip: float = 0.01
     stiffness: float | None = None
 
     def __post_init__(self):
-        set_numbers(self, "seabed", non_negative=("lateral_friction", "axial_friction"))
+        set_numbers(self, "seabed", non_negative=("lateral_friction", "axial_friction"),
+                    positive=("friction_slip",))
         if self.stiffness is None or self.stiffness == "rigid":
             assign(self, "stiffness", None)
             return

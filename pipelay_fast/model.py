@@ -63,6 +63,9 @@ def build_props(case: Case, gravity_factor: float = 1.0, current_factor: float =
     p[L.GRAVITY_FACTOR] = gravity_factor
     p[L.CURRENT_FACTOR] = current_factor
     p[L.MU_Y] = case.seabed.lateral_friction
+    p[L.MU_Z] = case.seabed.axial_friction
+    p[L.FRICTION_SLIP] = case.seabed.friction_slip
+    p[L.FRICTION_ON] = 0.0  # switched on for the current's load path (solver)
     if cur.profile == "table" and cur.table:
         table = np.ascontiguousarray(np.array(cur.table, dtype=np.float64).reshape(-1, 2))
     else:

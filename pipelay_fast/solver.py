@@ -26,7 +26,7 @@ import numpy as np
 from .case import Case
 from .guess import first_guess, shape
 from .kernels import layout as L
-from .kernels.contact import N_STINGER, ST_ON, tip_geometry
+from .kernels.contact import N_STINGER, ST_ON, friction_forces, tip_geometry
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
 from .mesh import graded_nodes
 from .model import build_props, dimension_of
@@ -71,6 +71,7 @@ class Problem:
     fref: float
     href: float
     stats: dict = field(default_factory=dict)
+    before_current: list | None = None  # state snapshot before the current (friction path)
 
     @property
     def ndn(self) -> int:
@@ -179,9 +180,8 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
     if st is None:
         st_active[:] = 0
     props, table = build_props(case)
-    fric = np.zeros((nn, 3))
-    if nd == 3:
-        fric[:, L.FR_Y] = u[1::ndn]
+    fric = np.zeros((nn, L.N_FRIC))
+    _anchor(fric, u, nd)
     return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
                    stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof,
                    np.array([float(tb)]), top,
@@ -205,6 +205,8 @@ def _residual(pb: Problem):
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
     _system(pb.nd, pb.s_el, pb.u, pb.props, pb.table, torques, np.zeros((1, 1)), 1, 1, g,
             pb.f_node, np.zeros_like(pb.u), pb.slide_dof, pb.tb, pb.phi_r, pb.phi_rp, False)
+    friction_forces(pb.nd, pb.u, g, np.zeros((1, 1)), 0, pb.props, pb.bed_active, pb.fric,
+                    np.zeros_like(pb.u))
     g[pb.fix_mask != 0] = 0.0
     g[0::pb.ndn][pb.bed_active != 0] = 0.0
     return g
@@ -349,16 +351,18 @@ def _stinger_foci(case: Case, pb: Problem):
 MAX_LAID_DOUBLINGS = 6
 
 
-def solve_problem(case: Case):
+def solve_problem(case: Case, warm: Problem | None = None):
     """Solve with enough laid pipe: when seabed friction lets slip reach the
     modelled lower end, the laid length is doubled and the case solved again.
+    ``warm``: the solved problem of a neighbouring case to start from.
 
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
     t0 = time.perf_counter()
     current = case
     for _ in range(MAX_LAID_DOUBLINGS + 1):
-        pb, react, stats, s_t, s_l = _solve_mesh(current)
+        pb, react, stats, s_t, s_l = _solve_mesh(current, warm)
+        warm = None
         contacts = np.flatnonzero(pb.bed_active)
         slipping = pb.fric[contacts[:3], L.FR_DIR] != 0.0 if contacts.size else np.array([])
         if not slipping.any() or case.lay.pipe_length is not None:
@@ -373,7 +377,7 @@ def solve_problem(case: Case):
     )
 
 
-def _solve_mesh(case: Case):
+def _solve_mesh(case: Case, warm: Problem | None = None):
     """Solve, then move the finest part of the mesh onto touchdown (and onto
     lift-off: the end of conforming stinger contact and the bearing tip) until
     a node sits on each (to 2 % of the smallest element).
@@ -381,11 +385,12 @@ def _solve_mesh(case: Case):
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
     t0 = time.perf_counter()
-    pb = build_problem(case)
+    pb = build_problem(case) if warm is None else warm_problem(case, warm)
     # friction is path dependent: gravity first, then the current in steps
     path = friction_path(case)
     if path:
         pb.props[L.CURRENT_FACTOR] = 0.0
+        pb.props[L.FRICTION_ON] = 0.0
     react, stats = newton_with_fallback(case, pb)
     passes = 1
     while True:
@@ -401,10 +406,18 @@ def _solve_mesh(case: Case):
         if abs(s_t - pb.stats["focus"]) <= near and lift_ok and not short_laid:
             break
         pb = remesh(case, pb, s_t, foci)
+        if path:
+            pb.props[L.CURRENT_FACTOR] = 0.0
+            pb.props[L.FRICTION_ON] = 0.0
         react, more = newton_with_fallback(case, pb)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
     if path:
+        pb.before_current = _snapshot(pb)
+        # friction springs anchored where the pipe lies under gravity alone
+        _anchor(pb.fric, pb.u, pb.nd)
+        pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, np.maximum(react[0::pb.ndn], 0.0), 0.0)
+        pb.props[L.FRICTION_ON] = 1.0
         react, more = apply_current(case, pb)
         stats = {key: stats[key] + more[key] for key in stats}
         s_t = touchdown_position(case, pb)
@@ -434,6 +447,51 @@ def apply_current(case: Case, pb: Problem, first_step=0.25):
         factor = trial
         step = min(2.0 * step, 0.5)
     return react, stats
+
+
+def warm_problem(case: Case, old: Problem) -> Problem:
+    """The problem of ``case`` on the mesh of a solved neighbouring case, its
+    state (shape, contacts, tension) the starting point. On the friction path
+    the state before the current is taken, so that the slip path is followed
+    from gravity alone again."""
+    nd = dimension_of(case)
+    if nd != old.nd:
+        raise ValueError(f"warm: a {old.nd}D solution cannot start a {nd}D case")
+    if (old.stinger[ST_ON] != 0.0) != (case.lay.stinger is not None):
+        raise ValueError(f"warm: lay.method {case.lay.method!r} differs from the warm case's")
+    state = dict(zip(_STATE, old.before_current or _snapshot(old), strict=True))
+    new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0], -1.0, np.inf,
+                   old.fref, dict(old.stats))
+    for name in ("bed_active", "st_active", "tip", "fric"):
+        getattr(new, name)[:] = state[name]
+    _onto_stinger(new)
+    return new
+
+
+def _onto_stinger(pb: Problem):
+    """Move the stinger contacts of a warm state onto the (new) stinger curve,
+    tangent to it, and the free span below in proportion down to touchdown, so
+    that Newton starts from a state that meets its constraints."""
+    on = np.flatnonzero(pb.st_active)
+    if pb.stinger[ST_ON] == 0.0 or on.size == 0:
+        return
+    nd, ndn = pb.nd, pb.ndn
+    a, b, c = pb.stinger[0], pb.stinger[1], pb.stinger[2]
+    z = pb.u[nd - 1::ndn]
+    x = pb.u[0::ndn]
+    shift = np.zeros(pb.nn)
+    shift[on] = (a * z[on] + b) * z[on] + c - x[on]
+    lo = on[0]
+    bed = np.flatnonzero(pb.bed_active)
+    td = int(bed[-1]) if bed.size else 0
+    if lo > td:
+        ramp = (pb.s[td:lo] - pb.s[td]) / (pb.s[lo] - pb.s[td])
+        shift[td:lo] = ramp * shift[lo]
+    pb.u[0::ndn] += shift
+    on = np.append(on, pb.top_node)
+    psi = np.arctan(2.0 * a * z[on] + b)
+    pb.u[on * ndn + nd] = np.sin(psi)
+    pb.u[on * ndn + 2 * nd - 1] = np.cos(psi)
 
 
 def liftoff_index(pb: Problem) -> int:
@@ -478,8 +536,13 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
     return new
 
 
-def solve(case: Case, *, allow_unvalidated: bool = False) -> Result:
+def solve(case: Case, *, warm: Result | None = None, allow_unvalidated: bool = False) -> Result:
     """Solve one case.
+
+    ``warm``: the result of a neighbouring case (same dimension and lay method,
+    e.g. the previous `a` of a sweep); Newton starts from its solution on its
+    mesh instead of from the catenary guess, and falls back to the catenary
+    guess if that fails.
 
     S-lay (stinger contact) is implemented but not yet validated against its
     independent reference (issue 3): it is refused unless
@@ -508,7 +571,15 @@ def solve(case: Case, *, allow_unvalidated: bool = False) -> Result:
                 f"case {case.name!r}: {what} is not validated yet; its results may be wrong. "
                 "Pass allow_unvalidated=True to pipelay_fast.solve to try it."
             )
-    pb, react, stats, s_t, s_l = solve_problem(case)
+    if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
+        raise ValueError(f"warm: expected a Result from pipelay_fast.solve, got {type(warm).__name__}")
+    if warm is None:
+        pb, react, stats, s_t, s_l = solve_problem(case)
+    else:
+        try:
+            pb, react, stats, s_t, s_l = solve_problem(case, warm.state)
+        except SolveError:  # a neighbour too far away: start from the catenary
+            pb, react, stats, s_t, s_l = solve_problem(case)
     columns = build_profile(case, pb, react)
     summary = build_summary(case, pb, columns, stats, s_t, s_l)
     bad = [key for key, val in summary.items() if isinstance(val, float) and np.isinf(val)]
@@ -521,9 +592,19 @@ def solve(case: Case, *, allow_unvalidated: bool = False) -> Result:
 
 
 def friction_path(case: Case) -> bool:
-    """True when seabed friction meets a lateral load: the slip path is followed."""
-    return (dimension_of(case) == 3 and case.seabed.lateral_friction > 0.0
-            and case.environment.current.speed > 0.0)
+    """True when seabed friction meets the current: its load path is followed."""
+    lateral = dimension_of(case) == 3 and case.seabed.lateral_friction > 0.0
+    return (lateral or case.seabed.axial_friction > 0.0) and case.environment.current.speed > 0.0
+
+
+def _anchor(fric, u, nd):
+    """Friction springs unstretched: anchors at the nodes' present positions."""
+    ndn = 2 * nd + 1
+    fric[:, L.FR_Z] = u[nd - 1::ndn]
+    if nd == 3:
+        fric[:, L.FR_Y] = u[1::ndn]
+    fric[:, L.FR_DIR] = 0.0
+    fric[:, L.FR_DIRZ] = 0.0
 
 
 def interpolate_state(s_old, u_old, nd, s_new):

@@ -64,7 +64,7 @@ def laid_pipe(case, nd, n_el=40, length=50.0, tension=2e5, lift=0.3):
     props, table = build_props(case)
     return Problem(nd, s, props, table, u, fix, np.zeros_like(u), np.zeros(s.size),
                    np.zeros(s.size), bed, np.zeros(s.size, dtype=np.int8), np.zeros(N_STINGER),
-                   np.zeros(s.size, dtype=np.int8), np.zeros(2), np.zeros((s.size, 3)), f_node,
+                   np.zeros(s.size, dtype=np.int8), np.zeros(2), np.zeros((s.size, L.N_FRIC)), f_node,
                    -1, np.zeros(1), s.size - 1, 0.0,
                    tension, 1.0)
 
@@ -147,48 +147,53 @@ def lateral_drag(pb, q0):
 def test_lateral_friction_on_laid_pipe(j125, ratio):
     """Uniform lateral drag q on a laid pipe pinned laterally at both ends.
 
-    q < mu w: every node sticks, nothing moves. q > mu w: every node slips
-    carrying mu W, and the pipe deflects as a tensioned beam under q - mu w.
+    q < mu w: every contact's friction spring stays elastic; away from the ends
+    each carries q h, so the pipe stands off by d_slip q / (mu w) exactly.
+    q > mu w: every contact slides carrying mu W, and the pipe deflects as a
+    tensioned beam under q - mu w.
     """
     mu, tension, length = 0.5, 2.0e7, 400.0  # taut: slopes ~6e-3, drag ~ constant
+    d_slip = 1e-4
     w = float(j125.effective_weight(0.0))
     q_target = ratio * mu * w
     c_drag = 0.5 * 1025.0 * 1.0 * 0.71  # 1/2 rho C_D D_h of the J125 pipe
     case = j125.with_changes({"environment.current.speed": float(np.sqrt(q_target / c_drag)),
                               "environment.current.heading": 90.0,
                               "environment.current.profile": "uniform",
-                              "seabed.lateral_friction": mu, "pipe.extensible": False})
+                              "seabed.lateral_friction": mu, "seabed.friction_slip": d_slip,
+                              "pipe.extensible": False})
     pb = laid_pipe(case, 3, n_el=200, length=length, tension=tension)
     ndn = pb.ndn
     pb.fix_mask[(pb.nn - 1) * ndn + 1] = 1  # far end held laterally too
     pb.props[L.CURRENT_FACTOR] = 0.0  # gravity first ...
     status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
     assert status == L.OK
-    pb.props[L.CURRENT_FACTOR] = 1.0  # ... then the current
-    status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 80)
-    assert status == L.OK
+    pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, react[0::ndn], 0.0)
+    pb.props[L.FRICTION_ON] = 1.0  # ... then the current, against friction
+    for factor in (0.25, 0.5, 0.75, 1.0):
+        pb.props[L.CURRENT_FACTOR] = factor
+        status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 80)
+        assert status == L.OK
     y = pb.u[1::ndn]
     h = length / 200
     inner = np.arange(1, pb.nn - 1)
     q = c_drag * case.environment.current.speed**2
     assert q == pytest.approx(q_target, rel=1e-12)
-    if ratio < 1.0:
-        assert np.abs(y).max() < 1e-9
-        assert (pb.fric[inner, L.FR_DIR] == 0.0).all()
-        # away from the pinned ends (a continuous beam on point supports there)
-        # each contact holds the drag of its length
-        np.testing.assert_allclose(-react[1::ndn][inner[10:-10]], q * h, rtol=1e-6)
-        assert -react[1::ndn].sum() == pytest.approx(q * length, rel=1e-9)
-        return
-    assert (pb.fric[inner, L.FR_DIR] != 0.0).all()
-    np.testing.assert_allclose(pb.fric[inner, L.FR_W], react[0::ndn][inner], rtol=1e-9)
-    np.testing.assert_allclose(pb.fric[inner, L.FR_W], w * h, rtol=1e-6)
-    # lateral equilibrium: drag + friction forces + held reactions = 0, to 1e-8
-    friction = (pb.fric[:, L.FR_DIR] * mu * pb.fric[:, L.FR_W]).sum()
-    held = react[1::ndn].sum()
-    drag = lateral_drag(pb, c_drag * case.environment.current.speed**2)
-    assert drag == pytest.approx(q * length, rel=1e-2)  # less where the pipe turns
+    held = react[1::ndn][[0, -1]].sum()  # lateral reactions of the two pinned ends
+    friction = react[1::ndn][inner].sum()  # friction forces are reported as reactions
+    drag = lateral_drag(pb, q)
+    # lateral equilibrium to 1e-8
     assert drag + friction + held == pytest.approx(0.0, abs=1e-8 * q * length)
+    if ratio < 1.0:
+        assert (pb.fric[inner, L.FR_DIR] == 0.0).all()
+        far = inner[30:-30]  # 60 m from the pinned ends and their boundary layers
+        np.testing.assert_allclose(-react[1::ndn][far], q * h, rtol=1e-6)
+        np.testing.assert_allclose(y[far], d_slip * q / (mu * w), rtol=1e-6)
+        return
+    assert (pb.fric[inner, L.FR_DIR] == -1.0).all()  # friction along -y, against the drag
+    np.testing.assert_allclose(pb.fric[inner, L.FR_W], w * h, rtol=1e-6)
+    np.testing.assert_allclose(-react[1::ndn][inner], mu * pb.fric[inner, L.FR_W], rtol=1e-9)
+    assert drag == pytest.approx(q * length, rel=1e-2)  # less where the pipe turns
     # deflection: tensioned beam, pinned ends, load p = q - mu w
     p, ei = q - mu * w, j125.pipe.bending_stiffness
     lam = np.sqrt(ei / tension)

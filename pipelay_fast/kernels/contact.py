@@ -37,8 +37,9 @@ CS_FROZEN = 0
 CS_RUN = 1
 CS_DIR = 2
 CS_COUNT = 3
-CS_HIST = 4  # eight recent boundaries follow
-N_CSTATE = 12
+CS_HIST = 4  # the N_HIST most recent boundaries follow
+N_HIST = 32
+N_CSTATE = CS_HIST + N_HIST
 
 
 @jit
@@ -76,7 +77,7 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
     releases everything beyond. The node next to the boundary is not tested:
     the slope clamp there shares a couple with the boundary node. When the
     boundary falls inside an element it cycles between nearby nodes: once a
-    change would return it to one of its last eight positions the region is
+    change would return it to one of its last N_HIST (32) positions the region is
     extended only past penetrations deeper than ``pen_frozen`` [m], so the
     iteration ends with every reaction pushing and at most a
     discretisation-sized penetration next to it, which the caller removes by
@@ -133,7 +134,7 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
             changed = True
             direction = -1
     if changed:
-        cs[CS_HIST + cs[CS_COUNT] % 8] = last
+        cs[CS_HIST + cs[CS_COUNT] % N_HIST] = last
         cs[CS_DIR] = direction
         cs[CS_COUNT] += 1
     return changed
@@ -194,50 +195,88 @@ def tip_geometry(nd, s_el, u, stinger, grad):
 
 
 @jit
-def friction_forces(nd, g, props, bed_active, fric):
-    """Slipping seabed contacts carry mu W along their friction direction."""
-    if nd != 3:
-        return
-    mu = props[L.MU_Y]
-    ndn = 2 * nd + 1
-    for node in range(bed_active.shape[0]):
-        if bed_active[node] != 0 and fric[node, L.FR_DIR] != 0.0:
-            g[node * ndn + 1] -= fric[node, L.FR_DIR] * mu * fric[node, L.FR_W]
+def _friction_dofs(nd, props, comp):
+    """(dof slot, coefficient, anchor column, direction column) of component
+    ``comp`` (0 lateral, 1 axial); slot -1 when that friction is absent."""
+    if comp == 0:
+        if nd != 3:
+            return -1, 0.0, 0, 0
+        return 1, props[L.MU_Y], L.FR_Y, L.FR_DIR
+    return nd - 1, props[L.MU_Z], L.FR_Z, L.FR_DIRZ
 
 
 @jit
-def update_friction(nd, u, props, bed_active, react, fric, pull_tol):
-    """Stick or slip of each seabed contact (Coulomb, |R_y| <= mu W); True if changed.
+def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out):
+    """Add the seabed friction springs to the residual ``g`` (and, when ``ab``
+    has more than one row, their stiffness to its diagonal row ``kv``).
 
-    A sticking node slips when the lateral reaction needed to hold it exceeds
-    mu W, the friction then acting along that reaction; a slipping node sticks
-    again where it stands once it has moved back to where it slipped from (its
-    motion would reverse the friction). A node that has just landed sticks.
+    Each seabed contact resists lateral (and axial) motion from its anchor d
+    with the force -mu W clip(d / d_slip, -1, 1): elastic up to the mobilising
+    displacement d_slip, then sliding at mu W. W is the node's normal reaction
+    (lagged one iteration). ``out`` (ndof,) receives the force on the pipe.
     """
-    if nd != 3 or props[L.MU_Y] <= 0.0:
-        return False
-    mu = props[L.MU_Y]
+    if props[L.FRICTION_ON] == 0.0:
+        return
+    d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
-    changed = False
+    tangent = ab.shape[0] > 1
+    for node in range(bed_active.shape[0]):
+        w = fric[node, L.FR_W]
+        if bed_active[node] == 0 or w <= 0.0:
+            continue
+        for comp in range(2):
+            slot, mu, col, _dcol = _friction_dofs(nd, props, comp)
+            if slot < 0 or mu <= 0.0:
+                continue
+            dof = node * ndn + slot
+            f_max = mu * w
+            d = (u[dof] - fric[node, col]) / d_slip
+            if abs(d) < 1.0:
+                force = -f_max * d
+                if tangent:
+                    ab[kv, dof] += f_max / d_slip
+            else:
+                force = -f_max if d > 0.0 else f_max
+            g[dof] -= force
+            out[dof] = force
+
+
+@jit
+def friction_track(nd, u, react, bed_active, fric):
+    """Per Newton iteration: each contact's normal reaction W; free nodes keep
+    their anchors where they are, so a node that lands is anchored there."""
+    ndn = 2 * nd + 1
     for node in range(bed_active.shape[0]):
         base = node * ndn
-        if bed_active[node] == 0:
-            fric[node, L.FR_DIR] = 0.0
-            fric[node, L.FR_Y] = u[base + 1]
-            fric[node, L.FR_W] = 0.0
-            continue
-        w = max(react[base], 0.0)
-        if fric[node, L.FR_DIR] == 0.0:
-            ry = react[base + 1]
-            if abs(ry) > mu * w + pull_tol:
-                fric[node, L.FR_DIR] = 1.0 if ry > 0.0 else -1.0
-                fric[node, L.FR_W] = w
-                changed = True
+        if bed_active[node] != 0:
+            fric[node, L.FR_W] = max(react[base], 0.0)
         else:
-            fric[node, L.FR_W] = w
-            # slipping against the friction force: -dir (y - y_stick) >= 0
-            if fric[node, L.FR_DIR] * (u[base + 1] - fric[node, L.FR_Y]) > 0.0:
-                fric[node, L.FR_DIR] = 0.0
+            fric[node, L.FR_W] = 0.0
+            fric[node, L.FR_DIR] = 0.0
+            fric[node, L.FR_DIRZ] = 0.0
+            fric[node, L.FR_Z] = u[base + nd - 1]
+            if nd == 3:
                 fric[node, L.FR_Y] = u[base + 1]
-                changed = True
-    return changed
+
+
+@jit
+def friction_commit(nd, u, props, bed_active, fric):
+    """End of a load step (return mapping): a spring stretched to or beyond
+    its mobilising displacement slides, its anchor following the pipe to
+    d_slip behind it; the slip direction is recorded (``FR_DIR``, ``FR_DIRZ``)."""
+    d_slip = props[L.FRICTION_SLIP]
+    ndn = 2 * nd + 1
+    for node in range(bed_active.shape[0]):
+        for comp in range(2):
+            slot, mu, col, dcol = _friction_dofs(nd, props, comp)
+            if slot < 0:
+                continue
+            fric[node, dcol] = 0.0
+            if bed_active[node] == 0 or mu <= 0.0 or props[L.FRICTION_ON] == 0.0:
+                continue
+            pos = u[node * ndn + slot]
+            d = pos - fric[node, col]
+            if abs(d) >= d_slip * (1.0 - 1e-9):
+                sgn = 1.0 if d > 0.0 else -1.0
+                fric[node, col] = pos - sgn * d_slip
+                fric[node, dcol] = -sgn

@@ -43,12 +43,22 @@ MOM_Z = 22
 GRAVITY_FACTOR = 23  # load factor on the effective weight [-]
 CURRENT_FACTOR = 24  # load factor on the current drag [-]
 MU_Y = 25  # lateral seabed friction coefficient [-]
-N_PROPS = 26
+MU_Z = 26  # axial seabed friction coefficient [-]
+FRICTION_SLIP = 27  # displacement that mobilises full friction [m]
+FRICTION_ON = 28  # 1.0 while friction acts (the current's load path), else 0.0
+N_PROPS = 29
 
 # --- seabed friction state per node (columns of the ``fric`` array) -----------
-FR_DIR = 0  # 0 sticks; +1 / -1 slips with the friction force along +y / -y
-FR_Y = 1  # y where the node stuck [m]
-FR_W = 2  # normal reaction carried [N] (lagged one iteration while slipping)
+# Each seabed contact carries an elastic-perfectly-plastic friction spring per
+# direction: force -mu W (d / FRICTION_SLIP), capped at mu W, where d is the
+# displacement from the spring's anchor. At the end of a load step a slipping
+# spring's anchor follows the pipe (return mapping).
+FR_DIR = 0  # lateral: 0 sticks; +1 / -1 slipping, the friction force along +y / -y
+FR_Y = 1  # lateral anchor y [m]
+FR_W = 2  # normal reaction carried [N] (lagged one Newton iteration)
+FR_DIRZ = 3  # axial: as FR_DIR, along z
+FR_Z = 4  # axial anchor z [m]
+N_FRIC = 5
 
 # --- current profiles ---------------------------------------------------------
 PROFILE_UNIFORM = 0

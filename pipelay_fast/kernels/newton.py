@@ -41,11 +41,12 @@ from .contact import (
     ST_ON,
     ST_ZL,
     ST_ZU,
+    friction_commit,
     friction_forces,
+    friction_track,
     stinger_angle,
     stinger_gap,
     tip_geometry,
-    update_friction,
     update_region,
 )
 
@@ -212,7 +213,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     stinger : (N_STINGER,) the curve x = a z^2 + b z + c on [zL, zU] (``ST_*``)
     st_active : (nn,) int8, current stinger contacts; updated in place
     tip : (2,) tip contact: [active (0/1), multiplier mu [N]]; updated in place
-    fric : (nn, 3) lateral seabed friction state (layout ``FR_*``); updated in place
+    fric : (nn, N_FRIC) seabed friction springs (layout ``FR_*``); updated in place,
+        anchors moved by the return mapping when the step converges
     f_node : (ndof,) nodal external loads [N]
     g_off : (ndof,) residual offset (load-path homotopy)
     slide_dof : dof of the sliding lower end (-1: none); T_b = tb[0] pulls it along -z
@@ -282,6 +284,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     changes_total = 0
     cuts_total = 0
     it = 0
+    fr_out = np.zeros(n)
     for it in range(1, maxit + 1):
         # ---- 0: nodal frames of the stinger contacts ---------------------
         if has_stinger:
@@ -298,7 +301,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # ---- 1-2: system in nodal frames --------------------------------
         _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
                 slide_dof, tb, phi_r, phi_rp, True)
-        friction_forces(nd, g, props, bed_active, fric)
+        friction_forces(nd, u, g, ab, kl + ku, props, bed_active, fric, fr_out)
         tip_on = False
         if has_stinger and tip[0] != 0.0:
             found, g_tip, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
@@ -345,9 +348,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             if bed_active[node] != 0 and fix_mask[base] == 0:
                 cmask[base] = True
                 delta[base] = -_local_value(nd, u, node, 0, phi_r, phi_rp)
-                if nd == 3 and props[L.MU_Y] > 0.0 and fric[node, L.FR_DIR] == 0.0:
-                    cmask[base + 1] = True  # sticking: held where it stuck
-                    delta[base + 1] = fric[node, L.FR_Y] - u[base + 1]
             # a pipe lying on the flat seabed is tangent to it: the slope is held
             # at every contact node (a lower end resting on the seabed included)
             # except at touchdown, the contact node followed by free pipe
@@ -382,7 +382,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             top_res = abs(te_top - top_target) / top_target
         if tip_on:
             max_delta = max(max_delta, abs(g_tip) / href)
-        if not (res_max < 1e300):
+        if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
             status = L.NOT_FINITE
             break
         info[I_RES] = res_max
@@ -497,7 +497,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             tip[1] = mu_old + alpha * dmu
             _system(nd, s_el, u, props, table, torques, dummy_ab, kl, ku, g_trial, f_node,
                     g_off, slide_dof, tb, phi_r, phi_rp, False)
-            friction_forces(nd, g_trial, props, bed_active, fric)
+            friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out)
             gt = 0.0
             if tip_on:
                 found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
@@ -541,8 +541,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             else:
                 gap[node] = np.inf
         changed = update_region(bed_active, gap, reac, 1, pen_tol, pen_frozen, pull_tol, cs_bed)
-        if update_friction(nd, u, props, bed_active, react, fric, pull_tol):
-            changed = True
+        friction_track(nd, u, react, bed_active, fric)
         if has_stinger:
             for node in range(nn):
                 base = node * ndn
@@ -575,6 +574,13 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             if changes_total > 2 * nn:
                 status = L.ACTIVE_SET_CYCLE
                 break
+    if status == L.OK:
+        # the friction forces join the reactions; slipping springs' anchors follow
+        fr_out[:] = 0.0
+        friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out)
+        for i in range(n):
+            react[i] += fr_out[i]
+        friction_commit(nd, u, props, bed_active, fric)
     info[I_STATUS] = status
     info[I_ITER] = it
     info[I_CUTS] = cuts_total
