@@ -15,7 +15,6 @@ once per case. The parent process is the only writer of the dataset.
 from __future__ import annotations
 
 import contextlib
-import inspect
 import math
 import os
 import sys
@@ -38,8 +37,6 @@ ALLOW_UNVALIDATED = True
 BACKENDS = ("loky", "dask", "ray")
 # errors of one case that make it a failed row; anything else stops the sweep
 CASE_ERRORS = (SolveError, NotImplementedError, ValueError)
-
-_ACCEPTS_WARM = "warm" in inspect.signature(solve).parameters
 
 
 @dataclass
@@ -176,9 +173,9 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
     """Yield (case, summary row, Result or None, seconds) along one chain.
 
     Each case is warm-started from the last successful solution of the chain
-    when it has the same lay method and dimension (see :func:`solve_case`); a
-    case that fails (invalid inputs, SolveError, a gated case) becomes a row
-    with status "failed" and the reason in ``message``.
+    when it has the same lay method and dimension (``warm_started`` in its
+    row); a case that fails (invalid inputs, SolveError, a gated case) becomes
+    a row with status "failed" and the reason in ``message``.
     """
     previous = None
     for sc in chain:
@@ -189,34 +186,24 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
         warm = previous if warm_start and _compatible(previous, sc) else None
         t0 = time.perf_counter()
         try:
-            result, warmed, note = solve_case(sc.case, warm)
+            result = solve_case(sc.case, warm)
         except CASE_ERRORS as err:
             dt = time.perf_counter() - t0
             yield sc, _failed_row(sc, base, f"{type(err).__name__}: {err}"), None, dt
             continue
         dt = time.perf_counter() - t0
         previous = result
-        row = {**result.summary, **_given(sc), **base, "warm_started": warmed}
-        if note:
-            row["message"] = note
+        row = {**result.summary, **_given(sc), **base, "warm_started": warm is not None}
         yield sc, row, result, dt
 
 
 def solve_case(case, warm=None):
-    """``pf.solve`` from the solution ``warm`` (a Result) if given, else cold.
+    """``pf.solve`` of ``case`` started from the Result ``warm`` (None: cold).
 
-    A warm start that fails is retried cold: a neighbouring solution across a
-    change of contact regime can be a worse start than the first guess.
-    Returns (Result, whether it came from the warm start, a note saying so
-    when the warm start failed). Errors of the cold solve propagate.
+    The solver itself falls back to its own first guess when the warm start
+    fails, so the answer does not depend on the start beyond its tolerance.
     """
-    note = ""
-    if warm is not None and _ACCEPTS_WARM:
-        try:
-            return solve(case, warm=warm, allow_unvalidated=ALLOW_UNVALIDATED), True, note
-        except CASE_ERRORS as err:
-            note = f"solved cold after the warm start failed: {type(err).__name__}: {err}"
-    return solve(case, allow_unvalidated=ALLOW_UNVALIDATED), False, note
+    return solve(case, warm=warm, allow_unvalidated=ALLOW_UNVALIDATED)
 
 
 def _compatible(previous, sc: SweepCase) -> bool:

@@ -6,8 +6,7 @@ and heading, tension) two choices are made from the grid of ``a`` values:
 * ``a_min_stress``: the ``a`` that minimises the maximum von Mises stress. The
   grid minimum is refined between its two neighbours with a bounded scalar
   search (:func:`scipy.optimize.minimize_scalar`, ``method="bounded"``), each
-  evaluation a solve warm-started from the nearest case solved so far (cold
-  if that fails).
+  evaluation a solve warm-started from the nearest case solved so far.
 * ``a_equal_peaks``: the ``a`` at which the overbend and sagbend peaks are
   equal, the root of ``overbend_max_von_mises - sagbend_max_von_mises`` found
   by :func:`scipy.optimize.brentq` between the two grid points that bracket
@@ -159,7 +158,7 @@ class _Evaluator:
         warm = None
         if self.results:
             warm = self.results[min(self.results, key=lambda b: abs(b - a))]
-        result, _, _ = solve_case(case, warm)
+        result = solve_case(case, warm)
         self.solves += 1
         self.results[a] = result
         return result.summary

@@ -282,22 +282,3 @@ def test_select_finds_the_equal_peaks_and_the_stress_minimum(one_worker, capsys)
     assert row.min_max_von_mises <= grid["max_von_mises"].min()
     assert grid["a"].min() <= row.a_min_stress <= grid["a"].max()
 
-
-def test_a_failed_warm_start_is_retried_cold(sweep, monkeypatch):
-    from pipelay_fast import runner
-
-    def solve_refusing_warm(case, *, warm=None, allow_unvalidated=False):
-        if warm is not None:
-            raise pf.SolveError("warm start diverged")
-        return pf.solve(case, allow_unvalidated=allow_unvalidated)
-
-    monkeypatch.setattr(runner, "solve", solve_refusing_warm)
-    (chain,) = [g for g in chains(sweep.cases()) if g[0].scene == "J125_3d"]
-    rows = [row for _, row, _, _ in runner.solve_chain(chain)]
-    assert [r["status"] for r in rows] == ["ok", "ok"]
-    assert [r["warm_started"] for r in rows] == [False, False]
-    assert rows[0]["message"] == ""
-    assert rows[1]["message"] == ("solved cold after the warm start failed: "
-                                  "SolveError: warm start diverged")
-    cold = pf.solve(chain[1].case, allow_unvalidated=ALLOW_UNVALIDATED).summary
-    assert rows[1]["max_von_mises"] == cold["max_von_mises"]
