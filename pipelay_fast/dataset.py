@@ -35,7 +35,7 @@ from .sweep import INPUT_UNITS, Sweep
 __all__ = ["Dataset", "PROFILE_COLUMNS", "SUMMARY_COLUMNS", "read_profiles", "read_summary"]
 
 # bookkeeping columns of the summary: the chain and place of a case, whether
-# its solve started from the previous solution of its chain
+# it was given the previous solution of its chain to start from
 RUN_UNITS = {"chain": "", "chain_position": "", "warm_started": ""}
 SUMMARY_COLUMNS = {**SUMMARY_UNITS, **INPUT_UNITS, **RUN_UNITS}
 PROFILE_COLUMNS = {"case_id": "", "node": "", **PROFILE_UNITS}
