@@ -1,8 +1,7 @@
 """S67 (2D, no current): overbend and sagbend von Mises peaks against stinger `a`.
 
 Prints the table over the paper's range and the values of `a` where the two
-peaks are equal (the paper picks a = -0.0012). S-lay is not yet validated in
-every scene, hence ``allow_unvalidated=True``.
+peaks are equal (the paper picks a = -0.0012).
 
     python benchmarks/slay_crossing.py
 """
@@ -20,7 +19,7 @@ A_VALUES = (-0.0009, -0.00105, -0.0012, -0.0013, -0.00145, -0.0016, -0.00175, -0
 
 
 def summary(base, a):
-    return pf.solve(base.with_changes({"lay.stinger.a": a}), allow_unvalidated=True).summary
+    return pf.solve(base.with_changes({"lay.stinger.a": a})).summary
 
 
 def main():

@@ -426,26 +426,31 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
     return pb, react, stats, s_t, liftoff_position(case, pb)
 
 
-def apply_current(case: Case, pb: Problem, first_step=0.25):
-    """Raise the current factor from 0 to 1 in steps, halving a step that fails."""
+def apply_current(case: Case, pb: Problem, first_step=0.25, max_step=0.25):
+    """Raise the current factor from 0 to 1 in load steps (friction follows
+    this path), halving a step that fails; at most ``max_step`` per step."""
     factor, step = 0.0, first_step
     stats = {"iterations": 0, "load_steps": 0}
+    tol, maxit = case.solver.tolerance, case.solver.max_iterations
+    zero = np.zeros_like(pb.u)
     react = None
     while factor < 1.0:
         trial = min(1.0, factor + step)
         saved = _snapshot(pb)
         pb.props[L.CURRENT_FACTOR] = trial
-        try:
-            react, more = newton_with_fallback(case, pb)
-        except SolveError:
+        status, react, info = _run_newton(pb, zero, tol, maxit)
+        stats["iterations"] += int(info[I_ITER])
+        stats["load_steps"] += 1
+        if status != L.OK:
             _restore(pb, saved)
             step *= 0.5
-            if step < 1e-3:
-                raise
+            if step < 1e-3 or stats["load_steps"] >= 4 * case.solver.max_load_steps:
+                _fail(case, f"current factor {trial:.4f}", info, status,
+                      f"; current step cut to {step:.1e}")
             continue
-        stats = {key: stats[key] + more[key] for key in stats}
         factor = trial
-        step = min(2.0 * step, 0.5)
+        step = min(2.0 * step, max_step)
+    pb.props[L.CURRENT_FACTOR] = 1.0
     return react, stats
 
 
@@ -542,11 +547,8 @@ def solve(case: Case, *, warm: Result | None = None, allow_unvalidated: bool = F
     ``warm``: the result of a neighbouring case (same dimension and lay method,
     e.g. the previous `a` of a sweep); Newton starts from its solution on its
     mesh instead of from the catenary guess, and falls back to the catenary
-    guess if that fails.
-
-    S-lay (stinger contact) is implemented but not yet validated against its
-    independent reference (issue 3): it is refused unless
-    ``allow_unvalidated=True``.
+    guess if that fails. ``allow_unvalidated`` is accepted and ignored (S-lay
+    and the friction path were gated by it before they were validated).
 
     Returns
     -------
@@ -560,17 +562,6 @@ def solve(case: Case, *, warm: Result | None = None, allow_unvalidated: bool = F
         When Newton and the load-path fallback both fail; the message names the
         case, the load step, the residual and the reason.
     """
-    if not allow_unvalidated:
-        what = None
-        if case.lay.method == "S":
-            what = "S-lay (lay.method = 'S')"
-        elif friction_path(case):
-            what = "a lateral current on a seabed with friction (the slip path)"
-        if what is not None:
-            raise NotImplementedError(
-                f"case {case.name!r}: {what} is not validated yet; its results may be wrong. "
-                "Pass allow_unvalidated=True to pipelay_fast.solve to try it."
-            )
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError(f"warm: expected a Result from pipelay_fast.solve, got {type(warm).__name__}")
     if warm is None:

@@ -80,9 +80,12 @@ def test_example_round_trips_through_load_case(tmp_path, capsys):
         assert name in err.split("available:")[1]
 
 
-def test_slay_is_refused_until_validated(capsys):
+def test_slay_scene_solves_and_writes_its_liftoff(tmp_path):
     import pipelay_fast
 
     path = str(Path(pipelay_fast.__file__).resolve().parent / "examples" / "s67.toml")
-    assert main(["solve", path]) == 1
-    assert "S-lay" in capsys.readouterr().err
+    assert main(["solve", path, "--out", str(tmp_path), "--quiet"]) == 0
+    summary = pd.read_parquet(tmp_path / "summary.parquet").iloc[0]
+    direct = pipelay_fast.solve(pipelay_fast.load_case(path)).summary
+    assert summary["method"] == "S"
+    assert summary["liftoff_z"] == pytest.approx(direct["liftoff_z"], rel=1e-12)

@@ -133,8 +133,8 @@ def test_3d_equals_2d_and_lateral_current_mirrors(j125):
                               "environment.current.heading": 60.0,
                               "environment.current.profile": "uniform"})
     minus = plus.with_changes({"environment.current.heading": -60.0})
-    rp = pf.solve(plus, allow_unvalidated=True)  # friction on the slip path
-    rm = pf.solve(minus, allow_unvalidated=True)
+    rp = pf.solve(plus)  # friction on the slip path
+    rm = pf.solve(minus)
     assert rp.summary["dimension"] == "3d"
     assert np.abs(rp.profile["y"]).max() > 0.1
     np.testing.assert_allclose(rm.profile["y"], -rp.profile["y"], atol=1e-9)

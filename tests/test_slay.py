@@ -15,7 +15,7 @@ def s67():
 
 
 def solve(case):
-    return pf.solve(case, allow_unvalidated=True)
+    return pf.solve(case)
 
 
 @pytest.fixture(scope="module")
@@ -23,10 +23,6 @@ def still(s67):
     """S67 without current, the paper's a = -0.0012."""
     return solve(s67.with_changes({"environment.current.speed": 0.0}))
 
-
-def test_slay_is_refused_without_opt_in(s67):
-    with pytest.raises(NotImplementedError, match="S-lay"):
-        pf.solve(s67)
 
 
 def test_stinger_reactions_are_frictionless_and_push(s67, still):
@@ -128,3 +124,20 @@ def test_s67_matches_planar_elastica(s67, name):
         assert sm["tip_reaction"] == pytest.approx(ref["tip_reaction"], rel=2e-2)
     else:
         assert sm["tip_reaction"] == 0.0
+
+
+@pytest.mark.parametrize("a", [-0.00125, -0.0015, -0.0009])
+def test_warm_start_gives_the_cold_answer(s67, still, a):
+    """Started from the solution at a = -0.0012 (lift-off regime), including a
+    jump into the tip regime (-0.0009): the answer of a solve from the catenary."""
+    case = s67.with_changes({"environment.current.speed": 0.0, "lay.stinger.a": a})
+    cold = solve(case).summary
+    warm = pf.solve(case, warm=still).summary
+    for key in ("max_von_mises", "overbend_max_moment", "tdp_z", "liftoff_z", "tip_reaction",
+                "bottom_tension"):
+        assert warm[key] == pytest.approx(cold[key], rel=1e-5, abs=1e-3), key
+
+
+def test_warm_start_refuses_another_dimension(s67, still):
+    with pytest.raises(ValueError, match="warm"):
+        pf.solve(s67.with_changes({"solver.dimension": "3d"}), warm=still)

@@ -1,0 +1,96 @@
+"""Seabed friction on the current's load path: J125 in 3D under a lateral current.
+
+Friction is mobilised by the current from the pipe as laid under gravity; each
+seabed contact carries an elastic-perfectly-plastic spring (full friction mu W
+after ``seabed.friction_slip`` of motion). Checked here: the friction cone at
+every contact, one friction direction (against the drag), lateral balance of
+drag and reactions, and a slipping length that grows with the current.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from conftest import EXAMPLES
+
+import pipelay_fast as pf
+
+
+def lateral_drag(case, prof):
+    """Lateral drag [N] on the deformed pipe under the power-law current along
+    +y, V = V0 (x / depth)^p, integrated by the trapezoidal rule over the nodes
+    (Morison, normal part)."""
+    pipe, env = case.pipe, case.environment
+    q0 = 0.5 * env.water_density * pipe.drag_coefficient * pipe.hydrodynamic_diameter
+    r = prof[["x", "y", "z"]].to_numpy()
+    height = np.clip(r[:, 0] / env.water_depth, 0.0, None)
+    v = (env.current.speed * height**env.current.exponent)[:, None]
+    s = prof["s"].to_numpy()
+    t = np.gradient(r, s, axis=0)
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    vn = v * (np.array([0.0, 1.0, 0.0]) - t[:, 1:2] * t)  # normal velocity
+    below = r[:, 0] <= env.water_depth
+    fy = q0 * np.linalg.norm(vn, axis=1) * vn[:, 1] * below
+    return float(np.sum(0.5 * (fy[1:] + fy[:-1]) * np.diff(s)))
+
+
+@pytest.fixture(scope="module")
+def lateral():
+    """The paper's 1/7 power-law current (zero at the seabed) along +y."""
+    base = pf.load_case(EXAMPLES / "j125_3d.toml")
+    assert base.environment.current.profile == "power"
+    assert base.environment.current.heading == 90.0
+    return {v: (base.with_changes({"environment.current.speed": v}),
+                pf.solve(base.with_changes({"environment.current.speed": v})))
+            for v in (1.0, 2.0)}
+
+
+@pytest.mark.parametrize("speed", [1.0, 2.0])
+def test_friction_cone_direction_and_lateral_balance(lateral, speed):
+    case, res = lateral[speed]
+    prof = res.profile
+    mu = case.seabed.lateral_friction
+    # seabed contacts but the lower end, which is held laterally
+    bed = (prof["contact"] == "seabed").to_numpy() & (prof["s"] > 0.0).to_numpy()
+    w = prof["seabed_reaction"].to_numpy()[bed]
+    fy = prof["reaction_y"].to_numpy()[bed]
+    # inside the cone everywhere, on it and against the drag (+y) where slipping;
+    # friction uses W of the last-but-one iteration: a 1e-6 tolerance
+    assert np.all(np.abs(fy) <= mu * w * (1 + 1e-6))
+    slip = prof["slipping"].to_numpy()[bed]
+    assert slip.sum() > 10
+    np.testing.assert_allclose(np.abs(fy[slip]), mu * w[slip], rtol=1e-6)
+    assert np.all(fy[slip] < 0.0)
+    # (beyond the slipping zone the springs hold the laid pipe as an elastic
+    # bed holds a beam loaded at its end: part of it pushes back, along +y)
+    # drag, friction, the held lower end and the vessel balance laterally; the
+    # drag is integrated here independently, at the nodes (a 1e-3 quadrature)
+    held = prof["reaction_y"].sum()
+    drag = lateral_drag(case, prof)
+    assert held + drag == pytest.approx(0.0, abs=2e-3 * drag)
+
+
+def test_slipping_length_grows_with_the_current(lateral, j125):
+    mu, w = 0.5, float(j125.effective_weight(0.0))
+    lengths, bounds = [], []
+    for speed in (1.0, 2.0):
+        prof = lateral[speed][1].profile
+        slip = prof[prof["slipping"]]
+        bed = prof[prof["contact"] == "seabed"]
+        lengths.append(slip["s"].max() - slip["s"].min())
+        # slipping nodes carry mu W, the others less: the slipping length is at
+        # most the seabed's lateral force over mu w
+        bounds.append(-bed["reaction_y"].sum() / (mu * w))
+    assert lengths[1] > 2.0 * lengths[0]
+    for length, bound in zip(lengths, bounds, strict=True):
+        assert 0.5 * bound < length <= bound * (1 + 1e-6)
+
+
+def test_stiffer_friction_spring_approaches_rigid_coulomb(lateral):
+    """The slip displacement is a regularisation: dividing it by 10 changes the
+    span's peak stress and deflection by well under 1 %."""
+    case, res = lateral[1.0]
+    stiff = pf.solve(case.with_changes({"seabed.friction_slip": 1e-3}))
+    for key in ("max_von_mises", "max_lateral_deflection", "tdp_z"):
+        assert stiff.summary[key] == pytest.approx(res.summary[key], rel=1e-2)
