@@ -7,10 +7,12 @@ Layout of ``OUT/``::
     profiles/scene=<name>/<chunk>.parquet one row per node per case (column case_id)
     selection.parquet                    written by ``pipelay-fast select``
 
-Every file carries the unit of each column in its schema metadata
-(:func:`pipelay_fast.io.write_table`). A chunk is written atomically, profiles
-first and its summary last, under the same file name in both tables; the
-summary file is the chunk's commit mark. On opening, leftovers of an
+Every file carries the unit of each column in its schema metadata, as
+:func:`pipelay_fast.io.write_table` writes it. A worker encodes each chunk (a
+task's cases) to Parquet bytes; the parent, the only writer, writes them
+atomically (temporary name, then rename), profiles first and summary last,
+under the same file name in both tables: the summary file is the chunk's
+commit mark. On opening, leftovers of an
 interrupted run (temporary files, profile chunks without their summary) are
 removed, so a rerun sees exactly the committed cases and recomputes the rest.
 """
@@ -22,17 +24,20 @@ import errno
 import hashlib
 import json
 import os
+import uuid
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import pyarrow as pa
 import pyarrow.parquet as pq
 
-from .io import write_table
 from .results import PROFILE_UNITS, SUMMARY_UNITS
 from .sweep import INPUT_UNITS, Sweep
 
-__all__ = ["Dataset", "PROFILE_COLUMNS", "SUMMARY_COLUMNS", "read_profiles", "read_summary"]
+__all__ = ["Chunk", "Dataset", "PROFILE_COLUMNS", "SUMMARY_COLUMNS", "encode_chunk",
+           "read_profiles", "read_summary"]
 
 # bookkeeping columns of the summary: the chain and place of a case, whether
 # it was given the previous solution of its chain to start from
@@ -126,21 +131,78 @@ class Dataset:
 
     # ------------------------------------------------------------------ writing
 
-    def write_chunk(self, scene: str, rows: list[dict], profile: dict | None) -> str:
-        """Write one chunk (summary rows of one scene, and their profiles); its name."""
-        name = "chunk-" + hashlib.sha1(
-            "".join(sorted(r["case_id"] for r in rows)).encode()).hexdigest()[:16] + ".parquet"
-        part = f"scene={scene}"
-        meta = {"sweep": self.sweep.name if self.sweep else "", "scene": scene}
-        if profile is not None:
-            folder = self.root / "profiles" / part
+    def write_chunk(self, chunk: Chunk) -> None:
+        """Write an encoded chunk: its profiles, then its summary (the commit)."""
+        part = f"scene={chunk.scene}"
+        tables = [("profiles", chunk.profiles), ("summary", chunk.summary)]
+        for table, data in tables:
+            if data is None:
+                continue
+            folder = self.root / table / part
             folder.mkdir(parents=True, exist_ok=True)
-            frame = pd.DataFrame({k: profile[k] for k in PROFILE_COLUMNS})
-            write_table(frame, folder / name, PROFILE_COLUMNS, meta)
-        folder = self.root / "summary" / part
-        folder.mkdir(parents=True, exist_ok=True)
-        write_table(summary_frame(rows), folder / name, SUMMARY_COLUMNS, meta)
-        return name
+            _write_bytes(folder / chunk.name, data)
+
+
+@dataclass
+class Chunk:
+    """The Parquet files of one chunk, encoded (by a worker) and ready to write.
+
+    ``summary`` and ``profiles`` are Parquet file contents (``profiles`` None
+    when there are no profile rows); ``rows`` and ``failed`` count the cases.
+    """
+
+    scene: str
+    name: str
+    summary: bytes
+    profiles: bytes | None
+    rows: int
+    failed: int
+
+
+def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None) -> Chunk:
+    """Encode the summary rows of one scene (and their profile columns) as a chunk.
+
+    The file name hashes the chunk's case ids, the same in both tables.
+    """
+    ids = "".join(sorted(r["case_id"] for r in rows))
+    name = f"chunk-{hashlib.sha1(ids.encode()).hexdigest()[:16]}.parquet"
+    meta = {"sweep": sweep, "scene": scene}
+    profiles = None
+    if profile is not None:
+        frame = pd.DataFrame({k: profile[k] for k in PROFILE_COLUMNS})
+        profiles = encode_table(frame, PROFILE_COLUMNS, meta)
+    summary = encode_table(summary_frame(rows), SUMMARY_COLUMNS, meta)
+    failed = sum(r["status"] != "ok" for r in rows)
+    return Chunk(scene, name, summary, profiles, len(rows), failed)
+
+
+def encode_table(df: pd.DataFrame, units: dict, metadata: dict) -> bytes:
+    """``df`` as the bytes of a Parquet file carrying the unit of every column,
+    laid out as :func:`pipelay_fast.io.write_table` does (field metadata
+    ``unit``, schema metadata ``units``); dictionary encoding for strings only."""
+    table = pa.Table.from_pandas(df, preserve_index=False)
+    fields = [f.with_metadata({b"unit": units[f.name].encode()}) for f in table.schema]
+    schema_metadata = {
+        **(table.schema.metadata or {}),
+        **{str(k).encode(): str(v).encode() for k, v in metadata.items()},
+        b"units": json.dumps({column: units[column] for column in df.columns}).encode(),
+    }
+    table = table.cast(pa.schema(fields, metadata=schema_metadata))
+    strings = [f.name for f in table.schema if not pa.types.is_floating(f.type)]
+    sink = pa.BufferOutputStream()
+    pq.write_table(table, sink, use_dictionary=strings)
+    return sink.getvalue().to_pybytes()
+
+
+def _write_bytes(path: Path, data: bytes):
+    """Write ``data`` to ``path`` atomically: a temporary name, then a rename."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp")
+    try:
+        tmp.write_bytes(data)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def summary_frame(rows: list[dict]) -> pd.DataFrame:

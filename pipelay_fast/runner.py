@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .dataset import Dataset
+from .dataset import Dataset, encode_chunk
 from .results import SUMMARY_UNITS
 from .solver import SolveError, solve
 from .sweep import INPUT_UNITS, Sweep, SweepCase, chains
@@ -43,7 +43,8 @@ CASE_ERRORS = (SolveError, NotImplementedError, ValueError)
 class SweepReport:
     """What a run did. Times in seconds: ``seconds`` wall time of the run (case
     expansion included), ``solve_seconds`` the time spent in ``pf.solve`` summed
-    over the workers, ``write_seconds`` the time spent writing Parquet."""
+    over the workers, ``write_seconds`` the time the parent spent writing the
+    chunks the workers encoded to Parquet."""
 
     total: int = 0
     skipped: int = 0
@@ -113,14 +114,14 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         tasks = pack(chains(todo), chunk_size or _default_chunk(len(todo), workers))
         bar = Progress(len(todo), enabled=progress)
         with _backend(backend, workers, scheduler):
-            for result in _parallel(tasks, workers, profiles, warm_start):
-                scene, rows, profile, seconds, pid = result
+            for chunk, seconds, pid in _parallel(tasks, sweep.name, profiles, warm_start,
+                                                 workers):
                 t0 = time.perf_counter()
-                dataset.write_chunk(scene, rows, profile)
+                dataset.write_chunk(chunk)
                 report.write_seconds += time.perf_counter() - t0
                 report.chunks += 1
-                report.solved += len(rows)
-                report.failed += sum(r["status"] != "ok" for r in rows)
+                report.solved += chunk.rows
+                report.failed += chunk.failed
                 report.solve_seconds += seconds
                 report.worker_pids.add(pid)
                 bar.update(report.solved, report.failed)
@@ -150,11 +151,12 @@ def _default_chunk(n: int, workers: int) -> int:
 # --------------------------------------------------------------------------- workers
 
 
-def solve_task(task: list[list[SweepCase]], profiles: bool, warm_start: bool = True):
-    """Solve the chains of one task (runs in a worker).
+def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
+               warm_start: bool = True):
+    """Solve the chains of one task and encode them as a chunk (runs in a worker).
 
-    Returns (scene, summary rows, profile columns or None when there are none,
-    seconds in ``pf.solve``, pid).
+    Returns (the :class:`~pipelay_fast.dataset.Chunk`, seconds spent in
+    ``pf.solve``, the worker's pid).
     """
     rows, parts, seconds = [], [], 0.0
     for chain in task:
@@ -166,7 +168,7 @@ def solve_task(task: list[list[SweepCase]], profiles: bool, warm_start: bool = T
                 parts.append({"case_id": np.full(n, sc.case_id), "node": np.arange(n),
                               **result.columns})
     profile = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]} if parts else None
-    return task[0][0].scene, rows, profile, seconds, os.getpid()
+    return encode_chunk(sweep, task[0][0].scene, rows, profile), seconds, os.getpid()
 
 
 def solve_chain(chain: list[SweepCase], warm_start: bool = True):
@@ -227,15 +229,16 @@ def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:
 # --------------------------------------------------------------------------- scheduling
 
 
-def _parallel(tasks, workers: int, profiles: bool, warm_start: bool):
+def _parallel(tasks, sweep: str, profiles: bool, warm_start: bool, workers: int):
     """Results of ``solve_task`` over ``tasks`` as they finish."""
+    args = (sweep, profiles, warm_start)
     if workers == 1 or len(tasks) <= 1:
         for task in tasks:
-            yield solve_task(task, profiles, warm_start)
+            yield solve_task(task, *args)
         return
     from joblib import Parallel, delayed
 
-    calls = (delayed(solve_task)(task, profiles, warm_start) for task in tasks)
+    calls = (delayed(solve_task)(task, *args) for task in tasks)
     try:
         runner = Parallel(n_jobs=workers, return_as="generator_unordered", batch_size=1,
                           pre_dispatch="2*n_jobs")
@@ -247,7 +250,7 @@ def _parallel(tasks, workers: int, profiles: bool, warm_start: bool):
     size = 2 * workers
     for i in range(0, len(tasks), size):
         yield from Parallel(n_jobs=workers, batch_size=1)(
-            delayed(solve_task)(task, profiles, warm_start) for task in tasks[i:i + size])
+            delayed(solve_task)(task, *args) for task in tasks[i:i + size])
 
 
 @contextlib.contextmanager
