@@ -352,8 +352,9 @@ MAX_LAID_DOUBLINGS = 6
 
 
 def solve_problem(case: Case, warm: Problem | None = None):
-    """Solve with enough laid pipe: when seabed friction lets slip reach the
-    modelled lower end, the laid length is doubled and the case solved again.
+    """Solve with enough laid pipe: when the lower end, held laterally, carries
+    more than LOWER_END_SHARE of the laid pipe's lateral force (friction has not
+    taken it all up), the laid length is doubled and the case solved again.
     ``warm``: the solved problem of a neighbouring case to start from.
 
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
@@ -363,18 +364,31 @@ def solve_problem(case: Case, warm: Problem | None = None):
     for _ in range(MAX_LAID_DOUBLINGS + 1):
         pb, react, stats, s_t, s_l = _solve_mesh(current, warm)
         warm = None
-        contacts = np.flatnonzero(pb.bed_active)
-        slipping = pb.fric[contacts[:3], L.FR_DIR] != 0.0 if contacts.size else np.array([])
-        if not slipping.any() or case.lay.pipe_length is not None:
+        if not _lower_end_holds(pb, react) or case.lay.pipe_length is not None:
             stats["seconds"] = time.perf_counter() - t0
             return pb, react, stats, s_t, s_l
         laid = s_t + pb.stats["flexural_length"]  # what this mesh modelled behind touchdown
         current = current.with_changes({"solver.laid_length": 2.0 * laid})
     raise SolveError(
-        f"case {case.name!r}: the laid pipe slips all the way to the modelled lower end "
-        f"even with {current.solver.laid_length:.0f} m of it; raise seabed.lateral_friction "
-        "or set solver.laid_length"
+        f"case {case.name!r}: seabed friction does not hold the laid pipe before its "
+        f"modelled lower end even with {current.solver.laid_length:.0f} m of it (the current "
+        "on the laid pipe may exceed the friction); check seabed.lateral_friction and the "
+        "current profile, or set solver.laid_length"
     )
+
+
+LOWER_END_SHARE = 0.01  # largest share of the seabed's lateral force the held lower end may carry
+
+
+def _lower_end_holds(pb: Problem, react) -> bool:
+    """True when the lower end, held laterally, carries more than LOWER_END_SHARE
+    of the lateral force on the laid pipe: the slipping (or elastically held)
+    zone then reaches it, and more laid pipe is needed."""
+    if pb.nd != 3 or pb.props[L.FRICTION_ON] == 0.0:
+        return False
+    on_bed = np.flatnonzero(pb.bed_active)
+    total = np.abs(react[on_bed * pb.ndn + 1]).sum() + abs(react[1])
+    return abs(react[1]) > LOWER_END_SHARE * total
 
 
 def _solve_mesh(case: Case, warm: Problem | None = None):
@@ -412,7 +426,7 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
         react, more = newton_with_fallback(case, pb)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
-    if path:
+    while path:
         pb.before_current = _snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
         _anchor(pb.fric, pb.u, pb.nd)
@@ -421,6 +435,20 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
         react, more = apply_current(case, pb)
         stats = {key: stats[key] + more[key] for key in stats}
         s_t = touchdown_position(case, pb)
+        foci = _stinger_foci(case, pb)
+        near = 0.02 * pb.stats["h_min"]
+        if (not case.solver.grading or passes >= MAX_MESH_PASSES + 1
+                or abs(s_t - pb.stats["focus"]) <= near):
+            break
+        # the current moved touchdown off the fine mesh: mesh again around where
+        # it ends, from the pipe under gravity alone, and follow the path again
+        _restore(pb, pb.before_current)
+        pb = remesh(case, pb, s_t, foci)
+        pb.props[L.CURRENT_FACTOR] = 0.0
+        pb.props[L.FRICTION_ON] = 0.0
+        react, more = newton_with_fallback(case, pb)
+        stats = {key: stats[key] + more[key] for key in stats}
+        passes += 1
     stats["mesh_passes"] = passes
     stats["seconds"] = time.perf_counter() - t0
     return pb, react, stats, s_t, liftoff_position(case, pb)
