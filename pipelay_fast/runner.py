@@ -87,7 +87,7 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         or "ray".
     chunk_size : int, optional
         Cases per task and per Parquet chunk, rounded up to whole chains;
-        default about a quarter of each worker's share, at most 256.
+        default an eighth of each worker's share, at most 256.
     profiles : bool
         Write the profiles table (one row per node per case).
     progress : bool
@@ -145,7 +145,9 @@ def pack(chain_list: list[list[SweepCase]], size: int) -> list[list[list[SweepCa
 
 
 def _default_chunk(n: int, workers: int) -> int:
-    return int(min(256, max(1, math.ceil(n / (4 * workers)))))
+    """Eight tasks per worker: small enough that the last ones even out the
+    workers' loads, large enough that a task's fixed costs do not count."""
+    return int(min(256, max(1, math.ceil(n / (8 * workers)))))
 
 
 # --------------------------------------------------------------------------- workers
