@@ -44,7 +44,9 @@ class SweepReport:
     """What a run did. Times in seconds: ``seconds`` wall time of the run (case
     expansion included), ``solve_seconds`` the time spent in ``pf.solve`` summed
     over the workers, ``write_seconds`` the time the parent spent writing the
-    chunks the workers encoded to Parquet."""
+    chunks the workers encoded to Parquet; ``cpu_seconds`` the processor time
+    of the workers' tasks and of the parent, ``solve_cpu_seconds`` the part of
+    it in ``pf.solve``."""
 
     total: int = 0
     skipped: int = 0
@@ -54,6 +56,8 @@ class SweepReport:
     seconds: float = 0.0
     solve_seconds: float = 0.0
     write_seconds: float = 0.0
+    cpu_seconds: float = 0.0
+    solve_cpu_seconds: float = 0.0
     workers: int = 1
     worker_pids: set = field(default_factory=set)
 
@@ -63,6 +67,14 @@ class SweepReport:
         if self.seconds <= 0 or self.solved == 0:
             return math.nan
         return 1.0 - self.solve_seconds / (self.workers * self.seconds)
+
+    @property
+    def cpu_overhead_share(self) -> float:
+        """Share of the processor time not spent solving (idle workers not counted;
+        not affected by other programs sharing the cores)."""
+        if self.cpu_seconds <= 0 or self.solved == 0:
+            return math.nan
+        return 1.0 - self.solve_cpu_seconds / self.cpu_seconds
 
     def __str__(self):
         rate = self.solved / self.seconds if self.seconds > 0 else math.nan
@@ -102,7 +114,7 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         raise ValueError(f"workers = {workers!r} must be a positive integer")
     if chunk_size is not None and (not isinstance(chunk_size, int) or chunk_size < 1):
         raise ValueError(f"chunk_size = {chunk_size!r} must be a positive integer")
-    start = time.perf_counter()
+    start, start_cpu = time.perf_counter(), time.process_time()
     cases = sweep.cases()
     report = SweepReport(total=len(cases), workers=workers)
     with Dataset(out, sweep) as dataset:
@@ -114,19 +126,25 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         tasks = pack(chains(todo), chunk_size or _default_chunk(len(todo), workers))
         bar = Progress(len(todo), enabled=progress)
         with _backend(backend, workers, scheduler):
-            for chunk, seconds, pid in _parallel(tasks, sweep.name, profiles, warm_start,
-                                                 workers):
+            for chunk, times, pid in _parallel(tasks, sweep.name, profiles, warm_start,
+                                               workers):
                 t0 = time.perf_counter()
                 dataset.write_chunk(chunk)
                 report.write_seconds += time.perf_counter() - t0
                 report.chunks += 1
                 report.solved += chunk.rows
                 report.failed += chunk.failed
-                report.solve_seconds += seconds
+                report.solve_seconds += times["solve"]
+                report.solve_cpu_seconds += times["solve_cpu"]
+                report.cpu_seconds += times["task_cpu"]
                 report.worker_pids.add(pid)
                 bar.update(report.solved, report.failed)
         bar.close()
     report.seconds = time.perf_counter() - start
+    parent_cpu = time.process_time() - start_cpu
+    if os.getpid() in report.worker_pids:  # tasks ran here: their time is in parent_cpu
+        report.cpu_seconds = 0.0
+    report.cpu_seconds += parent_cpu
     return report
 
 
@@ -157,24 +175,29 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
                warm_start: bool = True):
     """Solve the chains of one task and encode them as a chunk (runs in a worker).
 
-    Returns (the :class:`~pipelay_fast.dataset.Chunk`, seconds spent in
-    ``pf.solve``, the worker's pid).
+    Returns (the :class:`~pipelay_fast.dataset.Chunk`, times in seconds: "solve"
+    and "solve_cpu" in ``pf.solve``, "task_cpu" of the whole task; the pid).
     """
-    rows, parts, seconds = [], [], 0.0
+    start_cpu = time.process_time()
+    rows, parts, times = [], [], {"solve": 0.0, "solve_cpu": 0.0}
     for chain in task:
-        for sc, row, result, dt in solve_chain(chain, warm_start):
+        for sc, row, result, dt, cpu in solve_chain(chain, warm_start):
             rows.append(row)
-            seconds += dt
+            times["solve"] += dt
+            times["solve_cpu"] += cpu
             if profiles and result is not None:
                 n = len(result.columns["s"])
                 parts.append({"case_id": np.full(n, sc.case_id), "node": np.arange(n),
                               **result.columns})
     profile = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]} if parts else None
-    return encode_chunk(sweep, task[0][0].scene, rows, profile), seconds, os.getpid()
+    chunk = encode_chunk(sweep, task[0][0].scene, rows, profile)
+    times["task_cpu"] = time.process_time() - start_cpu
+    return chunk, times, os.getpid()
 
 
 def solve_chain(chain: list[SweepCase], warm_start: bool = True):
-    """Yield (case, summary row, Result or None, seconds) along one chain.
+    """Yield (case, summary row, Result or None, wall and processor seconds in
+    ``pf.solve``) along one chain.
 
     Each case is warm-started from the last successful solution of the chain
     when it has the same lay method and dimension (``warm_started`` in its
@@ -185,20 +208,20 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
     for sc in chain:
         base = {"case_id": sc.case_id, "chain": sc.chain, "chain_position": sc.position}
         if sc.case is None:
-            yield sc, _failed_row(sc, base, f"invalid case: {sc.error}"), None, 0.0
+            yield sc, _failed_row(sc, base, f"invalid case: {sc.error}"), None, 0.0, 0.0
             continue
         warm = previous if warm_start and _compatible(previous, sc) else None
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         try:
             result = solve_case(sc.case, warm)
         except CASE_ERRORS as err:
-            dt = time.perf_counter() - t0
-            yield sc, _failed_row(sc, base, f"{type(err).__name__}: {err}"), None, dt
+            dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+            yield sc, _failed_row(sc, base, f"{type(err).__name__}: {err}"), None, dt, cpu
             continue
-        dt = time.perf_counter() - t0
+        dt, cpu = time.perf_counter() - t0, time.process_time() - c0
         previous = result
         row = {**result.summary, **_given(sc), **base, "warm_started": warm is not None}
-        yield sc, row, result, dt
+        yield sc, row, result, dt, cpu
 
 
 def solve_case(case, warm=None):
