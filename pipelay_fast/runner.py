@@ -28,12 +28,8 @@ from .results import SUMMARY_UNITS
 from .solver import SolveError, solve
 from .sweep import INPUT_UNITS, Sweep, SweepCase, chains
 
-__all__ = ["ALLOW_UNVALIDATED", "BACKENDS", "SweepReport", "run_sweep", "solve_case",
-           "solve_chain"]
+__all__ = ["BACKENDS", "SweepReport", "run_sweep", "solve_case", "solve_chain"]
 
-# S-lay and "3D + seabed friction + current" are still gated in pf.solve; the
-# sweep runs them. Set to False (or delete) once the solver drops its gate.
-ALLOW_UNVALIDATED = True
 BACKENDS = ("loky", "dask", "ray")
 # errors of one case that make it a failed row; anything else stops the sweep
 CASE_ERRORS = (SolveError, NotImplementedError, ValueError)
@@ -230,7 +226,7 @@ def solve_case(case, warm=None):
     The solver itself falls back to its own first guess when the warm start
     fails, so the answer does not depend on the start beyond its tolerance.
     """
-    return solve(case, warm=warm, allow_unvalidated=ALLOW_UNVALIDATED)
+    return solve(case, warm=warm)
 
 
 def _compatible(previous, sc: SweepCase) -> bool:

@@ -26,7 +26,7 @@ import pipelay_fast as pf
 from pipelay_fast.cli import main
 from pipelay_fast.dataset import read_profiles, read_summary
 from pipelay_fast.io import read_units
-from pipelay_fast.runner import ALLOW_UNVALIDATED, Progress, run_sweep
+from pipelay_fast.runner import Progress, run_sweep
 from pipelay_fast.sweep import chains, load_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -101,7 +101,7 @@ def test_summary_equals_direct_solves_along_each_chain(sweep, one_worker):
                 continue
             warm = previous if previous is not None and \
                 previous.summary["dimension"] == sc.case.resolved_dimension else None
-            result = pf.solve(sc.case, warm=warm, allow_unvalidated=ALLOW_UNVALIDATED)
+            result = pf.solve(sc.case, warm=warm)
             previous = result
             row = table.loc[sc.case_id]
             assert row["warm_started"] == (warm is not None)
@@ -274,7 +274,7 @@ def test_select_finds_the_equal_peaks_and_the_stress_minimum(one_worker, capsys)
     assert lo < row.a_equal_peaks < hi
     case = pf.load_case(ROOT / "pipelay_fast" / "examples" / "s67.toml").with_changes(
         {"solver.element_length": 8.0, "lay.stinger.a": row.a_equal_peaks})
-    at_root = pf.solve(case, allow_unvalidated=ALLOW_UNVALIDATED).summary
+    at_root = pf.solve(case).summary
     peak = at_root["sagbend_max_von_mises"]
     assert abs(at_root["overbend_max_von_mises"] - peak) < 1e-4 * peak
     assert math.isclose(row.equal_peaks_von_mises, at_root["max_von_mises"], rel_tol=1e-6)
