@@ -105,7 +105,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
             if best.fun <= vm[i]:
                 row["a_min_stress"], row["min_max_von_mises"] = float(best.x), float(best.fun)
         except CASE_ERRORS as err:
-            notes.append(f"minimum not refined: {type(err).__name__}: {err}")
+            notes.append(f"minimum not refined: {evaluate.failure(err)}")
 
     row["a_equal_peaks"] = row["equal_peaks_von_mises"] = math.nan
     finite = np.isfinite(gap)
@@ -126,7 +126,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
                 row["a_equal_peaks"] = float(root)
                 row["equal_peaks_von_mises"] = evaluate(root)["max_von_mises"]
             except CASE_ERRORS as err:
-                notes.append(f"equal peaks not refined: {type(err).__name__}: {err}")
+                notes.append(f"equal peaks not refined: {evaluate.failure(err)}")
         else:
             notes.append("equal peaks: nearest grid point")
     row["n_solves"] = evaluate.solves if evaluate is not None else 0
@@ -149,9 +149,10 @@ class _Evaluator:
         self.values = given
         self.results: dict[float, object] = {}
         self.solves = 0
+        self.last = math.nan
 
     def __call__(self, a: float) -> dict:
-        a = float(a)
+        a = self.last = float(a)
         if a in self.results:
             return self.results[a].summary
         case = self.scene.case_for({**self.values, "a": a})
@@ -162,6 +163,10 @@ class _Evaluator:
         self.solves += 1
         self.results[a] = result
         return result.summary
+
+    def failure(self, err: Exception) -> str:
+        """A short note on the failed solve (the full message: solve that case)."""
+        return f"{type(err).__name__} at a = {self.last:.6f}"
 
 
 def format_selection(table: pd.DataFrame) -> str:
