@@ -26,7 +26,17 @@ import numpy as np
 from .case import Case
 from .guess import first_guess, shape
 from .kernels import layout as L
-from .kernels.contact import N_STINGER, ST_ON, friction_forces, tip_geometry
+from .kernels.contact import (
+    N_STINGER,
+    ST_A,
+    ST_B,
+    ST_C,
+    ST_ON,
+    ST_ZL,
+    ST_ZU,
+    friction_forces,
+    tip_geometry,
+)
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
 from .mesh import graded_nodes
 from .model import build_props, dimension_of
@@ -497,34 +507,49 @@ def warm_problem(case: Case, old: Problem) -> Problem:
                    old.fref, dict(old.stats))
     for name in ("bed_active", "st_active", "tip", "fric"):
         getattr(new, name)[:] = state[name]
-    _onto_stinger(new)
+    _onto_stinger(new, old.stinger)
     return new
 
 
-def _onto_stinger(pb: Problem):
-    """Move the stinger contacts of a warm state onto the (new) stinger curve,
-    tangent to it, and the free span below in proportion down to touchdown, so
-    that Newton starts from a state that meets its constraints."""
-    on = np.flatnonzero(pb.st_active)
-    if pb.stinger[ST_ON] == 0.0 or on.size == 0:
+def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
+    """Carry a warm state over to a changed stinger: every node over the
+    stinger's z range moves in x by the change of the curve there (which
+    vanishes at both ends when only ``a`` changed), its slope with it, so the
+    contacts start on the new curve and the free span keeps its shape."""
+    if pb.stinger[ST_ON] == 0.0 or old_stinger[ST_ON] == 0.0:
         return
     nd, ndn = pb.nd, pb.ndn
-    a, b, c = pb.stinger[0], pb.stinger[1], pb.stinger[2]
-    z = pb.u[nd - 1::ndn]
-    x = pb.u[0::ndn]
-    shift = np.zeros(pb.nn)
-    shift[on] = (a * z[on] + b) * z[on] + c - x[on]
-    lo = on[0]
+    z = pb.u[nd - 1::ndn].copy()
+    zp = pb.u[2 * nd - 1::ndn].copy()
+    over = (z >= pb.stinger[ST_ZL]) & (z <= pb.stinger[ST_ZU])
+
+    def curve(st, zz):
+        return (st[ST_A] * zz + st[ST_B]) * zz + st[ST_C], 2.0 * st[ST_A] * zz + st[ST_B]
+
+    x_new, dx_new = curve(pb.stinger, z[over])
+    x_old, dx_old = curve(old_stinger, z[over])
+    shift, slope = x_new - x_old, dx_new - dx_old
+    # below the tip, down to touchdown: a shift that continues the slope
+    # change at the tip and vanishes at touchdown (no kink at the tip)
+    z_l = pb.stinger[ST_ZL]
     bed = np.flatnonzero(pb.bed_active)
-    td = int(bed[-1]) if bed.size else 0
-    if lo > td:
-        ramp = (pb.s[td:lo] - pb.s[td]) / (pb.s[lo] - pb.s[td])
-        shift[td:lo] = ramp * shift[lo]
-    pb.u[0::ndn] += shift
-    on = np.append(on, pb.top_node)
-    psi = np.arctan(2.0 * a * z[on] + b)
-    pb.u[on * ndn + nd] = np.sin(psi)
-    pb.u[on * ndn + 2 * nd - 1] = np.cos(psi)
+    z_td = z[bed[-1]] if bed.size else z[0]
+    span = (z < z_l) & (z > z_td)
+    if span.any() and z_l > z_td:
+        k = curve(pb.stinger, np.array([z_l]))[1][0] - curve(old_stinger, np.array([z_l]))[1][0]
+        zs = z[span]
+        shift = np.concatenate([shift, k * (zs - z_l) * (zs - z_td) / (z_l - z_td)])
+        slope = np.concatenate([slope, k * (2.0 * zs - z_l - z_td) / (z_l - z_td)])
+        over = np.concatenate([np.flatnonzero(over), np.flatnonzero(span)])
+    else:
+        over = np.flatnonzero(over)
+    idx = over * ndn
+    pb.u[idx] += shift
+    rp = pb.u[(idx + nd)[:, None] + np.arange(nd)]
+    stretch = np.linalg.norm(rp, axis=1)  # kept: the axial strain is unchanged
+    rp[:, 0] += slope * zp[over]
+    rp *= (stretch / np.linalg.norm(rp, axis=1))[:, None]
+    pb.u[(idx + nd)[:, None] + np.arange(nd)] = rp
 
 
 def liftoff_index(pb: Problem) -> int:

@@ -40,6 +40,7 @@ CS_COUNT = 3
 CS_HIST = 4  # the N_HIST most recent boundaries follow
 N_HIST = 32
 N_CSTATE = CS_HIST + N_HIST
+CLAMP_PULL = 20.0  # pull next to a boundary, in mean support reactions, that releases it
 
 
 @jit
@@ -75,7 +76,9 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
     (consecutive releases double in size up to 16 nodes: touchdown or lift-off
     may have to recede by many elements from the first guess), and a pull further in
     releases everything beyond. The node next to the boundary is not tested:
-    the slope clamp there shares a couple with the boundary node. When the
+    the slope clamp there shares a couple with the boundary node (on the
+    stinger it is, against CLAMP_PULL mean support reactions: a couple far
+    beyond the support would clamp the pipe at the tip, a convex corner). When the
     boundary falls inside an element it cycles between nearby nodes: once a
     change would return it to one of its last N_HIST (32) positions the region is
     extended only past penetrations deeper than ``pen_frozen`` [m], so the
@@ -119,6 +122,21 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
             if active[node] != 0 and reac[node] < -pull_tol:
                 start = p
                 break
+        if start < 0 and last >= 1 and sign < 0:
+            # the stinger's node next to the boundary: a pull there far beyond
+            # the distributed support (a couple with the boundary node, as a
+            # clamp would give, which the stinger's convex tip cannot) releases
+            # it too
+            total = 0.0
+            count = 0
+            for p in range(last - 1):
+                node = p if sign > 0 else nn - 1 - p
+                if active[node] != 0 and reac[node] > 0.0:
+                    total += reac[node]
+                    count += 1
+            node = last - 1 if sign > 0 else nn - last
+            if count > 0 and reac[node] < -pull_tol and -reac[node] > CLAMP_PULL * total / count:
+                start = last - 1
         if start < 0 and last >= 0:
             node = last if sign > 0 else nn - 1 - last
             if reac[node] < -pull_tol:

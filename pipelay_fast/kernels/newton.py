@@ -195,6 +195,9 @@ def _weighted_max(nd, g, cmask, fref, href):
     return worst, ssq
 
 
+RELEASE_DELTA = 1e-3  # constraint correction (per href) above which no contact is released
+
+
 @jit
 def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
            stinger, st_active, tip, fric, f_node, g_off, slide_dof, tb, top_node, top_target,
@@ -533,6 +536,11 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 if abs(u[i]) > r_max:
                     r_max = abs(u[i])
         # ---- 5: active sets (see update_region) ---------------------------
+        # No contact is released on the reactions of a step that also moved the
+        # constrained unknowns a long way (max_delta > RELEASE_DELTA): they
+        # carry the force of that move, not the pipe's pull. Penetrations are
+        # added regardless.
+        release = pull_tol if max_delta <= RELEASE_DELTA else np.inf
         for node in range(nn):
             base = node * ndn
             reac[node] = react[base]
@@ -540,7 +548,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 gap[node] = u[base]
             else:
                 gap[node] = np.inf
-        changed = update_region(bed_active, gap, reac, 1, pen_tol, pen_frozen, pull_tol, cs_bed)
+        changed = update_region(bed_active, gap, reac, 1, pen_tol, pen_frozen, release, cs_bed)
         friction_track(nd, u, react, bed_active, fric)
         if has_stinger:
             for node in range(nn):
@@ -551,20 +559,28 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                     gap[node] = stinger_gap(stinger, u[base], z_n)
                 else:
                     gap[node] = np.inf
-            if update_region(st_active, gap, reac, -1, pen_tol, pen_frozen, pull_tol, cs_st):
+            if update_region(st_active, gap, reac, -1, pen_tol, pen_frozen, release, cs_st):
                 changed = True
             # the tip: engaged when the pipe passes below it, released when it pulls
             # (after two toggles, as for the regions, only a penetration beyond
             # discretisation size engages it again)
             found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
+            # the first node past the tip: held on the curve, it already holds
+            # the pipe at the tip (a second constraint there would be redundant)
+            past_tip = -1
+            for node in range(nn):
+                if u[node * ndn + nd - 1] >= stinger[ST_ZL]:
+                    past_tip = node
+                    break
+            conforms = past_tip >= 0 and st_active[past_tip] != 0
             if tip[0] == 0.0:
                 limit = pen_tol if tip_toggles < 2 else pen_frozen
-                if found and gt < -limit:
+                if found and gt < -limit and not conforms:
                     tip[0] = 1.0
                     tip[1] = 0.0
                     changed = True
                     tip_toggles += 1
-            elif tip[1] < -pull_tol or not found:
+            elif tip[1] < -release or not found or conforms:
                 tip[0] = 0.0
                 tip[1] = 0.0
                 changed = True
