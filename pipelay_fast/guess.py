@@ -121,7 +121,7 @@ def slay_liftoff(case: Case):
         cos_psi = 1.0 / math.sqrt(1.0 + float(st.slope(z)) ** 2)
         return tension(x) * (1.0 - cos_psi) - _rise(w1, w2, depth, x)
 
-    zs = np.linspace(z_l, z_u, 201)
+    zs = np.linspace(z_l, z_u, 41)  # brackets; brentq refines
     f = np.array([mismatch(z) for z in zs])
     change = np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:]))
     if change.size:
