@@ -288,6 +288,15 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     cuts_total = 0
     it = 0
     fr_out = np.zeros(n)
+    # nodes held laterally by the stinger: those over its z range at the start
+    # of the step (fixed during it: a node at the tip would otherwise flip
+    # between held and free as it slides across z_L between iterations)
+    y_held = np.zeros(nn, dtype=np.bool_)
+    if nd == 3 and stinger[ST_ON] != 0.0:
+        for node in range(nn):
+            z_n = u[node * ndn + nd - 1]
+            y_held[node] = (node != top_node and fix_mask[node * ndn] == 0
+                            and stinger[ST_ZL] - 1e-9 * href <= z_n <= stinger[ST_ZU])
     for it in range(1, maxit + 1):
         # ---- 0: nodal frames of the stinger contacts ---------------------
         if has_stinger:
@@ -370,7 +379,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                     if node > 0 and st_active[node - 1] != 0:
                         cmask[base + nd] = True
                         delta[base + nd] = -_local_value(nd, u, node, nd, phi_r, phi_rp)
-                if nd == 3 and stinger[ST_ZL] <= z_n <= stinger[ST_ZU]:
+                if y_held[node]:
                     cmask[base + 1] = True  # held laterally over the stinger
                     delta[base + 1] = -u[base + 1]
         for i in range(n):
