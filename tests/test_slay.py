@@ -141,3 +141,21 @@ def test_warm_start_gives_the_cold_answer(s67, still, a):
 def test_warm_start_refuses_another_dimension(s67, still):
     with pytest.raises(ValueError, match="warm"):
         pf.solve(s67.with_changes({"solver.dimension": "3d"}), warm=still)
+
+
+@pytest.mark.parametrize("name,h", [("s67.toml", 2.0), ("s67_3d.toml", 4.0)])
+def test_a_sweep_across_the_tip_regime_has_no_jumps(name, h):
+    """From bearing on the tip (a = -0.0009) to lifting off the stinger
+    (-0.0015): every solve converges, the tip reaction falls to zero once and
+    stays there, and the overbend peak has a single minimum (no chattering)."""
+    base = pf.load_case(EXAMPLES / name).with_changes({"solver.element_length": h})
+    grid = np.linspace(-0.0009, -0.0015, 13)
+    rows = [pf.solve(base.with_changes({"lay.stinger.a": float(a)})).summary for a in grid]
+    tip = np.array([r["tip_reaction"] for r in rows])
+    over = np.array([r["overbend_max_von_mises"] for r in rows])
+    bearing = tip > 0.0
+    assert bearing[0] and not bearing[-1]
+    assert np.all(np.diff(bearing.astype(int)) <= 0)  # switches once
+    assert np.all(np.diff(tip[bearing]) < 0.0)
+    steps = np.sign(np.diff(over))
+    assert np.count_nonzero(np.diff(steps) != 0) == 1  # down, then up
