@@ -290,13 +290,17 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     fr_out = np.zeros(n)
     # nodes held laterally by the stinger: those over its z range at the start
     # of the step (fixed during it: a node at the tip would otherwise flip
-    # between held and free as it slides across z_L between iterations)
+    # between held and free as it slides across z_L between iterations). A
+    # node the mesh put on the tip (to 2 % of its elements) counts as over it.
     y_held = np.zeros(nn, dtype=np.bool_)
     if nd == 3 and stinger[ST_ON] != 0.0:
         for node in range(nn):
             z_n = u[node * ndn + nd - 1]
+            h_near = s_el[min(node, nn - 2)]
+            if node > 0:
+                h_near = min(h_near, s_el[node - 1])
             y_held[node] = (node != top_node and fix_mask[node * ndn] == 0
-                            and stinger[ST_ZL] - 1e-9 * href <= z_n <= stinger[ST_ZU])
+                            and stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU])
     for it in range(1, maxit + 1):
         # ---- 0: nodal frames of the stinger contacts ---------------------
         if has_stinger:
