@@ -288,19 +288,24 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     cuts_total = 0
     it = 0
     fr_out = np.zeros(n)
+    # A node the mesh put on the tip (to 2 % of its elements) sits on either
+    # side of z_L as it slides between iterations: within tip_tol of the tip
+    # it counts as over the stinger (the curve continued), so that it does not
+    # flip between held and free.
+    tip_tol = np.zeros(nn)
+    for node in range(nn):
+        h_near = s_el[min(node, nn - 2)]
+        if node > 0:
+            h_near = min(h_near, s_el[node - 1])
+        tip_tol[node] = 0.05 * h_near
     # nodes held laterally by the stinger: those over its z range at the start
-    # of the step (fixed during it: a node at the tip would otherwise flip
-    # between held and free as it slides across z_L between iterations). A
-    # node the mesh put on the tip (to 2 % of its elements) counts as over it.
+    # of the step (fixed during it)
     y_held = np.zeros(nn, dtype=np.bool_)
     if nd == 3 and stinger[ST_ON] != 0.0:
         for node in range(nn):
             z_n = u[node * ndn + nd - 1]
-            h_near = s_el[min(node, nn - 2)]
-            if node > 0:
-                h_near = min(h_near, s_el[node - 1])
             y_held[node] = (node != top_node and fix_mask[node * ndn] == 0
-                            and stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU])
+                            and stinger[ST_ZL] - tip_tol[node] <= z_n <= stinger[ST_ZU])
     for it in range(1, maxit + 1):
         # ---- 0: nodal frames of the stinger contacts ---------------------
         if has_stinger:
@@ -568,7 +573,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 base = node * ndn
                 z_n = u[base + nd - 1]
                 if (node != top_node and fix_mask[base] == 0 and bed_active[node] == 0
-                        and stinger[ST_ZL] <= z_n <= stinger[ST_ZU]):
+                        and stinger[ST_ZL] - tip_tol[node] <= z_n <= stinger[ST_ZU]):
                     gap[node] = stinger_gap(stinger, u[base], z_n)
                 else:
                     gap[node] = np.inf
