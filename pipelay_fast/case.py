@@ -399,8 +399,12 @@ class Lay:
         Exactly one of the three tension keys is given.
     top : (float, float)
         (x, z) of the pipe's upper end [m]; for S-lay the stinger upper end.
-    top_angle : float or None
-        Prescribed top angle from horizontal [deg], in (0, 90]; None: pinned.
+    top_angle : float, "pinned" or None
+        Prescribed top angle from horizontal [deg], in (0, 90], or "pinned".
+        Omitted: pinned for J-lay; for S-lay the firing line, the pipe held
+        along the stinger's tangent at its upper end. A pinned S-lay top frees
+        the end's slope, so the moment falls to zero there over a short length
+        beside the stinger's curvature: that spike is in the overbend peaks.
     stinger : Stinger or None
         Required for S-lay, forbidden for J-lay.
     torque : float
@@ -462,7 +466,10 @@ class Lay:
             assign(self, "top", vector("lay.top", self.top, 2))
         if self.top[0] <= 0:
             fail("lay.top", self.top, "must be above the seabed (x > 0)")
-        if self.top_angle is not None:
+        if isinstance(self.top_angle, str):
+            if self.top_angle != "pinned":
+                fail("lay.top_angle", self.top_angle, 'must be a number of degrees or "pinned"')
+        elif self.top_angle is not None:
             set_numbers(self, "lay", finite=("top_angle",))
             if not 0.0 < self.top_angle <= 90.0:
                 fail("lay.top_angle", self.top_angle, "must lie in (0, 90] degrees")

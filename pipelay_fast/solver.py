@@ -158,11 +158,12 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
         fix_val[base + i] = val
     stinger = np.zeros(N_STINGER)
     st = lay.stinger
-    top_angle = lay.top_angle
+    top_angle = None if lay.top_angle == "pinned" else lay.top_angle
     if st is not None:
         stinger[:] = (st.a, st.b, st.c, st.lower[1], st.upper[1], 1.0)
-        # the firing line: the top is held along the stinger's tangent
-        top_angle = float(st.angle(st.upper[1]))
+        if lay.top_angle is None:
+            # the firing line: the top is held along the stinger's tangent
+            top_angle = float(st.angle(st.upper[1]))
     if top_angle is not None:
         phi_rp[top] = math.radians(top_angle)
         fix_mask[base + nd] = 1  # r' normal to the prescribed direction = 0

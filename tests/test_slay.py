@@ -159,3 +159,21 @@ def test_a_sweep_across_the_tip_regime_has_no_jumps(name, h):
     assert np.all(np.diff(tip[bearing]) < 0.0)
     steps = np.sign(np.diff(over))
     assert np.count_nonzero(np.diff(steps) != 0) == 1  # down, then up
+
+
+def test_pinned_top_reports_its_moment_spike(s67, still):
+    """A pinned top on the curved stinger: the moment must fall from the
+    conforming EI 2|a| to zero at the pin within the last element, a couple
+    the stinger's last contact and the pin supply. The peak is reported."""
+    pinned = pf.solve(s67.with_changes({"environment.current.speed": 0.0,
+                                        "lay.top_angle": "pinned"}))
+    prof = pinned.profile
+    conforming = s67.pipe.bending_stiffness * 2.0 * abs(s67.lay.stinger.a)
+    assert prof["moment"].iloc[-1] < 1e-3 * conforming  # pinned: no moment at the top
+    assert pinned.summary["overbend_max_moment"] > 1.1 * still.summary["overbend_max_moment"]
+    assert pinned.summary["overbend_max_moment"] == pytest.approx(prof["moment"].max())
+
+
+def test_top_angle_rejects_other_words(s67):
+    with pytest.raises(ValueError, match="lay.top_angle"):
+        s67.with_changes({"lay.top_angle": "free"})
