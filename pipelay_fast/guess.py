@@ -101,20 +101,22 @@ def stinger_arc(stinger, z0, z1, n=401):
     return z, arc
 
 
-def slay_liftoff(case: Case):
-    """(z of lift-off [m], horizontal tension h [N], leaves at the tip) for S-lay."""
+def slay_liftoff(case: Case, bottom_tension: float | None = None):
+    """(z of lift-off [m], horizontal tension h [N], leaves at the tip) for S-lay.
+
+    The tension comes from the lay's keys, or from ``bottom_tension`` [N] when
+    given (the pipe-length case searches over it).
+    """
     lay, st = case.lay, case.lay.stinger
     depth = case.environment.water_depth
     w1, w2 = weights(case)
     z_l, (x_u, z_u) = st.lower[1], st.upper
-    if lay.pipe_length is not None:
-        raise ValueError("lay.pipe_length is not supported for S-lay yet: give "
-                         "lay.top_tension or lay.bottom_tension")
 
     def tension(x):
-        if lay.top_tension is not None:
+        if bottom_tension is None and lay.top_tension is not None:
             return lay.top_tension - (_rise(w1, w2, depth, x_u) - _rise(w1, w2, depth, x))
-        return lay.bottom_tension + _rise(w1, w2, depth, x)
+        bottom = lay.bottom_tension if bottom_tension is None else bottom_tension
+        return bottom + _rise(w1, w2, depth, x)
 
     def mismatch(z):
         x = float(st.height(z))
@@ -141,10 +143,38 @@ def slay_liftoff(case: Case):
     return z_lo, h, at_tip
 
 
+def _slay_span(case: Case, bottom_tension=None):
+    """Lift-off, catenary and stinger arc of an S-lay guess."""
+    w1, w2 = weights(case)
+    st = case.lay.stinger
+    z_lo, h, at_tip = slay_liftoff(case, bottom_tension)
+    cat = Catenary(h, w1, w2, case.environment.water_depth, float(st.height(z_lo)))
+    _, arc = stinger_arc(st, z_lo, st.upper[1])
+    return z_lo, at_tip, cat, float(arc[-1])
+
+
+def _slay_bottom_tension(case: Case) -> float:
+    """The bottom tension [N] at which an S-lay pipe of ``lay.pipe_length``,
+    its lower end at z = 0, reaches the vessel: laid pipe, catenary and stinger
+    arc add up to the length."""
+    length = case.lay.pipe_length
+    w1, _ = weights(case)
+
+    def gap(h):
+        z_lo, _, cat, arc = _slay_span(case, h)
+        return (z_lo - cat.span) - (length - cat.length - arc)
+
+    lo, hi = 1e-3 * w1 * case.environment.water_depth, 1e3 * w1 * length
+    if gap(lo) * gap(hi) > 0:
+        raise ValueError(
+            f"lay.pipe_length = {length:g} m cannot reach the vessel {case.lay.top} over the "
+            "stinger from a lower end at (0, 0)")
+    return brentq(gap, lo, hi, xtol=1e-10 * w1)
+
+
 def first_guess(case: Case, laid_default) -> Guess:
     """The first shape; ``laid_default(h)`` gives the laid length for tension h."""
     lay = case.lay
-    depth = case.environment.water_depth
     if lay.method == "J":
         cat = free_span(case)
         susp = cat.length
@@ -153,15 +183,14 @@ def first_guess(case: Case, laid_default) -> Guess:
         else:
             laid = case.solver.laid_length or laid_default(cat.h)
         return Guess(cat, laid, None, laid + susp)
-    w1, w2 = weights(case)
-    z_lo, h, at_tip = slay_liftoff(case)
-    st = lay.stinger
-    x_lo = float(st.height(z_lo))
-    cat = Catenary(h, w1, w2, depth, x_lo)
-    laid = case.solver.laid_length or laid_default(h)
-    _, arc = stinger_arc(st, z_lo, st.upper[1])
+    if lay.pipe_length is not None:
+        z_lo, at_tip, cat, arc = _slay_span(case, _slay_bottom_tension(case))
+        laid = lay.pipe_length - cat.length - arc
+    else:
+        z_lo, at_tip, cat, arc = _slay_span(case)
+        laid = case.solver.laid_length or laid_default(cat.h)
     s_lo = laid + cat.length
-    return Guess(cat, laid, s_lo, s_lo + arc[-1], liftoff_z=z_lo, at_tip=at_tip)
+    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, at_tip=at_tip)
 
 
 def shape(case: Case, g: Guess, s):

@@ -177,3 +177,37 @@ def test_pinned_top_reports_its_moment_spike(s67, still):
 def test_top_angle_rejects_other_words(s67):
     with pytest.raises(ValueError, match="lay.top_angle"):
         s67.with_changes({"lay.top_angle": "free"})
+
+
+@pytest.fixture(scope="module")
+def fixed_length(s67):
+    """S67 inextensible, no current, at the paper's a, and the same pipe given
+    by its length with the lower end held at z = 0 (the paper's assumption v)."""
+    base = s67.with_changes({"environment.current.speed": 0.0, "pipe.extensible": False})
+    top = pf.solve(base)
+    z_lower = top.state.u[top.state.nd - 1]  # the laid pipe extends straight back to z = 0
+    length = float(top.state.s[-1] + z_lower)
+    return top, base.with_changes({"lay.top_tension": None, "lay.pipe_length": length})
+
+
+def test_pipe_length_reproduces_the_top_tension_case(fixed_length):
+    top, case = fixed_length
+    given = pf.solve(case).summary
+    assert given["top_tension"] == pytest.approx(top.summary["top_tension"], rel=1e-6)
+    for key in ("max_von_mises", "overbend_max_moment", "sagbend_max_moment"):
+        assert given[key] == pytest.approx(top.summary[key], rel=1e-5), key
+    for key in ("tdp_z", "liftoff_z"):
+        assert given[key] == pytest.approx(top.summary[key], abs=1e-3), key
+
+
+def test_fixed_length_sagbend_falls_and_overbend_grows_with_a(fixed_length):
+    """With the lower end held (length fixed) a more curved stinger pulls the
+    span tighter: in the lift-off regime the overbend peak grows with |a| and
+    the sagbend peak falls, as the paper finds; the top tension grows."""
+    _, case = fixed_length
+    rows = [pf.solve(case.with_changes({"lay.stinger.a": a})).summary
+            for a in (-0.0012, -0.0015, -0.0018, -0.0021)]
+    over = [r["overbend_max_von_mises"] for r in rows]
+    sag = [r["sagbend_max_von_mises"] for r in rows]
+    top = [r["top_tension"] for r in rows]
+    assert np.all(np.diff(over) > 0) and np.all(np.diff(sag) < 0) and np.all(np.diff(top) > 0)
