@@ -437,6 +437,7 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
         react, more = newton_with_fallback(case, pb)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
+    current_passes = 0
     while path:
         pb.before_current = _snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
@@ -448,7 +449,8 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
         s_t = touchdown_position(case, pb)
         foci = _stinger_foci(case, pb)
         near = 0.02 * pb.stats["h_min"]
-        if (not case.solver.grading or passes >= MAX_MESH_PASSES + 1
+        current_passes += 1
+        if (not case.solver.grading or current_passes > MAX_MESH_PASSES
                 or abs(s_t - pb.stats["focus"]) <= near):
             break
         # the current moved touchdown off the fine mesh: mesh again around where
@@ -633,7 +635,28 @@ def solve(case: Case, *, warm: Result | None = None, allow_unvalidated: bool = F
     if bad:
         raise SolveError(f"case {case.name!r}: the solution has non-finite values in "
                          f"{', '.join(bad)}; it is not returned")
+    _check_contacts_push(case, columns)
     return Result(case, summary, columns, state=pb)
+
+
+MAX_PULL_SHARE = 0.5  # largest pull of a contact, as a share of the largest push
+
+
+def _check_contacts_push(case: Case, columns: dict):
+    """Refuse an answer whose seabed or stinger contact pulls by more than
+    MAX_PULL_SHARE of the largest contact reaction. Smaller pulls are the
+    discretisation's couple next to a boundary that lies inside an element
+    (on coarse meshes up to about a third of the boundary's reaction); a
+    larger one means the contact boundary was not found."""
+    reac = np.concatenate([columns["seabed_reaction"][1:], columns["stinger_reaction"]])
+    if reac.size and reac.min() < -MAX_PULL_SHARE * max(reac.max(), 0.0):
+        k = int(np.argmin(reac))
+        where = "seabed" if k < columns["seabed_reaction"].size - 1 else "stinger"
+        raise SolveError(
+            f"case {case.name!r}: a {where} contact pulls with {-reac.min():.4g} N, "
+            f"{-reac.min() / reac.max():.0%} of the largest contact reaction: the contact "
+            "boundary was not located (try a finer solver.min_element_length); "
+            "the solution is not returned")
 
 
 def friction_path(case: Case) -> bool:

@@ -290,8 +290,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     fr_out = np.zeros(n)
     # A node the mesh put on the tip (to 2 % of its elements) sits on either
     # side of z_L as it slides between iterations: within tip_tol of the tip
-    # it counts as over the stinger (the curve continued), so that it does not
-    # flip between held and free.
+    # it is held laterally, so that it does not flip between held and free.
     tip_tol = np.zeros(nn)
     for node in range(nn):
         h_near = s_el[min(node, nn - 2)]
@@ -573,7 +572,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 base = node * ndn
                 z_n = u[base + nd - 1]
                 if (node != top_node and fix_mask[base] == 0 and bed_active[node] == 0
-                        and stinger[ST_ZL] - tip_tol[node] <= z_n <= stinger[ST_ZU]):
+                        and stinger[ST_ZL] <= z_n <= stinger[ST_ZU]):
                     gap[node] = stinger_gap(stinger, u[base], z_n)
                 else:
                     gap[node] = np.inf
