@@ -620,13 +620,17 @@ def solve(case: Case, *, warm: Result | None = None, allow_unvalidated: bool = F
     """
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError(f"warm: expected a Result from pipelay_fast.solve, got {type(warm).__name__}")
-    if warm is None:
-        pb, react, stats, s_t, s_l = solve_problem(case)
-    else:
+    if warm is not None:
         try:
-            pb, react, stats, s_t, s_l = solve_problem(case, warm.state)
+            return _checked_solve(case, warm.state)
         except SolveError:  # a neighbour too far away: start from the catenary
-            pb, react, stats, s_t, s_l = solve_problem(case)
+            pass
+    return _checked_solve(case)
+
+
+def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
+    """Solve, build the result and refuse it if it is not finite or a contact pulls."""
+    pb, react, stats, s_t, s_l = solve_problem(case, warm)
     columns = build_profile(case, pb, react)
     summary = build_summary(case, pb, columns, stats, s_t, s_l)
     bad = [key for key, val in summary.items() if isinstance(val, float) and np.isinf(val)]
