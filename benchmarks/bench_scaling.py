@@ -8,7 +8,8 @@ below 2000 elements, 1 above), the Newton iterations, and the time per
 iteration and element [us], which stays flat when the cost grows linearly.
 The peak resident memory of a fresh process that imports, compiles and solves
 the largest mesh is measured (``ru_maxrss``), beside that of the same process
-before the large solve: the import and compilation usually set the peak. Machine and versions are printed with the table; the CSV
+before the large solve: the import and compilation usually set the peak.
+Machine and versions are printed with the table; the CSV
 goes to --out (default benchmarks/out/scaling.csv).
 """
 

@@ -619,7 +619,8 @@ def solve(case: Case, *, warm: Result | None = None, allow_unvalidated: bool = F
         case, the load step, the residual and the reason.
     """
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
-        raise ValueError(f"warm: expected a Result from pipelay_fast.solve, got {type(warm).__name__}")
+        raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
+                         f"{type(warm).__name__}")
     if warm is not None:
         try:
             return _checked_solve(case, warm.state)
