@@ -597,14 +597,13 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
     return new
 
 
-def solve(case: Case, *, warm: Result | None = None, allow_unvalidated: bool = False) -> Result:
+def solve(case: Case, *, warm: Result | None = None) -> Result:
     """Solve one case.
 
     ``warm``: the result of a neighbouring case (same dimension and lay method,
     e.g. the previous `a` of a sweep); Newton starts from its solution on its
     mesh instead of from the catenary guess, and falls back to the catenary
-    guess if that fails. ``allow_unvalidated`` is accepted and ignored (S-lay
-    and the friction path were gated by it before they were validated).
+    guess if that fails (or if its answer is refused).
 
     Returns
     -------
