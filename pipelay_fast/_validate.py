@@ -11,9 +11,25 @@ import dataclasses
 import difflib
 import math
 import numbers
-from collections.abc import Mapping
+import tomllib
+from collections.abc import Callable, Mapping
+from pathlib import Path
 
 import numpy as np
+
+
+def from_toml(path: Path, build: Callable[[Mapping], object]):
+    """``build(tables)`` of the TOML file ``path``; a syntax error or a
+    ValueError of ``build`` is raised as a ValueError prefixed by the path."""
+    with path.open("rb") as stream:
+        try:
+            tables = tomllib.load(stream)
+        except tomllib.TOMLDecodeError as err:
+            raise ValueError(f"{path}: invalid TOML: {err}") from None
+    try:
+        return build(tables)
+    except ValueError as err:
+        raise ValueError(f"{path}: {err}") from None
 
 
 def fail(path, value, problem):

@@ -17,7 +17,6 @@ import copy
 import dataclasses
 import math
 import os
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -29,6 +28,7 @@ from pipelay_fast._validate import (
     choice,
     fail,
     flag,
+    from_toml,
     get_path,
     instance,
     integer,
@@ -716,15 +716,7 @@ def load_case(source: str | os.PathLike | Mapping) -> Case:
     if not isinstance(source, (str, os.PathLike)):
         raise TypeError(f"load_case needs a path or a dict, not {type(source).__name__}")
     path = Path(source)
-    with path.open("rb") as stream:
-        try:
-            tables = tomllib.load(stream)
-        except tomllib.TOMLDecodeError as err:
-            raise ValueError(f"{path}: invalid TOML: {err}") from None
-    try:
-        return _case_from_tables(tables, path.stem)
-    except ValueError as err:
-        raise ValueError(f"{path}: {err}") from None
+    return from_toml(path, lambda tables: _case_from_tables(tables, path.stem))
 
 
 def _case_from_tables(tables: Mapping, default_name: str) -> Case:

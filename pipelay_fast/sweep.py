@@ -50,7 +50,6 @@ import math
 import numbers
 import os
 import re
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib.resources import files
@@ -58,7 +57,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ._validate import fail, put_path, reject_unknown
+from ._validate import fail, from_toml, put_path, reject_unknown
 from .case import Case, load_case
 from .results import case_id
 
@@ -265,15 +264,7 @@ def load_sweep(source: str | os.PathLike | Mapping, *, base_dir=None) -> Sweep:
     if isinstance(source, Mapping):
         return _sweep_from(source, Path(base_dir or "."), "sweep", "")
     path = Path(source)
-    with path.open("rb") as stream:
-        try:
-            tables = tomllib.load(stream)
-        except tomllib.TOMLDecodeError as err:
-            raise ValueError(f"{path}: invalid TOML: {err}") from None
-    try:
-        return _sweep_from(tables, path.parent, path.stem, str(path))
-    except ValueError as err:
-        raise ValueError(f"{path}: {err}") from None
+    return from_toml(path, lambda tables: _sweep_from(tables, path.parent, path.stem, str(path)))
 
 
 def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -> Sweep:
