@@ -1,16 +1,20 @@
 """Contact laws as kernels: the stinger's geometry, contact regions, the tip,
 seabed friction.
 
-All contacts act through the condensation in :mod:`.newton`: a contact node's
-unknowns are prescribed in its nodal frame and its reaction is read back from
-the constrained rows. This module decides which nodes are in contact:
+Normal contacts act through the condensation in :mod:`.newton`: a contact
+node's unknowns are prescribed in its nodal frame and its reaction is read
+back from the constrained rows. This module decides which nodes are in
+contact, and carries the seabed friction:
 
 * :func:`update_region`: a contiguous contact region (the seabed from the
   lower end, the stinger from the top) grows past penetrating nodes and
   shrinks where its boundary node pulls;
 * :func:`tip_geometry`: the stinger's tip as a point against the element above
   it (a Lagrange multiplier, solved as a bordered unknown);
-* :func:`update_friction`: stick or slip of each seabed contact.
+* :func:`friction_forces`, :func:`friction_track`, :func:`friction_commit`:
+  an elastic-perfectly-plastic friction spring at each seabed contact (a
+  force in the residual, not a constraint), its normal reaction tracked each
+  iteration and its anchor moved by the return mapping at the end of a step.
 """
 
 from __future__ import annotations

@@ -10,9 +10,11 @@ Python/numba boundary once per load step:
    unknowns are solved from the band system and the reactions recovered from
    the constrained rows, ``R_c = G_c + K_cf du_f + K_cc du_c``;
 4. a backtracking line search on the weighted residual norm;
-5. active-set update: nodes that penetrate the seabed are added, nodes whose
-   reaction pulls are released; converged when the residual is below the
-   tolerance, the constraints hold and the active set no longer changes.
+5. active-set update: nodes that penetrate the seabed or the stinger are
+   added, nodes whose reaction pulls are released (:mod:`.contact`); seabed
+   friction enters as spring forces in G and K, not as constraints; converged
+   when the residual is below the tolerance, the constraints hold and the
+   active set no longer changes.
 
 When the top tension is given, the bottom tension T_b is one more unknown with
 the equation Te(top) = R_top . t_top - T_top = 0 (the reaction at the pinned top
@@ -288,23 +290,20 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     cuts_total = 0
     it = 0
     fr_out = np.zeros(n)
-    # A node the mesh put on the tip (to 2 % of its elements) sits on either
-    # side of z_L as it slides between iterations: within tip_tol of the tip
-    # it is held laterally, so that it does not flip between held and free.
-    tip_tol = np.zeros(nn)
-    for node in range(nn):
-        h_near = s_el[min(node, nn - 2)]
-        if node > 0:
-            h_near = min(h_near, s_el[node - 1])
-        tip_tol[node] = 0.05 * h_near
     # nodes held laterally by the stinger: those over its z range at the start
-    # of the step (fixed during it)
+    # of the step, fixed during it. A node the mesh put on the tip (to 2 % of
+    # its elements) sits on either side of z_L as it slides between
+    # iterations: within 5 % of its elements of the tip it is held too, so
+    # that it does not flip between held and free.
     y_held = np.zeros(nn, dtype=np.bool_)
     if nd == 3 and stinger[ST_ON] != 0.0:
         for node in range(nn):
+            h_near = s_el[min(node, nn - 2)]
+            if node > 0:
+                h_near = min(h_near, s_el[node - 1])
             z_n = u[node * ndn + nd - 1]
             y_held[node] = (node != top_node and fix_mask[node * ndn] == 0
-                            and stinger[ST_ZL] - tip_tol[node] <= z_n <= stinger[ST_ZU])
+                            and stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU])
     for it in range(1, maxit + 1):
         # ---- 0: nodal frames of the stinger contacts ---------------------
         if has_stinger:
