@@ -264,7 +264,7 @@ def build_profile(case: Case, pb, react) -> dict:
         "von_mises": vm, "seabed_reaction": seabed, "seabed_reaction_y": seabed_y,
         "stinger_reaction": stinger,
         "reaction_x": reaction[:, 0], "reaction_y": reaction[:, 1], "reaction_z": reaction[:, 2],
-        "slipping": act & (pb.fric[:, L.FR_DIR] != 0.0),
+        "slipping": act & ((pb.fric[:, L.FR_DIR] != 0.0) | (pb.fric[:, L.FR_DIRZ] != 0.0)),
         "contact": contact.astype(str),
     }
 
