@@ -16,7 +16,7 @@ import pandas as pd
 
 from .case import Case
 from .kernels import layout as L
-from .kernels.contact import ST_ON, tip_geometry
+from .kernels.contact import ST_ON, lateral_hold, tip_geometry
 
 PROFILE_UNITS = {
     "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
@@ -82,8 +82,14 @@ class Result:
                 f"max_von_mises={sm['max_von_mises'] / 1e6:.2f} MPa, {sm['n_elements']} elements)")
 
 
-def nodal_fields(nd, s, u):
-    """r, r' and r'' at the nodes [m, -, 1/m]; r'' averaged over the two elements."""
+def nodal_fields(nd, s, u, clamped=None):
+    """r, r' and r'' at the nodes [m, -, 1/m].
+
+    r'' is averaged over the two elements of a node, except at a node in
+    ``clamped`` (a boolean per node: its slope is held there and the element
+    below it is free, as at the stinger's tip under the lateral hold). The held
+    side carries the constraint's couple there, so r'' is the free side's.
+    """
     ndn = 2 * nd + 1
     nn = s.size
     r = np.stack([u[i::ndn] for i in range(nd)], axis=1)
@@ -97,7 +103,19 @@ def nodal_fields(nd, s, u):
     rpp[:-1] += start
     rpp[1:] += end
     rpp[1:-1] *= 0.5
+    if clamped is not None:
+        edge = np.flatnonzero(clamped[1:] & ~clamped[:-1]) + 1
+        rpp[edge] = end[edge - 1]
     return r, rp, rpp
+
+
+def lateral_clamp(pb) -> np.ndarray | None:
+    """Nodes the stinger holds laterally (3D S-lay), as the Newton kernel holds them."""
+    if pb.nd != 3 or pb.stinger[ST_ON] == 0.0:
+        return None
+    held = np.zeros(pb.nn, dtype=np.bool_)
+    lateral_hold(pb.nd, pb.s_el, pb.u, pb.stinger, pb.top_node, pb.fix_mask, held)
+    return held
 
 
 def signed_curvature_vector(nd, rp, rpp):
@@ -202,7 +220,7 @@ def build_profile(case: Case, pb, react) -> dict:
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
     pipe = case.pipe
     ei = pipe.bending_stiffness
-    r, rp, rpp = nodal_fields(nd, s, u)
+    r, rp, rpp = nodal_fields(nd, s, u, lateral_clamp(pb))
     kvec, t3 = signed_curvature_vector(nd, rp, rpp)
     torque = float(pb.props[L.TORQUE]) if nd == 3 else 0.0
     mom = ei * kvec + torque * t3

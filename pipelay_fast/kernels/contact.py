@@ -11,6 +11,7 @@ contact, and carries the seabed friction:
   shrinks where its boundary node pulls;
 * :func:`tip_geometry`: the stinger's tip as a point against the element above
   it (a Lagrange multiplier, solved as a bordered unknown);
+* :func:`lateral_hold`: the nodes the stinger holds laterally in 3D;
 * :func:`friction_forces`, :func:`friction_track`, :func:`friction_commit`:
   an elastic-perfectly-plastic friction spring at each seabed contact (a
   force in the residual, not a constraint), its normal reaction tracked each
@@ -58,6 +59,30 @@ def stinger_gap(stinger, x, z):
     """Normal clearance [m] of the point (x, z) above the stinger (negative inside)."""
     f = (stinger[ST_A] * z + stinger[ST_B]) * z + stinger[ST_C]
     return (x - f) * math.cos(stinger_angle(stinger, z))
+
+
+@jit
+def lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, held):
+    """Mark in ``held`` the nodes the stinger holds laterally (3D): those over
+    its z range, the held top and fixed nodes excepted. They are held on the
+    stinger's plane and tangent to it (y = 0 and y' = 0), so the free span
+    below the tip is clamped laterally there.
+
+    A node the mesh put on the tip sits on either side of z_L as it slides
+    between iterations: within 5 % of its elements of the tip it is held too,
+    so that it does not flip between held and free.
+    """
+    nn = held.shape[0]
+    ndn = 2 * nd + 1
+    for node in range(nn):
+        held[node] = False
+        if nd != 3 or stinger[ST_ON] == 0.0 or node == top_node or fix_mask[node * ndn] != 0:
+            continue
+        h_near = s_el[min(node, nn - 2)]
+        if node > 0:
+            h_near = min(h_near, s_el[node - 1])
+        z_n = u[node * ndn + nd - 1]
+        held[node] = stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU]
 
 
 @jit

@@ -46,6 +46,7 @@ from .contact import (
     friction_commit,
     friction_forces,
     friction_track,
+    lateral_hold,
     stinger_angle,
     stinger_gap,
     tip_geometry,
@@ -290,20 +291,9 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     cuts_total = 0
     it = 0
     fr_out = np.zeros(n)
-    # nodes held laterally by the stinger: those over its z range at the start
-    # of the step, fixed during it. A node the mesh put on the tip (to 2 % of
-    # its elements) sits on either side of z_L as it slides between
-    # iterations: within 5 % of its elements of the tip it is held too, so
-    # that it does not flip between held and free.
+    # nodes held laterally by the stinger, fixed during the step
     y_held = np.zeros(nn, dtype=np.bool_)
-    if nd == 3 and stinger[ST_ON] != 0.0:
-        for node in range(nn):
-            h_near = s_el[min(node, nn - 2)]
-            if node > 0:
-                h_near = min(h_near, s_el[node - 1])
-            z_n = u[node * ndn + nd - 1]
-            y_held[node] = (node != top_node and fix_mask[node * ndn] == 0
-                            and stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU])
+    lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, y_held)
     for it in range(1, maxit + 1):
         # ---- 0: nodal frames of the stinger contacts ---------------------
         if has_stinger:
@@ -386,9 +376,11 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                     if node > 0 and st_active[node - 1] != 0:
                         cmask[base + nd] = True
                         delta[base + nd] = -_local_value(nd, u, node, nd, phi_r, phi_rp)
-                if y_held[node]:
-                    cmask[base + 1] = True  # held laterally over the stinger
+                if y_held[node]:  # on the stinger's plane and tangent to it
+                    cmask[base + 1] = True
                     delta[base + 1] = -u[base + 1]
+                    cmask[base + nd + 1] = True
+                    delta[base + nd + 1] = -u[base + nd + 1]
         for i in range(n):
             slot = i % ndn
             lim = href if slot < nd else 1.0
