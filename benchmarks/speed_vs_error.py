@@ -6,7 +6,8 @@ Scenes: the bundled case files j125 (J-lay 2D, no current), j125_3d (J-lay,
 lateral current, seabed friction), s67, s67_3d, s125 and s125_3d (S-lay).
 For each scene and each model choice (one row per scene x choice x setting):
 
-* ``element_length``: ``solver.element_length`` in LENGTHS [m] (1 m: default);
+* ``element_length``: ``solver.element_length`` in LENGTHS [m] (the default
+  is ``Solver().element_length``, the value the bundled case files state);
 * ``grading``: ``solver.grading`` on / off at GRADING_LENGTHS [m];
 * ``dimension``: ``solver.dimension`` "2d" / "3d" (planar scenes only);
 * ``seabed``: rigid (default) / elastic, ``seabed.stiffness`` = SEABED_STIFFNESS;
@@ -49,6 +50,7 @@ import pandas as pd  # noqa: E402
 from bench_jlay import machine_info  # noqa: E402
 
 import pipelay_fast as pf  # noqa: E402
+from pipelay_fast.case import Solver  # noqa: E402
 from pipelay_fast.guess import first_guess  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
@@ -57,6 +59,7 @@ SCENES = ("j125", "j125_3d", "s67", "s67_3d", "s125", "s125_3d")
 PLANAR = ("j125", "s67", "s125")
 
 LENGTHS = (8.0, 4.0, 2.0, 1.0)  # m, solver.element_length
+DEFAULT_LENGTH = Solver().element_length  # m
 QUICK_LENGTHS = (8.0, 2.0)
 GRADING_LENGTHS = (4.0, 2.0)  # m, element lengths of the grading on/off rows
 SEABED_STIFFNESS = 1e6  # N/m per m of pipe, the elastic seabed
@@ -334,7 +337,8 @@ def summary_md(df, info, meta, quick) -> str:
            "Errors against a mesh-converged reference per scene "
            f"({REFERENCE}): vm_rel_error of `max_von_mises` [-], tdp_error_m and "
            "liftoff_error_m [m] (S-lay only). The elastic seabed and 3D rows are compared "
-           "with the reference of the default model. Defaults: element_length 1 m, grading on, "
+           "with the reference of the default model. "
+           f"Defaults: element_length {DEFAULT_LENGTH:g} m, grading on, "
            "rigid seabed, cold start (`is_default`: the rows that are this same case and solve). "
            "The warm time excludes the neighbour's own solve. The catenary has no stress "
            "(vm_rel_error `-`). Figures (error against time, Pareto front, defaults starred) "

@@ -467,7 +467,7 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
     return pb, react, stats, s_t, liftoff_position(case, pb)
 
 
-def apply_current(case: Case, pb: Problem, first_step=0.25, max_step=0.25):
+def apply_current(case: Case, pb: Problem, first_step=0.5, max_step=0.5):
     """Raise the current factor from 0 to 1 in load steps (friction follows
     this path), halving a step that fails; at most ``max_step`` per step."""
     factor, step = 0.0, first_step

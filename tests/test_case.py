@@ -233,7 +233,7 @@ def test_defaults_of_a_minimal_j_lay_case():
     assert lay.distributed_moment == (0.0, 0.0, 0.0)
     solver = case.solver
     assert (solver.dimension, solver.element_length, solver.min_element_length) == (
-        "auto", 1.0, None)
+        "auto", 4.0, None)
     assert (solver.grading, solver.laid_length, solver.tolerance) == (True, None, 1e-8)
     assert (solver.max_iterations, solver.max_load_steps) == (100, 64)
 
@@ -254,7 +254,7 @@ def test_example_files_load_and_round_trip(name):
     assert case.name == name
     assert case.pipe == Pipe(DO, DI, DC, RHO_STEEL, RHO_COATING, hydrodynamic_diameter=DC)
     assert case.lay.top_tension == 580e3
-    assert case.solver.element_length == 1.0
+    assert case.solver.element_length == 4.0
     assert case.is_planar
     assert load_case(case.to_dict()) == case
     assert hash(load_case(case.to_dict())) == hash(case)
@@ -428,7 +428,7 @@ BAD_INPUTS = [
     ({"solver.dimension": "4d"}, "solver.dimension"),
     ({"solver.dimension": "2d", "environment.current.heading": 90.0}, "solver.dimension"),
     ({"solver.element_length": 0.0}, "solver.element_length"),
-    ({"solver.min_element_length": 2.0}, "solver.min_element_length"),
+    ({"solver.min_element_length": 8.0}, "solver.min_element_length"),
     ({"solver.min_element_length": 0.0}, "solver.min_element_length"),
     ({"solver.laid_length": 0.0}, "solver.laid_length"),
     ({"solver.grading": "no"}, "solver.grading"),

@@ -130,14 +130,16 @@ def test_current_at_45_degrees_splits_between_the_planes(j125):
 def test_three_metres_per_second_lateral_current():
     """J125 under a 3 m/s lateral current on a seabed with friction: long
     slipping lengths. Either it converges, with friction on its cone where it
-    slips, or it says it failed (today: touchdown is not located under this
-    current, and the answer is refused)."""
+    slips, or it says it failed (today it does: near the full current the
+    Newton iteration diverges, or touchdown is not located and the answer is
+    refused, depending on the mesh)."""
     case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes(
         {"environment.current.speed": 3.0})
     try:
         result = pf.solve(case)
     except pf.SolveError as err:
-        assert "j125" in str(err) and "not returned" in str(err)
+        text = str(err)
+        assert "j125" in text and ("not returned" in text or "did not converge" in text)
         return
     assert_admissible(case, result)
     prof = result.profile
@@ -148,8 +150,10 @@ def test_three_metres_per_second_lateral_current():
 
 
 def test_inextensible_slay():
+    # 1 m elements: weight_of finds the water surface by linear interpolation
     case = pf.load_case(EXAMPLES / "s67.toml").with_changes(
-        {"pipe.extensible": False, "environment.current.speed": 0.0})
+        {"pipe.extensible": False, "environment.current.speed": 0.0,
+         "solver.element_length": 1.0})
     result = pf.solve(case)
     assert_admissible(case, result)
     # the centreline keeps its length (the wall strain Tw/EA is still reported,

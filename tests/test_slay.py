@@ -29,7 +29,7 @@ def test_stinger_reactions_are_frictionless_and_push(s67, still):
     prof = still.profile
     st = s67.lay.stinger
     on = (prof["contact"] == "stinger").to_numpy()
-    assert on.sum() > 50
+    assert on.sum() > 20  # the stinger arc of about 135 m, in 4 m elements or finer
     slope = np.asarray(st.slope(prof["z"].to_numpy()[on]))
     tangent = np.stack([slope, np.ones_like(slope)], axis=1) / np.hypot(slope, 1.0)[:, None]
     force = prof[["reaction_x", "reaction_z"]].to_numpy()[on]
