@@ -14,6 +14,7 @@ import pytest
 from conftest import EXAMPLES
 
 import pipelay_fast as pf
+from pipelay_fast.solver import slipping_length_bound
 
 
 def lateral_drag(case, prof):
@@ -85,6 +86,22 @@ def test_slipping_length_grows_with_the_current(lateral, j125):
     assert lengths[1] > 2.0 * lengths[0]
     for length, bound in zip(lengths, bounds, strict=True):
         assert 0.5 * bound < length <= bound * (1 + 1e-6)
+
+
+def test_laid_length_bound_holds_the_slipping_zone(lateral):
+    """The laid length is sized before the solve by a taut-string bound on the
+    slipping length: it bounds the length found, without overshooting it by
+    more than 3 times, so the held lower end carries under 1 % of the laid
+    pipe's lateral force and no second, longer mesh is needed."""
+    for case, res in lateral.values():
+        prof = res.profile
+        slip = prof[prof["slipping"]]
+        found = slip["s"].max() - slip["s"].min()
+        bound = slipping_length_bound(case, res.summary["bottom_tension"])
+        assert found < bound < 3.0 * found
+        bed = (prof["contact"] == "seabed").to_numpy()
+        lower = abs(prof["reaction_y"].iloc[0])
+        assert lower < 0.01 * np.abs(prof["reaction_y"].to_numpy()[bed]).sum()
 
 
 def test_stiffer_friction_spring_approaches_rigid_coulomb(lateral):
