@@ -468,9 +468,14 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
     return pb, react, stats, s_t, liftoff_position(case, pb)
 
 
-def apply_current(case: Case, pb: Problem, first_step=0.5, max_step=0.5):
+def apply_current(case: Case, pb: Problem, first_step=0.25, max_step=0.25):
     """Raise the current factor from 0 to 1 in load steps (friction follows
-    this path), halving a step that fails; at most ``max_step`` per step."""
+    this path), halving a step that fails; at most ``max_step`` per step.
+
+    Steps of 0.5 save a quarter of the iterations and give the same answer on
+    meshes of 1 m and coarser, but on S125 3D at 0.05 m they follow another
+    slip path (slipping length 25 m against 15.6 m, peak stress 0.5 % lower).
+    """
     factor, step = 0.0, first_step
     stats = {"iterations": 0, "load_steps": 0}
     tol, maxit = case.solver.tolerance, case.solver.max_iterations
