@@ -1,13 +1,21 @@
-"""Peers: the same cable solved by MoorPy's catenary (a mooring-line solver).
+"""Peers: the same scenes solved by other engines.
 
-J125 with EI a million times smaller (the cable limit), inextensible, the
-hang-off at the water surface (all of the pipe submerged, so one weight), and
-the pipe length given with its lower end on the seabed at z = 0: MoorPy's
-``catenary`` (line from an anchor at (0, 0) to a fairlead at (z_top, x_top),
-seabed contact without friction) gives the horizontal and vertical fairlead
-forces and the length on the seabed. Skipped when MoorPy is not installed
-(extras ``test`` and ``peers``).
-"""
+MoorPy's catenary (a mooring-line solver): J125 with EI a million times
+smaller (the cable limit), inextensible, the hang-off at the water surface
+(all of the pipe submerged, so one weight), and the pipe length given with its
+lower end on the seabed at z = 0: MoorPy's ``catenary`` (line from an anchor at
+(0, 0) to a fairlead at (z_top, x_top), seabed contact without friction) gives
+the horizontal and vertical fairlead forces and the length on the seabed.
+
+OpenSees (``tests/reference/opensees_peer.py``): J125 and S67 in 2D with the
+current off (OpenSees has no deformation-dependent drag), corotational elastic
+beams from a straight line, compression-only seabed and stinger springs; peaks,
+tensions, touchdown and lift-off compared at 1 m elements (observed: stresses
+and sagbend moments within 6e-5, overbend moment 2e-4, tensions 2e-5,
+touchdown 0.12 m, lift-off 3 cm).
+
+Skipped when MoorPy or openseespy is not installed (extras ``test`` and
+``peers``)."""
 
 from __future__ import annotations
 
@@ -41,3 +49,48 @@ def test_cable_limit_matches_moorpy(j125, length):
     layer = np.sqrt(case.pipe.bending_stiffness / horizontal)
     assert ours["tdp_z"] == pytest.approx(info["LBot"], abs=2.0 * layer)
     assert ours["suspended_length"] == pytest.approx(length - info["LBot"], abs=2.0 * layer)
+
+
+# --------------------------------------------------------------------------- OpenSees
+
+PEER_ELEMENT = 1.0  # m, both tools' element length (pipelay_fast grades its mesh)
+PEER_RTOL = 0.01  # -, stresses, moments and tensions
+PEER_TDP_TOL = 0.25  # m, touchdown (observed: under 0.12 m at 1 m elements)
+
+
+def _peer_pair(name):
+    """(pipelay_fast summary, OpenSees result) for a bundled scene, current off."""
+    from conftest import EXAMPLES
+    from reference import opensees_peer
+
+    pytest.importorskip("openseespy.opensees", reason="openseespy not installed")
+    case = pf.load_case(EXAMPLES / f"{name}.toml").with_changes(
+        {"environment.current.speed": 0.0, "solver.element_length": PEER_ELEMENT})
+    return pf.solve(case).summary, opensees_peer.solve(case, PEER_ELEMENT)
+
+
+@pytest.mark.parametrize("name", ["j125", "s67"])
+def test_opensees_peer_agrees(name):
+    """An OpenSees corotational-beam model of the scene, solved from a straight
+    line with compression-only seabed (and stinger) springs, gives the same
+    peaks, tensions and touchdown (tests/reference/opensees_peer.py)."""
+    ours, peer = _peer_pair(name)
+    theirs = peer.summary
+    keys = ["max_von_mises", "sagbend_max_von_mises", "sagbend_max_moment", "top_tension",
+            "bottom_tension"]
+    if name == "s67":
+        keys += ["overbend_max_von_mises", "overbend_max_moment"]
+    for key in keys:
+        assert theirs[key] == pytest.approx(ours[key], rel=PEER_RTOL), key
+    assert theirs["tdp_z"] == pytest.approx(ours["tdp_z"], abs=PEER_TDP_TOL)
+    if name == "s67":
+        assert theirs["liftoff_z"] == pytest.approx(ours["liftoff_z"], abs=2.0 * PEER_ELEMENT)
+    # the peer's own checks: contacts barely penetrate, the stinger springs'
+    # tangent lines stay on the curve, the lower end lies on the seabed
+    checks = peer.stats
+    assert checks["bed_penetration_max"] < 1e-5
+    assert abs(checks["lower_end_height"]) < 1e-5
+    if name == "s67":
+        assert checks["stinger_slide_max"] < 0.05
+        assert checks["stinger_curve_gap_min"] > -1e-5
+        assert checks["stinger_free_clearance_min"] > -1e-5
