@@ -46,6 +46,7 @@ CS_HIST = 4  # the N_HIST most recent boundaries follow
 N_HIST = 32
 N_CSTATE = CS_HIST + N_HIST
 CLAMP_PULL = 20.0  # pull next to a boundary, in mean support reactions, that releases it
+CYCLE_DEPTH = 10.0  # penetration, in pen_frozen, that takes a frozen boundary back
 
 
 @jit
@@ -110,7 +111,9 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
     beyond the support would clamp the pipe at the tip, a convex corner). When the
     boundary falls inside an element it cycles between nearby nodes: once a
     change would return it to one of its last N_HIST (32) positions the region is
-    extended only past penetrations deeper than ``pen_frozen`` [m], so the
+    frozen: it is extended only past penetrations deeper than ``pen_frozen``
+    [m], and back to one of those positions only past CYCLE_DEPTH times
+    deeper ones, so the
     iteration ends with every reaction pushing and at most a
     discretisation-sized penetration next to it, which the caller removes by
     moving a node onto the boundary.
@@ -130,11 +133,16 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
     deepest = -1
     # frozen, only a penetration beyond discretisation size still extends
     limit = pen_tol if cs[CS_FROZEN] == 0 else pen_frozen
+    depth = 0.0
     for p in range(last + 1, nn):
         node = p if sign > 0 else nn - 1 - p
         if gap[node] < -limit:
             deepest = p
-    if deepest >= 0 and cs[CS_FROZEN] == 0 and _seen(cs, deepest):
+            depth = max(depth, -gap[node])
+    # back to a boundary it has held: it cycles, and is frozen; frozen, it
+    # goes back only past a penetration of CYCLE_DEPTH times pen_frozen
+    if deepest >= 0 and _seen(cs, deepest) and (cs[CS_FROZEN] == 0
+                                                or depth < CYCLE_DEPTH * pen_frozen):
         cs[CS_FROZEN] = 1
         deepest = -1
     if deepest >= 0:
