@@ -260,6 +260,16 @@ def report(res: dict) -> str:
     return "\n".join(out) + "\n"
 
 
+def write(res: dict, out: Path) -> str:
+    """The CSV, JSON and markdown into ``out``; returns the markdown."""
+    out.mkdir(parents=True, exist_ok=True)
+    res["rows"].to_csv(out / "peers_opensees.csv", index=False)
+    (out / "peers_opensees.json").write_text(json.dumps(res["meta"], indent=2, default=str))
+    md = report(res)
+    (out / "peers_opensees.md").write_text(md)
+    return md
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
@@ -271,11 +281,7 @@ def main(argv=None):
     for k, v in info.items():
         print(f"{k}: {v}")
     res = run(args.quick)
-    res["rows"].to_csv(args.out / "peers_opensees.csv", index=False)
-    (args.out / "peers_opensees.json").write_text(json.dumps(res["meta"], indent=2,
-                                                             default=str))
-    md = report(res)
-    (args.out / "peers_opensees.md").write_text(md)
+    md = write(res, args.out)
     print(md)
     print(f"wrote {args.out / 'peers_opensees.csv'}, .md and .json "
           f"in {res['meta']['run_s']:.0f} s")
