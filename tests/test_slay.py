@@ -236,3 +236,25 @@ def test_lateral_hold_clamps_the_free_span_at_the_tip():
         assert abs(mz[tip] - mz[tip - 1]) < 0.1 * abs(mz[tip])
     vm_c, vm_f = coarse.summary["max_von_mises"], fine.summary["max_von_mises"]
     assert abs(vm_c - vm_f) / vm_f < 1e-3
+
+
+def test_a_node_sliding_off_the_tip_does_not_cycle():
+    """S125 3D on 2 m elements near a = -0.00168: a node at the stinger's tip
+    slid off it and back on at every iteration (the boundary it slid off was
+    not in the contact history, so the cycle was never frozen) and the solve
+    failed. Every a converges now; the peak stress (at the tip) rises
+    linearly with |a| there (slopes within 10 %), and agrees with 4 m
+    elements to 1e-3."""
+    base = pf.load_case(EXAMPLES / "s125_3d.toml")
+    grid = [-0.001675, -0.001679, -0.00168, -0.001681, -0.001685]
+
+    def peaks(h):
+        return np.array([pf.solve(base.with_changes({"solver.element_length": h,
+                                                      "lay.stinger.a": a})).summary[
+            "max_von_mises"] for a in grid])
+
+    vm = peaks(2.0)
+    slope = np.diff(vm) / np.diff(grid)
+    assert np.all(slope < 0.0)  # more negative a: more stress at the tip
+    assert np.ptp(slope) < 0.1 * np.abs(slope).mean()
+    np.testing.assert_allclose(vm, peaks(4.0), rtol=1e-3)

@@ -120,10 +120,19 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
     """
     nn = active.shape[0]
     changed = False
+    held = -1
+    for p in range(nn):
+        node = p if sign > 0 else nn - 1 - p
+        if active[node] != 0:
+            held = p
     for node in range(nn):
         if active[node] != 0 and gap[node] == np.inf:
             active[node] = 0  # slid off the support (past the stinger's tip)
             changed = True
+    if changed:  # the boundary it slid off joins the history (a node can slide
+        # off the tip and back on each iteration)
+        cs[CS_HIST + cs[CS_COUNT] % N_HIST] = held
+        cs[CS_COUNT] += 1
     last = -1
     for p in range(nn):
         node = p if sign > 0 else nn - 1 - p
