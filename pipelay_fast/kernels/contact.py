@@ -95,6 +95,18 @@ def _seen(cs, p):
 
 
 @jit
+def _boundary(active, sign):
+    """Position (counted from the region's end) of its last active node; -1: none."""
+    nn = active.shape[0]
+    last = -1
+    for p in range(nn):
+        node = p if sign > 0 else nn - 1 - p
+        if active[node] != 0:
+            last = p
+    return last
+
+
+@jit
 def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
     """Active-set update of one contiguous contact region; returns True if changed.
 
@@ -112,19 +124,14 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
     boundary falls inside an element it cycles between nearby nodes: once a
     change would return it to one of its last N_HIST (32) positions the region is
     frozen: it is extended only past penetrations deeper than ``pen_frozen``
-    [m], and back to one of those positions only past CYCLE_DEPTH times
-    deeper ones, so the
-    iteration ends with every reaction pushing and at most a
+    [m], and back to one of those positions only past CYCLE_DEPTH times deeper
+    ones. The iteration so ends with every reaction pushing and at most a
     discretisation-sized penetration next to it, which the caller removes by
     moving a node onto the boundary.
     """
     nn = active.shape[0]
     changed = False
-    held = -1
-    for p in range(nn):
-        node = p if sign > 0 else nn - 1 - p
-        if active[node] != 0:
-            held = p
+    held = _boundary(active, sign)
     for node in range(nn):
         if active[node] != 0 and gap[node] == np.inf:
             active[node] = 0  # slid off the support (past the stinger's tip)
@@ -133,11 +140,7 @@ def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
         # off the tip and back on each iteration)
         cs[CS_HIST + cs[CS_COUNT] % N_HIST] = held
         cs[CS_COUNT] += 1
-    last = -1
-    for p in range(nn):
-        node = p if sign > 0 else nn - 1 - p
-        if active[node] != 0:
-            last = p
+    last = _boundary(active, sign)
     direction = 0
     deepest = -1
     # frozen, only a penetration beyond discretisation size still extends
