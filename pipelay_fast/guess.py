@@ -173,7 +173,8 @@ def _slay_bottom_tension(case: Case) -> float:
 
 
 def first_guess(case: Case, laid_default) -> Guess:
-    """The first shape; ``laid_default(h)`` gives the laid length for tension h."""
+    """The first shape; ``laid_default(cat)`` gives the laid length behind the
+    suspended span's natural catenary ``cat``."""
     lay = case.lay
     if lay.method == "J":
         cat = free_span(case)
@@ -181,14 +182,14 @@ def first_guess(case: Case, laid_default) -> Guess:
         if lay.pipe_length is not None:
             laid = lay.pipe_length - susp
         else:
-            laid = case.solver.laid_length or laid_default(cat.h)
+            laid = case.solver.laid_length or laid_default(cat)
         return Guess(cat, laid, None, laid + susp)
     if lay.pipe_length is not None:
         z_lo, at_tip, cat, arc = _slay_span(case, _slay_bottom_tension(case))
         laid = lay.pipe_length - cat.length - arc
     else:
         z_lo, at_tip, cat, arc = _slay_span(case)
-        laid = case.solver.laid_length or laid_default(cat.h)
+        laid = case.solver.laid_length or laid_default(cat)
     s_lo = laid + cat.length
     return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, at_tip=at_tip)
 

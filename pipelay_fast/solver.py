@@ -113,9 +113,9 @@ def build_problem(case: Case) -> Problem:
     ndn = 2 * nd + 1
     h_max = case.solver.element_length
 
-    def laid_default(h):
-        return (2.0 * math.sqrt(case.pipe.bending_stiffness / h) + 5.0 * h_max
-                + slipping_length_bound(case, h))
+    def laid_default(cat):
+        return (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
+                + slipping_length_bound(case, cat))
 
     g = first_guess(case, laid_default)
     h_max, h_min, lam = _mesh_sizes(case, g.cat.h)
@@ -670,31 +670,28 @@ def _check_contacts_push(case: Case, columns: dict):
             "the solution is not returned")
 
 
-def slipping_length_bound(case: Case, h: float) -> float:
+def slipping_length_bound(case: Case, cat) -> float:
     """Laid length [m] over which friction takes up the lateral drag's share at
     touchdown, so that the held lower end carries none (0 off the friction
     path or without a lateral current).
 
-    The suspended pipe as a taut string from touchdown to the top, of the
-    catenary's length for the bottom tension ``h`` [N], straight in height:
-    the lateral drag q(t) on it puts a share int q (1 - t) ds on touchdown,
-    which friction mu w carries over its slipping length. The string ignores
-    the pipe's lateral bending and the drag's fall as the pipe swings, so this
-    bounds the slipping length found (about twice it in J125, 1 and 2 m/s).
+    The suspended span, the natural catenary ``cat`` (:mod:`.catenary`), as a
+    taut string from touchdown to its top, straight in height: the lateral
+    drag q(t) on it puts a share int q (1 - t) ds on touchdown, which friction
+    mu w carries over its slipping length. The string ignores the pipe's
+    lateral bending and the drag's fall as the pipe swings, so this bounds the
+    slipping length found (about twice it in J125, 1 and 2 m/s).
     """
     ey = case.current_direction[0]
     if not (friction_path(case) and dimension_of(case) == 3 and ey != 0.0):
         return 0.0
-    top_x = case.lay.stinger.lower[0] if case.lay.stinger is not None else case.lay.top[0]
-    w = float(case.effective_weight(0.0))
-    rise = min(top_x, case.environment.water_depth)
-    span = math.sqrt(top_x**2 + 2.0 * h / w * top_x)  # catenary arc from its vertex [m]
     t = np.linspace(0.0, 1.0, 65)
     pipe = case.pipe
+    speed = np.asarray(case.current_speed_at(t * cat.x_top)) * ey
     q = (0.5 * case.environment.water_density * pipe.drag_coefficient
-         * pipe.hydrodynamic_diameter * (np.asarray(case.current_speed_at(t * rise)) * ey) ** 2)
-    share = span * float(np.sum(0.5 * (q[1:] * (1 - t[1:]) + q[:-1] * (1 - t[:-1])) * np.diff(t)))
-    return share / (case.seabed.lateral_friction * w)
+         * pipe.hydrodynamic_diameter * speed**2) * (1.0 - t)
+    share = cat.length * float(np.sum(0.5 * (q[1:] + q[:-1]) * np.diff(t)))
+    return share / (case.seabed.lateral_friction * float(case.effective_weight(0.0)))
 
 
 def friction_path(case: Case) -> bool:
