@@ -45,17 +45,24 @@ def weight_of(case, prof):
     return w_sub * s_surface + w_dry * (s[-1] - s_surface)
 
 
-def assert_admissible(case, result):
+def assert_balanced(case, result):
+    """Finite everywhere, the weight carried (no current), the top tension met."""
     prof = result.profile
     numeric = prof.select_dtypes("number")
     assert np.isfinite(numeric.to_numpy()).all()
-    contact = np.concatenate([prof["seabed_reaction"].to_numpy(),
-                              prof["stinger_reaction"].to_numpy()])
-    assert contact.min() >= -0.05 * contact.max()
     if case.environment.current.speed == 0.0:
         assert prof["reaction_x"].sum() == pytest.approx(weight_of(case, prof), rel=1e-5)
     if case.lay.top_tension is not None:
         assert result.summary["top_tension"] == pytest.approx(case.lay.top_tension, rel=1e-6)
+
+
+def assert_admissible(case, result):
+    """Balanced, and every contact pushing (to 5 % of the largest reaction)."""
+    assert_balanced(case, result)
+    prof = result.profile
+    contact = np.concatenate([prof["seabed_reaction"].to_numpy(),
+                              prof["stinger_reaction"].to_numpy()])
+    assert contact.min() >= -0.05 * contact.max()
 
 
 def solve_or_fail_clearly(case):
@@ -193,9 +200,8 @@ def test_touchdown_inside_an_element_on_uniform_meshes():
         mesh = {"solver.element_length": h, "solver.grading": False,
                 "solver.min_element_length": h}
         result = pf.solve(case.with_changes(mesh))
+        assert_balanced(case, result)
         prof = result.profile
-        assert prof["reaction_x"].sum() == pytest.approx(weight_of(case, prof), rel=1e-5)
-        assert result.summary["top_tension"] == pytest.approx(case.lay.top_tension, rel=1e-6)
         assert prof["x"].min() > -1e-3 * h
         reaction = prof["seabed_reaction"].to_numpy()
         last = np.flatnonzero(prof["contact"].to_numpy() == "seabed")[-1]
