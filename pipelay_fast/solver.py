@@ -614,7 +614,7 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
     Returns
     -------
     Result
-        ``.summary`` (dict, DESIGN section 4 columns) and ``.profile`` (DataFrame,
+        ``.summary`` (dict, the columns of ``results.SUMMARY_UNITS``) and ``.profile`` (DataFrame,
         one row per node).
 
     Raises

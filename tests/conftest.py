@@ -18,5 +18,5 @@ EXAMPLES = Path(pf.__file__).resolve().parent / "examples"
 
 @pytest.fixture(scope="session")
 def j125():
-    """The paper's J-lay scene (DESIGN section 6) as bundled."""
+    """The paper's J-lay scene as bundled (``pipelay_fast/examples/j125.toml``)."""
     return pf.load_case(EXAMPLES / "j125.toml")

@@ -15,7 +15,7 @@ from pipelay_fast.case import Case, Current, Pipe, Stinger, load_case
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "pipelay_fast" / "examples"
 
-# The paper's Table 1 pipe and sea (DESIGN.md section 6).
+# The paper's Table 1 pipe and sea, E as in pipelay_fast/examples/.
 DO, DI, DC = 0.61, 0.58, 0.71
 RHO_STEEL, RHO_COATING, RHO_WATER, G = 7900.0, 3000.0, 1025.0, 9.81
 E = 207e9

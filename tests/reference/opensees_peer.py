@@ -101,7 +101,7 @@ projected on the node's tangent (the line's angle plus the node's rotation),
 the internal moment m = M_j at an element's upper end and -M_i at its lower end
 (sagging positive, EI theta'); nodal values are the mean of the two elements
 meeting there (the top and the lower end: their one element). Von Mises stress
-as pipelay_fast defines it (DESIGN section 4): wall tension Tw = Te + pi Ai -
+as pipelay_fast defines it (``pipelay_fast.results.build_profile``): wall tension Tw = Te + pi Ai -
 pe Ae, sigma_a = Tw/As +- |m| Do/(2I), hoop (pi Di - pe Do)/(2t), the larger
 fibre. Touchdown: the last node in seabed contact k; the moment of the free
 span, which grows linearly from zero at touchdown, is extrapolated to zero from
@@ -548,7 +548,7 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
 
 
 def von_mises(case, te, moment, x):
-    """Largest fibre von Mises stress [Pa], DESIGN section 4 without torque.
+    """Largest fibre von Mises stress [Pa], as ``pipelay_fast.results.build_profile`` without torque.
 
     ``te`` effective tension [N], ``moment`` bending moment [N m], ``x`` height [m].
     """
