@@ -58,8 +58,8 @@ from bench_jlay import machine_info
 import pipelay_fast as pf
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "tests"))
-from reference import opensees_peer  # noqa: E402
+sys.path.insert(0, str(REPO))  # the one path edit: the repository root, for tests.reference
+from tests.reference import opensees_peer  # noqa: E402
 
 EXAMPLES = Path(pf.__file__).parent / "examples"
 SCENES = ("j125", "s67")

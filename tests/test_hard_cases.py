@@ -13,11 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
 from scipy.optimize import brentq
-from test_jlay import elastica_for, weights
 
 import pipelay_fast as pf
+from tests.helpers import EXAMPLES, elastica_for, weights
 
 
 def weight_of(case, prof):

@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_jlay import weights
 
 import pipelay_fast as pf
+from tests.helpers import weights
 
 catenary = pytest.importorskip("moorpy.Catenary", reason="MoorPy not installed").catenary
 
@@ -60,8 +60,8 @@ PEER_TDP_TOL = 0.25  # m, touchdown (observed: under 0.12 m at 1 m elements)
 
 def _peer_pair(name):
     """(pipelay_fast summary, OpenSees result) for a bundled scene, current off."""
-    from conftest import EXAMPLES
-    from reference import opensees_peer
+    from tests.helpers import EXAMPLES
+    from tests.reference import opensees_peer
 
     pytest.importorskip("openseespy.opensees", reason="openseespy not installed")
     case = pf.load_case(EXAMPLES / f"{name}.toml").with_changes(
