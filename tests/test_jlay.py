@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from tests.helpers import elastica_for, weights
+from tests.helpers import EXAMPLES, elastica_for, weights
 from tests.reference.catenary import natural_catenary_two_weights
 
 
@@ -145,8 +145,6 @@ def test_given_pipe_length_keeps_lower_end_fixed(j125):
     ("s67", "2d"), ("s67_3d", "3d"), ("s125", "2d"), ("s125_3d", "3d"),
 ])
 def test_bundled_scenes_load_with_their_dimension(name, dimension):
-    from conftest import EXAMPLES
-
     case = pf.load_case(EXAMPLES / f"{name}.toml")
     assert case.resolved_dimension == dimension
 
