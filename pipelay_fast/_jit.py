@@ -139,7 +139,8 @@ def expire_stale_cache() -> None:
         digest = sources_digest(sources)
     except OSError:  # sources unreadable (e.g. a zip or frozen install): nothing to compare
         return
-    modules = {os.path.splitext(os.path.basename(path))[0] for path in sources[1:]}
+    modules = {os.path.splitext(os.path.basename(path))[0] for path in sources
+               if os.path.dirname(path) == KERNEL_DIR}  # numba names cache files by module
     for cache_dir in cache_dirs(KERNEL_DIR):
         if _writable(cache_dir):  # the directory numba will use
             expire(cache_dir, digest, modules)
