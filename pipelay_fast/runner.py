@@ -276,7 +276,11 @@ def _parallel(tasks, sweep: str, profiles: bool, warm_start: bool, workers: int)
 
 @contextlib.contextmanager
 def _backend(backend: str, workers: int, scheduler: str | None):
-    """joblib's backend for the run; dask and ray are imported only when asked for."""
+    """joblib's backend for the run; dask and ray are imported only when asked for.
+
+    A dask cluster or Ray instance started here is closed at the end; one the
+    caller started (a current ``distributed.Client``, ``ray.init``) is left running.
+    """
     from joblib import parallel_config
 
     if backend == "loky":
@@ -309,10 +313,15 @@ def _backend(backend: str, workers: int, scheduler: str | None):
     except ImportError:
         raise ImportError("backend 'ray' needs Ray: pip install 'pipelay-fast[ray]'") from None
     register_ray()
-    if not ray.is_initialized():
+    started = not ray.is_initialized()  # else: the caller's Ray, left running
+    if started:
         ray.init(address=scheduler, num_cpus=None if scheduler else workers)
-    with parallel_config(backend="ray", n_jobs=workers):
-        yield
+    try:
+        with parallel_config(backend="ray", n_jobs=workers):
+            yield
+    finally:
+        if started:
+            ray.shutdown()
 
 
 # --------------------------------------------------------------------------- progress

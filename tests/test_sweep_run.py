@@ -246,6 +246,21 @@ def test_dask_backend_gives_the_loky_table(sweep, two_workers, tmp_path):
     assert_same_table(by_case(out), by_case(two_workers[0]))
 
 
+def test_ray_backend_gives_the_loky_table(sweep, two_workers, tmp_path):
+    """Ray started by the run on 2 CPUs (tasks dispatched in rounds: Ray's joblib
+    backend does not stream results) gives the loky rows, and is shut down after."""
+    ray = pytest.importorskip("ray", reason="Ray is the optional 'ray' extra (and in 'test')")
+    out = tmp_path / "results"
+    try:
+        report = run_sweep(sweep, out, workers=2, backend="ray", chunk_size=4, progress=False)
+        assert not ray.is_initialized()
+    finally:
+        ray.shutdown()  # left running only if the run failed
+    assert report.solved == len(sweep.cases())
+    assert os.getpid() not in report.worker_pids
+    assert_same_table(by_case(out), by_case(two_workers[0]))
+
+
 def test_progress_shows_done_failed_and_eta():
     stream = io.StringIO()
     bar = Progress(10, stream=stream)
