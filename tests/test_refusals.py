@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
+from tests.helpers import EXAMPLES
 
 import pipelay_fast as pf
 from pipelay_fast.limits import check_case

@@ -147,6 +147,38 @@ class PeerResult:
     stats: dict = field(default_factory=dict)
 
 
+class Unavailable(ImportError):
+    """openseespy is not installed or cannot load; the message says how to mend it."""
+
+
+# the shared libraries openseespy's extension links against, and their Debian packages
+SYSTEM_LIBRARIES = {"libblas.so.3": "libblas3", "liblapack.so.3": "liblapack3"}
+
+
+def opensees():
+    """The ``openseespy.opensees`` module, or :class:`Unavailable` naming what is missing.
+
+    openseespy 3.7 on Linux wraps its extension's ImportError (a system library
+    not found) in ``RuntimeError("Failed to import openseespy on Linux.")``; the
+    loader's own message is found in that exception's chain.
+    """
+    try:
+        import openseespy.opensees as ops
+    except (ImportError, RuntimeError) as err:
+        if isinstance(err, ModuleNotFoundError) and (err.name or "").startswith("openseespy"):
+            raise Unavailable("openseespy is not installed: pip install '.[test]' "
+                              "(or '.[peers]')") from err
+        root = err
+        while root.__cause__ or root.__context__:
+            root = root.__cause__ or root.__context__
+        hint = ""
+        if any(library in str(root) for library in SYSTEM_LIBRARIES):
+            hint = (f"; it needs the system BLAS and LAPACK ({', '.join(SYSTEM_LIBRARIES)}), "
+                    f"on Debian/Ubuntu: apt-get install {' '.join(SYSTEM_LIBRARIES.values())}")
+        raise Unavailable(f"openseespy cannot load: {root}{hint}") from err
+    return ops
+
+
 # --------------------------------------------------------------------------- geometry
 
 
@@ -228,8 +260,7 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
     log : str or None
         OpenSees log file; None sends OpenSees' messages to /dev/null.
     """
-    import openseespy.opensees as ops
-
+    ops = opensees()
     t_start = time.perf_counter()
     lay, pipe = case.lay, case.pipe
     if lay.top_tension is None:
