@@ -17,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from tests.helpers import EXAMPLES
 
 import pipelay_fast as pf
 from pipelay_fast.limits import check_case
 from pipelay_fast.mesh import element_count, graded_nodes
+from tests.helpers import EXAMPLES
 
 SWEEPS = Path(__file__).resolve().parents[1] / "sweeps"
 RHO_G = 1025.0 * 9.81  # N/m3, the examples' sea
