@@ -19,7 +19,7 @@ For each scene and element length in LENGTHS (QUICK_LENGTHS with --quick):
   lift-off) and with ``solver.grading = false`` (uniform, like OpenSees).
 
 Outputs compared: max von Mises stress (OpenSees: from its element end forces
-with pipelay_fast's formula, DESIGN section 4), the sagbend and overbend peak
+with pipelay_fast's formula, ``pipelay_fast.results.build_profile``), the sagbend and overbend peak
 moments, touchdown z, top and bottom effective tension. Errors: each tool
 against ITS OWN finest mesh (OpenSees: OS_REFERENCE m; pipelay_fast:
 PF_REFERENCE), relative for stresses, moments and tensions, in metres for
@@ -58,8 +58,8 @@ from bench_jlay import machine_info
 import pipelay_fast as pf
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "tests"))
-from reference import opensees_peer  # noqa: E402
+sys.path.insert(0, str(REPO))  # the one path edit: the repository root, for tests.reference
+from tests.reference import opensees_peer  # noqa: E402
 
 EXAMPLES = Path(pf.__file__).parent / "examples"
 SCENES = ("j125", "s67")

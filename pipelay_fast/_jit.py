@@ -3,21 +3,41 @@
 Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
 
 * ``cache=True`` so that worker processes and later sessions load machine code
-  from ``__pycache__`` instead of recompiling (measured by
+  from numba's cache instead of recompiling (measured by
   ``benchmarks/bench_jlay.py``: a cold import and first solve about 26 s, a
-  cached one about 0.9 s). Numba does not notice edits to a callee defined in
-  another module: delete ``__pycache__`` after changing a kernel;
+  cached one about 0.9 s);
 * ``nopython`` (``njit``): no object mode, no Python objects inside kernels;
 * ``error_model="numpy"``: a division by zero gives inf/nan instead of raising,
   so kernels need no exception handling; kernels report failure through status
   codes that the Python layer turns into :class:`pipelay_fast.SolveError`;
 * ``fastmath`` stays off: the 2D and 3D kernels must agree to round-off and the
   finite-difference tangent tests compare to ~1e-7.
+
+Numba checks a cached kernel against its own source file only, not against the
+callees and constants it took from other modules. So, when this module is
+imported (before any kernel is compiled or loaded), :func:`expire_stale_cache`
+hashes the sources of every module that defines kernels (:func:`kernel_sources`)
+with numba's version, compares the digest with the stamp file
+:data:`STAMP_NAME` in the cache directory numba will use for them, and on a
+difference deletes those modules' cache files (``*.nbi``, ``*.nbc``) and writes
+the new stamp. An edited kernel module therefore never runs stale machine code;
+the cost is one recompilation after each edit, and about a millisecond per
+import otherwise. Failures (a read-only install, a file another process has
+just removed) are ignored: the import never fails because of the cache.
 """
 
 from __future__ import annotations
 
+import hashlib
+import os
+import sys
+import tempfile
+
 import numba
+
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+KERNEL_DIR = os.path.join(_PACKAGE_DIR, "kernels")
+STAMP_NAME = "pipelay_fast-kernels.sha256"
 
 
 def jit(func=None, **overrides):
@@ -27,3 +47,104 @@ def jit(func=None, **overrides):
     if func is None:
         return lambda f: numba.njit(**options)(f)
     return numba.njit(**options)(func)
+
+
+def kernel_sources() -> list[str]:
+    """This module and the modules of ``kernels/``: all the sources the kernels compile from."""
+    names = sorted(n for n in os.listdir(KERNEL_DIR) if n.endswith(".py"))
+    return [os.path.abspath(__file__), *(os.path.join(KERNEL_DIR, n) for n in names)]
+
+
+def sources_digest(paths) -> str:
+    """sha256 over numba's version and each file's name (from the package) and bytes."""
+    digest = hashlib.sha256(numba.__version__.encode())
+    for path in paths:
+        digest.update(os.path.relpath(path, _PACKAGE_DIR).encode() + b"\0")
+        with open(path, "rb") as f:
+            digest.update(f.read())
+    return digest.hexdigest()
+
+
+def _user_cache_dir() -> str:
+    """numba's user-wide cache directory (``appdirs.user_cache_dir("numba")``)."""
+    if sys.platform == "win32":
+        return os.path.join(os.environ.get("LOCALAPPDATA", ""), "numba", "Cache")
+    if sys.platform == "darwin":
+        return os.path.expanduser("~/Library/Caches/numba")
+    return os.path.join(os.getenv("XDG_CACHE_HOME", os.path.expanduser("~/.cache")), "numba")
+
+
+def cache_dirs(source_dir: str) -> list[str]:
+    """Where numba may cache the kernels of ``source_dir``, in the order it tries them.
+
+    As numba's cache locators: ``NUMBA_CACHE_DIR`` (``numba.config.CACHE_DIR``) if
+    set, else ``__pycache__`` beside the sources, else (not writable) the user-wide
+    cache; the two outside the tree mirror ``source_dir`` as ``<name>_<sha1 of path>``.
+    """
+    mirror = "_".join([os.path.basename(source_dir), hashlib.sha1(source_dir.encode()).hexdigest()])
+    if numba.config.CACHE_DIR:
+        return [os.path.join(numba.config.CACHE_DIR, mirror)]
+    return [os.path.join(source_dir, "__pycache__"), os.path.join(_user_cache_dir(), mirror)]
+
+
+def _writable(path: str) -> bool:
+    """numba's test of a cache directory: it can be created and written to."""
+    try:
+        os.makedirs(path, exist_ok=True)
+        tempfile.TemporaryFile(dir=path).close()
+    except OSError:
+        return False
+    return True
+
+
+def expire(cache_dir: str, digest: str, modules) -> bool:
+    """Delete the cache files of ``modules`` (file stems) in ``cache_dir`` unless its
+    stamp equals ``digest``, then stamp it. False when that could not be done."""
+    stamp = os.path.join(cache_dir, STAMP_NAME)
+    try:
+        with open(stamp) as f:
+            if f.read() == digest:
+                return True
+    except OSError:
+        pass
+    try:
+        names = os.listdir(cache_dir)
+    except FileNotFoundError:
+        names = []
+    except OSError:
+        return False
+    for name in names:
+        if name.endswith((".nbi", ".nbc")) and name.split(".", 1)[0] in modules:
+            try:
+                os.remove(os.path.join(cache_dir, name))
+            except FileNotFoundError:
+                pass  # another process has just removed it
+            except OSError:
+                return False
+    try:
+        os.makedirs(cache_dir, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=cache_dir, prefix=f".{STAMP_NAME}.")
+        with os.fdopen(fd, "w") as f:
+            f.write(digest)
+        os.replace(tmp, stamp)  # concurrent importers each write a whole stamp
+    except OSError:
+        return False
+    return True
+
+
+def expire_stale_cache() -> None:
+    """Drop the kernels' cached machine code if any kernel source has changed (see above)."""
+    try:
+        sources = kernel_sources()
+        digest = sources_digest(sources)
+    except OSError:  # sources unreadable (e.g. a zip or frozen install): nothing to compare
+        return
+    modules = {os.path.splitext(os.path.basename(path))[0] for path in sources
+               if os.path.dirname(path) == KERNEL_DIR}  # numba names cache files by module
+    for cache_dir in cache_dirs(KERNEL_DIR):
+        if _writable(cache_dir):  # the directory numba will use
+            expire(cache_dir, digest, modules)
+            return
+
+
+expire_stale_cache()

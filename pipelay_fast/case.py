@@ -8,7 +8,11 @@ paper: ``x`` is the height above the seabed, ``y`` lateral, ``z`` along the lay.
 Every dataclass checks itself on construction, so a case built in Python, loaded
 from a file or modified with :meth:`Case.with_changes` is always valid. A bad
 value raises :class:`ValueError` naming the key by its dotted path and its value;
-nothing is clamped.
+nothing is clamped. A case outside the model is refused the same way: a
+stinger that is concave up, falls towards the vessel or overhangs
+(:class:`Stinger`), and inputs that alone imply a strain beyond
+``solver.max_strain`` (the tension at a given end over EA, the bending strain on
+the stinger: :func:`pipelay_fast.limits.check_case`).
 """
 
 from __future__ import annotations
@@ -39,6 +43,7 @@ from pipelay_fast._validate import (
     vector,
     vectorised,
 )
+from pipelay_fast.limits import check_case
 
 __all__ = [
     "Case",
@@ -56,6 +61,7 @@ METHODS = ("S", "J")
 PROFILES = ("uniform", "linear", "power", "table")
 DIMENSIONS = ("auto", "2d", "3d")
 _PLANAR_TOL = 1e-12
+MAX_STINGER_TURN = 90.0  # deg, the most a stinger may turn the pipe (Stinger)
 
 
 # --------------------------------------------------------------------------- tables
@@ -329,9 +335,21 @@ class Stinger:
     Attributes
     ----------
     a : float
-        Curvature parameter [1/m]; d^2x/dz^2 = 2a.
+        Curvature parameter [1/m]; d^2x/dz^2 = 2a. Concave down (a < 0), or a
+        straight ramp (a = 0).
     lower, upper : (float, float)
-        End points (x, z) [m]; b [-] and c [m] follow from them.
+        End points (x, z) [m]: the tip (x_L, z_L) and the vessel end (x_U, z_U);
+        b [-] and c [m] follow from them.
+
+    The geometry is checked up front: a concave-up stinger (a > 0) would hold
+    the pipe at its ends only, not along the one contiguous stretch the model
+    solves for; the upper end must lie above the tip (z_U > z_L, x_U > x_L,
+    x_L >= 0: with a <= 0 the whole stinger is then above the seabed); and the
+    stinger may turn the pipe by at most 90 deg between its ends (tangent angle
+    at the tip minus that at the upper end): more, and the stinger overhangs,
+    its tip pointing back under the pipe that comes from the vessel. The
+    bending strain of a pipe conforming to it is checked with the pipe
+    (:func:`pipelay_fast.limits.check_case`).
     """
 
     a: float
@@ -344,18 +362,22 @@ class Stinger:
         assign(self, "lower", vector(f"{p}.lower", self.lower, 2))
         assign(self, "upper", vector(f"{p}.upper", self.upper, 2))
         (x_l, z_l), (x_u, z_u) = self.lower, self.upper
+        if self.a > 0:
+            fail(f"{p}.a", self.a, "must not be positive: the stinger must be concave down "
+                 "(a < 0; a = 0 a straight ramp) to support an overbend")
         if z_l >= z_u:
             fail(f"{p}.lower", self.lower, f"must have z below that of {p}.upper = {self.upper!r}")
         if x_l < 0:
             fail(f"{p}.lower", self.lower, "is below the seabed (x < 0)")
-        if x_u <= 0:
-            fail(f"{p}.upper", self.upper, "must be above the seabed (x > 0)")
-        if self.a > 0:  # convex: the minimum may lie between the ends
-            z_min = -self.b / (2.0 * self.a)
-            if z_l < z_min < z_u and self.height(z_min) < 0:
-                fail(f"{p}.a", self.a,
-                     f"makes the stinger dip below the seabed "
-                     f"(x = {self.height(z_min):.4g} m at z = {z_min:.4g} m)")
+        if x_u <= x_l:
+            fail(f"{p}.upper", self.upper, f"lies below the stinger's lower end "
+                 f"{p}.lower = {self.lower!r}: the stinger must rise from its tip to the vessel")
+        tip, top = float(self.angle(z_l)), float(self.angle(z_u))
+        if tip - top > MAX_STINGER_TURN:
+            fail(f"{p}.a", self.a,
+                 f"turns the stinger through {tip - top:.4g} deg between its ends "
+                 f"({top:.4g} deg at the upper end, {tip:.4g} deg at the tip): more than "
+                 f"{MAX_STINGER_TURN:g} deg, it overhangs the pipe coming from the vessel")
 
     @property
     def b(self) -> float:
@@ -497,6 +519,30 @@ class Solver:
         Relative convergence tolerance [-], in (0, 1e-2); default 1e-8.
     max_iterations, max_load_steps : int
         Newton iterations per step and load steps; defaults 100 and 64.
+    max_iterations_total : int
+        Newton iterations of one solve in all [-], over load steps, current
+        steps, remeshing passes and laid-length doublings (a warm start that
+        fails leaves the cold start a budget of its own); default 1000. The
+        paper's scenes take 5 to 65, the hardest solved case of the tests 163,
+        J125 held vertical at 200 kN on 1 m elements 474; a case that needs
+        more is following its load path in fragments. Past it a SolveError
+        names the key.
+    max_elements : int
+        Largest mesh [-], counted before any array is built; default 20000.
+        The paper's scenes have about 120 elements at the default
+        element_length, 4000 to 4800 at 0.1 m and 8000 to 9500 at 0.05 m;
+        20000 is their mesh at about 0.02 m, and a 3D Newton iteration there
+        takes about a second. Past it a ValueError names solver.element_length,
+        the laid length (solver.laid_length or what set its default) and the
+        count.
+    max_strain : float
+        Largest extreme-fibre strain |Tw/EA| + (Do/2) kappa [-] the
+        small-strain model is trusted to (bending alone for an inextensible
+        pipe), in (0, 0.1]; default 0.02, where the strain measures the linear
+        law could be written in give forces 1 % apart (the reasoning:
+        :mod:`pipelay_fast.limits`). Inputs that imply more are refused with a
+        ValueError naming their keys, answers with a SolveError naming the
+        strain, where it is and the limit.
     """
 
     dimension: str = "auto"
@@ -507,6 +553,9 @@ class Solver:
     tolerance: float = 1e-8
     max_iterations: int = 100
     max_load_steps: int = 64
+    max_iterations_total: int = 1000
+    max_elements: int = 20000
+    max_strain: float = 0.02
 
     def __post_init__(self):
         choice("solver.dimension", self.dimension, DIMENSIONS)
@@ -521,6 +570,13 @@ class Solver:
         assign(self, "grading", flag("solver.grading", self.grading))
         assign(self, "max_iterations", integer("solver.max_iterations", self.max_iterations, 1))
         assign(self, "max_load_steps", integer("solver.max_load_steps", self.max_load_steps, 1))
+        assign(self, "max_iterations_total",
+               integer("solver.max_iterations_total", self.max_iterations_total, 1))
+        assign(self, "max_elements", integer("solver.max_elements", self.max_elements, 2))
+        set_numbers(self, "solver", positive=("max_strain",))
+        if self.max_strain > 0.1:
+            fail("solver.max_strain", self.max_strain, "must not exceed 0.1: beyond it the "
+                 "strain measures of the small-strain model differ by over 5 %")
 
 
 # --------------------------------------------------------------------------- case
@@ -555,6 +611,7 @@ class Case:
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
+        check_case(self)
 
     @property
     def weight_dry(self) -> float:

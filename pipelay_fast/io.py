@@ -3,7 +3,7 @@
 Every column's unit is stored twice: in the schema-level metadata (key
 ``b"units"``, a JSON object ``{column: unit}``) for readers that look at the
 file as a whole, and in each field's metadata (key ``b"unit"``) for readers
-that look at one column. Values stay in SI (DESIGN.md sections 4-5).
+that look at one column. Values stay in SI.
 """
 
 from __future__ import annotations

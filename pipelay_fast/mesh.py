@@ -13,6 +13,39 @@ import numpy as np
 GROWTH = 1.2
 
 
+def _spans(length, foci, h_max, h_min, growth):
+    """Per stretch between anchors (the ends and the foci): its ends a, b [m],
+    129 samples t [m] and the element count phi(t) = int 1/h ds [-] from a."""
+    inside = [float(f) for f in foci if 0.0 < f <= length]
+    anchors = sorted({0.0, float(length), *inside})
+    focus = np.array(inside or [0.0])
+    rate = growth - 1.0
+    for a, b in zip(anchors[:-1], anchors[1:], strict=True):
+        if b - a <= 1e-9:
+            continue
+        t = np.linspace(a, b, 129)
+        dist = np.min(np.abs(t[:, None] - focus[None, :]), axis=1)
+        inv = 1.0 / np.minimum(h_max, h_min + rate * dist)
+        phi = np.concatenate(([0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(t))))
+        yield a, b, t, phi
+
+
+def _uniform_count(length, h_max):
+    return max(2, int(np.ceil(length / h_max)))
+
+
+def _span_count(phi):
+    return max(1, int(np.ceil(phi[-1] - 1e-9)))
+
+
+def element_count(length, foci, h_max, h_min, growth=GROWTH, grading=True) -> int:
+    """Number of elements :func:`graded_nodes` gives for these arguments,
+    found without building the mesh (a guard against meshes too large)."""
+    if not grading:
+        return _uniform_count(length, h_max)
+    return sum(_span_count(phi) for *_, phi in _spans(length, foci, h_max, h_min, growth))
+
+
 def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True):
     """Node positions s in [0, length] [m], graded towards each focus point.
 
@@ -30,23 +63,10 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True):
         False gives a uniform mesh of about ``h_max`` (foci ignored).
     """
     if not grading:
-        n = max(2, int(np.ceil(length / h_max)))
-        return np.linspace(0.0, length, n + 1)
-    inside = [float(f) for f in foci if 0.0 < f <= length]
-    anchors = sorted({0.0, float(length), *inside})
-    focus = np.array(inside or [0.0])
-    rate = growth - 1.0
+        return np.linspace(0.0, length, _uniform_count(length, h_max) + 1)
     nodes = [0.0]
-    for a, b in zip(anchors[:-1], anchors[1:], strict=True):
-        if b - a <= 1e-9:
-            continue
-        t = np.linspace(a, b, 129)
-        dist = np.min(np.abs(t[:, None] - focus[None, :]), axis=1)
-        h = np.minimum(h_max, h_min + rate * dist)
-        inv = 1.0 / h
-        phi = np.concatenate(([0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(t))))
-        n = max(1, int(np.ceil(phi[-1] - 1e-9)))
-        targets = np.linspace(0.0, phi[-1], n + 1)[1:]
+    for _a, b, t, phi in _spans(length, foci, h_max, h_min, growth):
+        targets = np.linspace(0.0, phi[-1], _span_count(phi) + 1)[1:]
         nodes.extend(np.interp(targets, phi, t))
         nodes[-1] = b
     return np.asarray(nodes)

@@ -1,7 +1,8 @@
 """Post-processing: the per-node profile, the summary row and touchdown location.
 
-Column names and units are the contract of DESIGN.md section 4; ``UNITS`` maps
-every column to its unit and is written into the Parquet schema metadata.
+Column names and units are a contract (the README's Outputs): ``SUMMARY_UNITS``
+and ``PROFILE_UNITS`` map every column to its unit, which is written into the
+Parquet schema metadata.
 """
 
 from __future__ import annotations
@@ -55,7 +56,7 @@ class Result:
     ----------
     case : Case
     summary : dict
-        One row of DESIGN section 4 columns (units in ``SUMMARY_UNITS``).
+        One row, the columns of ``SUMMARY_UNITS`` (with their units).
     profile : pandas.DataFrame
         One row per node (units in ``PROFILE_UNITS``); built on first access
         from ``columns``, the same data as numpy arrays.
@@ -216,7 +217,7 @@ def tip_force(pb):
 
 
 def build_profile(case: Case, pb, react) -> dict:
-    """Per-node columns of DESIGN section 4 (numpy arrays) from a solved problem."""
+    """The columns of ``PROFILE_UNITS`` (numpy arrays, one value per node) of a solved problem."""
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
     pipe = case.pipe
     ei = pipe.bending_stiffness

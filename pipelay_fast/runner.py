@@ -22,6 +22,7 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+from tqdm import tqdm
 
 from .dataset import Dataset, encode_chunk
 from .results import SUMMARY_UNITS
@@ -99,7 +100,7 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
     profiles : bool
         Write the profiles table (one row per node per case).
     progress : bool
-        Show cases done, failures and an ETA on stderr.
+        Show cases done, failures, the rate and an ETA on stderr (:func:`progress_bar`).
     warm_start : bool
         Start each case from the previous solution of its chain (default); False
         solves every case cold (for comparison).
@@ -120,8 +121,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         todo = [c for c in cases if c.case_id not in done] if done else cases
         report.skipped = len(cases) - len(todo)
         tasks = pack(chains(todo), chunk_size or _default_chunk(len(todo), workers))
-        bar = Progress(len(todo), enabled=progress)
-        with _backend(backend, workers, scheduler):
+        with (progress_bar(len(todo), enabled=progress) as bar,
+              _backend(backend, workers, scheduler)):
             for chunk, times, pid in _parallel(tasks, sweep.name, profiles, warm_start,
                                                workers):
                 t0 = time.perf_counter()
@@ -134,8 +135,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
                 report.solve_cpu_seconds += times["solve_cpu"]
                 report.cpu_seconds += times["task_cpu"]
                 report.worker_pids.add(pid)
-                bar.update(report.solved, report.failed)
-        bar.close()
+                bar.set_postfix(failed=report.failed, refresh=False)
+                bar.update(chunk.rows)
     report.seconds = time.perf_counter() - start
     parent_cpu = time.process_time() - start_cpu
     if os.getpid() in report.worker_pids:  # tasks ran here: their time is in parent_cpu
@@ -276,7 +277,11 @@ def _parallel(tasks, sweep: str, profiles: bool, warm_start: bool, workers: int)
 
 @contextlib.contextmanager
 def _backend(backend: str, workers: int, scheduler: str | None):
-    """joblib's backend for the run; dask and ray are imported only when asked for."""
+    """joblib's backend for the run; dask and ray are imported only when asked for.
+
+    A dask cluster or Ray instance started here is closed at the end; one the
+    caller started (a current ``distributed.Client``, ``ray.init``) is left running.
+    """
     from joblib import parallel_config
 
     if backend == "loky":
@@ -309,56 +314,63 @@ def _backend(backend: str, workers: int, scheduler: str | None):
     except ImportError:
         raise ImportError("backend 'ray' needs Ray: pip install 'pipelay-fast[ray]'") from None
     register_ray()
-    if not ray.is_initialized():
+    started = not ray.is_initialized()  # else: the caller's Ray, left running
+    if started:
         ray.init(address=scheduler, num_cpus=None if scheduler else workers)
-    with parallel_config(backend="ray", n_jobs=workers):
-        yield
+    try:
+        with parallel_config(backend="ray", n_jobs=workers):
+            yield
+    finally:
+        if started:
+            ray.shutdown()
 
 
 # --------------------------------------------------------------------------- progress
 
 
-class Progress:
-    """A one-line progress bar on stderr: cases done, failures, rate and ETA.
+# seconds between redraws: on a terminal, and in a log (a file or a pipe)
+REDRAW_TTY, REDRAW_LOG = 0.1, 10.0
+# a log's bar: plain characters, a fixed width and height (a pseudo-terminal of
+# 0 x 0, as some CI runners give, would make tqdm hide it)
+LOG_STYLE = {"ascii": True, "ncols": 80, "nrows": 20}
 
-    On a terminal the line is redrawn in place; otherwise a line is printed at
-    most every 10 s, and once at the end.
+
+def progress_bar(total: int, *, enabled: bool = True, stream=None) -> tqdm:
+    """A tqdm bar of cases on ``stream`` (default stderr): done, rate, ETA and
+    ``failed=N`` (set with ``set_postfix(failed=N, refresh=False)`` before
+    ``update``).
+
+    On a terminal it is redrawn in place, every 0.1 s at most. Elsewhere (a log
+    file, a pipe) each redraw is a line of its own, one every 10 s at most
+    besides the first and the last.
     """
-
-    def __init__(self, total: int, *, enabled: bool = True, stream=None, width: int = 24):
-        self.total, self.width = total, width
-        self.stream = stream or sys.stderr
-        self.enabled = enabled and total > 0
-        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
-        self.start = self.last = time.perf_counter()
-        self.text = ""
-
-    def update(self, done: int, failed: int):
-        if not self.enabled:
-            return
-        now = time.perf_counter()
-        elapsed = now - self.start
-        rate = done / elapsed if elapsed > 0 else 0.0
-        eta = (self.total - done) / rate if rate > 0 else math.nan
-        filled = int(self.width * done / self.total)
-        self.text = (f"[{'#' * filled}{'.' * (self.width - filled)}] {done}/{self.total} cases, "
-                     f"{failed} failed, {rate:.1f} cases/s, ETA {_clock(eta)}")
-        if self.tty:
-            self.stream.write("\r" + self.text)
-            self.stream.flush()
-        elif now - self.last >= 10.0 or done == self.total:
-            self.stream.write(self.text + "\n")
-            self.stream.flush()
-            self.last = now
-
-    def close(self):
-        if self.enabled and self.tty and self.text:
-            self.stream.write("\n")
-            self.stream.flush()
+    stream = stream or sys.stderr
+    tty = _terminal(stream)
+    return (tqdm if tty else _LogBar)(
+        total=total, unit=" cases", file=stream, disable=not enabled or total == 0,
+        mininterval=REDRAW_TTY if tty else REDRAW_LOG, postfix={"failed": 0},
+        dynamic_ncols=tty, **({} if tty else LOG_STYLE))
 
 
-def _clock(seconds: float) -> str:
-    if not math.isfinite(seconds):
-        return "--:--"
-    seconds = int(round(seconds))
-    return f"{seconds // 3600}:{seconds % 3600 // 60:02d}:{seconds % 60:02d}"
+def _terminal(stream) -> bool:
+    """A terminal with a width (not a pseudo-terminal of 0 columns)."""
+    try:
+        return stream.isatty() and os.get_terminal_size(stream.fileno()).columns > 0
+    except (AttributeError, OSError, ValueError):  # not a file, or not a terminal
+        return False
+
+
+class _LogBar(tqdm):
+    """tqdm writing each redraw on a line of its own (tqdm ends the last one)."""
+
+    @staticmethod
+    def status_printer(file):
+        started = False
+
+        def print_status(text):
+            nonlocal started
+            file.write(("\n" if started else "") + text)
+            file.flush()
+            started = True
+
+        return print_status

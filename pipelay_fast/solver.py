@@ -38,7 +38,8 @@ from .kernels.contact import (
     tip_geometry,
 )
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
-from .mesh import graded_nodes
+from .limits import IterationBudget, check_mesh_size, strain_beyond_line
+from .mesh import element_count, graded_nodes
 from .model import build_props, dimension_of
 from .results import (
     Result,
@@ -51,7 +52,9 @@ from .results import (
 
 
 class SolveError(RuntimeError):
-    """A case that did not converge: the message names the step, residual and reason."""
+    """A case that did not converge, or whose answer is refused (beyond the
+    model, or not a valid solution): the message names the step, residual and
+    reason, or the limit."""
 
 
 @dataclass
@@ -156,6 +159,9 @@ def build_problem(case: Case) -> Problem:
     # initial seabed contact ends there.
     s_focus = max(g.laid - lam, 0.25 * g.laid)
     foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
+    check_mesh_size(case, element_count(g.total, foci, h_max, h_min,
+                                        grading=case.solver.grading),
+                    g.total, g.laid, _laid_source(case, g.cat, lam))
     s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading)
     x, z, th, te, kappa = shape(case, g, s)
     u = np.zeros(s.size * ndn)
@@ -183,6 +189,21 @@ def _follow(case: Case, pb: Problem, s_focus: float):
     pb.bed_active[:] = 0
     pb.bed_active[1:k + 1] = 1
     pb.follow_touchdown(k, 3.0 * pb.stats["flexural_length"])
+
+
+def _laid_source(case: Case, cat, lam: float) -> str:
+    """What set the laid length of the first mesh (for the mesh-size check)."""
+    if case.lay.pipe_length is not None:
+        return f"lay.pipe_length = {case.lay.pipe_length!r} m less the suspended span"
+    if case.solver.laid_length is not None:
+        return f"solver.laid_length = {case.solver.laid_length!r} m"
+    text = (f"the default of solver.laid_length: two flexural lengths sqrt(EI/T) = {lam:.4g} m "
+            "at touchdown, five elements")
+    slip = slipping_length_bound(case, cat)
+    if slip > 0.0:
+        text += (f" and {slip:.4g} m for seabed friction to take up the lateral drag "
+                 "(environment.current.speed, seabed.lateral_friction)")
+    return text
 
 
 def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Problem:
@@ -273,13 +294,31 @@ def _residual(pb: Problem):
     return g
 
 
-def _fail(case, step, info, status, extra=""):
+def _newton_state(info, status):
+    """The reason and residuals of a Newton call that ended with ``status``."""
     reason = L.STATUS_TEXT.get(status, f"status {status}")
-    raise SolveError(
-        f"case {case.name!r} did not converge at {step}: {reason}; weighted residual "
-        f"{info[I_RES]:.3e}, constraint violation {info[I_DELTA]:.3e}, top-tension residual "
-        f"{info[I_TOP_RES]:.3e} after {int(info[I_ITER])} iterations{extra}"
-    )
+    return (f"{reason}; weighted residual {info[I_RES]:.3e}, constraint violation "
+            f"{info[I_DELTA]:.3e}, top-tension residual {info[I_TOP_RES]:.3e} after "
+            f"{int(info[I_ITER])} iterations")
+
+
+def _fail(case, step, info, status, extra=""):
+    raise SolveError(f"case {case.name!r} did not converge at {step}: "
+                     f"{_newton_state(info, status)}{extra}")
+
+
+def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str):
+    """:func:`_run_newton` within the solve's iteration budget; a SolveError
+    naming solver.max_iterations_total when it is spent."""
+    if budget.left < 1:
+        raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
+    status, react, info = _run_newton(pb, g_off, case.solver.tolerance,
+                                      budget.cap(case.solver.max_iterations))
+    budget.charge(info[I_ITER])
+    if status != L.OK and budget.left < 1:
+        raise SolveError(f"case {case.name!r} {budget.spent_message(where)} (last Newton "
+                         f"call: {_newton_state(info, status)})")
+    return status, react, info
 
 
 _STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp", "s", "s_td")
@@ -294,16 +333,17 @@ def _restore(pb: Problem, snap):
         getattr(pb, name)[:] = arr
 
 
-def newton_with_fallback(case: Case, pb: Problem):
+def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
     """Newton from the current state; on failure, the load-path homotopy.
+    ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     Returns the reactions and a dict of iteration counts.
     """
-    tol = case.solver.tolerance
-    maxit = case.solver.max_iterations
+    budget = budget or IterationBudget(case.solver.max_iterations_total)
     start = _snapshot(pb)
     zero = np.zeros_like(pb.u)
-    status, react, info = _run_newton(pb, zero, tol, maxit)
+    status, react, info = _budgeted_newton(case, pb, zero, budget,
+                                          "the first Newton solve on a mesh")
     iters = int(info[I_ITER])
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
@@ -317,7 +357,9 @@ def newton_with_fallback(case: Case, pb: Problem):
                   "; maximum number of load steps reached")
         trial = min(1.0, alpha + step)
         saved = _snapshot(pb)
-        status, react, info = _run_newton(pb, -(1.0 - trial) * g0, tol, maxit)
+        status, react, info = _budgeted_newton(
+            case, pb, -(1.0 - trial) * g0, budget,
+            f"load step {steps + 1} (load factor {trial:.4f})")
         iters += int(info[I_ITER])
         steps += 1
         if status == L.OK:
@@ -419,14 +461,16 @@ def solve_problem(case: Case, warm: Problem | None = None):
     """Solve with enough laid pipe: when the lower end, held laterally, carries
     more than LOWER_END_SHARE of the laid pipe's lateral force (friction has not
     taken it all up), the laid length is doubled and the case solved again.
-    ``warm``: the solved problem of a neighbouring case to start from.
+    ``warm``: the solved problem of a neighbouring case to start from. All
+    the passes share one budget of solver.max_iterations_total iterations.
 
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
     t0 = time.perf_counter()
     current = case
+    budget = IterationBudget(case.solver.max_iterations_total)
     for _ in range(MAX_LAID_DOUBLINGS + 1):
-        pb, react, stats, s_t, s_l = _solve_mesh(current, warm)
+        pb, react, stats, s_t, s_l = _solve_mesh(current, warm, budget)
         warm = None
         if not _lower_end_holds(pb, react) or case.lay.pipe_length is not None:
             stats["seconds"] = time.perf_counter() - t0
@@ -455,10 +499,11 @@ def _lower_end_holds(pb: Problem, react) -> bool:
     return abs(react[1]) > LOWER_END_SHARE * total
 
 
-def _solve_mesh(case: Case, warm: Problem | None = None):
+def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     """Solve, then move the finest part of the mesh onto touchdown (and onto
     lift-off: the end of conforming stinger contact and the bearing tip) until
-    a node sits on each (to 2 % of the smallest element).
+    a node sits on each (to 2 % of the smallest element). ``budget``: the
+    solve's Newton iterations left.
 
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
@@ -469,7 +514,7 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
     if path:
         pb.props[L.CURRENT_FACTOR] = 0.0
         pb.props[L.FRICTION_ON] = 0.0
-    react, stats = newton_with_fallback(case, pb)
+    react, stats = newton_with_fallback(case, pb, budget)
     passes = 1
     while True:
         s_t = touchdown_position(case, pb)
@@ -488,7 +533,7 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
         if path:
             pb.props[L.CURRENT_FACTOR] = 0.0
             pb.props[L.FRICTION_ON] = 0.0
-        react, more = newton_with_fallback(case, pb)
+        react, more = newton_with_fallback(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
     current_passes = 0
@@ -498,7 +543,7 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
         _anchor(pb.fric, pb.u, pb.nd, pb.s)
         pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, np.maximum(react[0::pb.ndn], 0.0), 0.0)
         pb.props[L.FRICTION_ON] = 1.0
-        react, more = apply_current(case, pb)
+        react, more = apply_current(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         s_t = touchdown_position(case, pb)
         foci = _stinger_foci(case, pb)
@@ -513,7 +558,7 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
         pb = remesh(case, pb, s_t, foci)
         pb.props[L.CURRENT_FACTOR] = 0.0
         pb.props[L.FRICTION_ON] = 0.0
-        react, more = newton_with_fallback(case, pb)
+        react, more = newton_with_fallback(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
     stats["mesh_passes"] = passes
@@ -521,24 +566,27 @@ def _solve_mesh(case: Case, warm: Problem | None = None):
     return pb, react, stats, s_t, liftoff_position(case, pb)
 
 
-def apply_current(case: Case, pb: Problem, first_step=0.25, max_step=0.25):
+def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None,
+                  first_step=0.25, max_step=0.25):
     """Raise the current factor from 0 to 1 in load steps (friction follows
     this path), halving a step that fails; at most ``max_step`` per step.
+    ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     Steps of 0.5 save a quarter of the iterations and give the same answer on
     meshes of 1 m and coarser, but on S125 3D at 0.05 m they follow another
     slip path (slipping length 25 m against 15.6 m, peak stress 0.5 % lower).
     """
+    budget = budget or IterationBudget(case.solver.max_iterations_total)
     factor, step = 0.0, first_step
     stats = {"iterations": 0, "load_steps": 0}
-    tol, maxit = case.solver.tolerance, case.solver.max_iterations
     zero = np.zeros_like(pb.u)
     react = None
     while factor < 1.0:
         trial = min(1.0, factor + step)
         saved = _snapshot(pb)
         pb.props[L.CURRENT_FACTOR] = trial
-        status, react, info = _run_newton(pb, zero, tol, maxit)
+        status, react, info = _budgeted_newton(case, pb, zero, budget,
+                                               f"current factor {trial:.4f}")
         stats["iterations"] += int(info[I_ITER])
         stats["load_steps"] += 1
         if status != L.OK:
@@ -639,7 +687,12 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
     total = pb.s[-1] + extra
     focus = s_tdp + extra
     held = [f + extra for f in stinger_foci]
-    s = graded_nodes(total, [focus, total, *held], pb.stats["h_max"], pb.stats["h_min"])
+    foci = [focus, total, *held]
+    check_mesh_size(case, element_count(total, foci, pb.stats["h_max"], pb.stats["h_min"]),
+                    total, focus, f"remeshed, {extra:.4g} m of it prepended to keep two "
+                    f"flexural lengths sqrt(EI/T) = {lam:.4g} m behind touchdown, which a lower "
+                    "tension T there lengthens")
+    s = graded_nodes(total, foci, pb.stats["h_max"], pb.stats["h_min"])
     u = interpolate_state(pb.s + extra, pb.u, nd, s)
     first = s < extra
     if first.any():
@@ -672,14 +725,21 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
     Returns
     -------
     Result
-        ``.summary`` (dict, DESIGN section 4 columns) and ``.profile`` (DataFrame,
+        ``.summary`` (dict, the columns of ``results.SUMMARY_UNITS``) and ``.profile`` (DataFrame,
         one row per node).
 
     Raises
     ------
     SolveError
-        When Newton and the load-path fallback both fail; the message names the
-        case, the load step, the residual and the reason.
+        When Newton and the load-path fallback both fail, or
+        solver.max_iterations_total Newton iterations are spent (each start,
+        warm and cold, has its own budget); the message names the case, the
+        load step, the residual and the reason. Also when the answer is
+        refused: non-finite, strained beyond solver.max_strain, or a contact
+        that pulls.
+    ValueError
+        When the mesh would exceed solver.max_elements (checked before it is
+        built).
     """
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
@@ -693,7 +753,8 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
 
 
 def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
-    """Solve, build the result and refuse it if it is not finite or a contact pulls."""
+    """Solve, build the result and refuse it if it is not finite, is strained
+    beyond solver.max_strain or a contact pulls."""
     pb, react, stats, s_t, s_l = solve_problem(case, warm)
     columns = build_profile(case, pb, react)
     summary = build_summary(case, pb, columns, stats, s_t, s_l)
@@ -703,6 +764,9 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     if bad:
         raise SolveError(f"case {case.name!r}: the solution has non-finite values in "
                          f"{', '.join(bad)}; it is not returned")
+    beyond = strain_beyond_line(case, columns)
+    if beyond is not None:
+        raise SolveError(f"case {case.name!r}: {beyond}")
     if case.solver.grading:  # without it a boundary stays inside its element
         _check_contacts_push(case, columns)
     return Result(case, summary, columns, state=pb)

@@ -15,7 +15,7 @@ from pipelay_fast.case import Case, Current, Pipe, Stinger, load_case
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "pipelay_fast" / "examples"
 
-# The paper's Table 1 pipe and sea (DESIGN.md section 6).
+# The paper's Table 1 pipe and sea, E as in pipelay_fast/examples/.
 DO, DI, DC = 0.61, 0.58, 0.71
 RHO_STEEL, RHO_COATING, RHO_WATER, G = 7900.0, 3000.0, 1025.0, 9.81
 E = 207e9
@@ -136,7 +136,7 @@ def test_wall_tension_relation_round_trips():
     (-0.0012, (41.5, 265.0), (72.0, 400.0)),
     (-0.0011, (78.0, 305.0), (128.0, 440.0)),
     (0.0, (10.0, 0.0), (20.0, 50.0)),
-    (0.0004, (5.0, 100.0), (30.0, 200.0)),
+    (-0.0004, (5.0, 100.0), (30.0, 200.0)),
 ])
 def test_stinger_curve_passes_through_ends_with_curvature_2a(a, lower, upper):
     stinger = Stinger(a, lower, upper)
@@ -236,6 +236,8 @@ def test_defaults_of_a_minimal_j_lay_case():
         "auto", 4.0, None)
     assert (solver.grading, solver.laid_length, solver.tolerance) == (True, None, 1e-8)
     assert (solver.max_iterations, solver.max_load_steps) == (100, 64)
+    assert (solver.max_iterations_total, solver.max_elements, solver.max_strain) == (
+        1000, 20000, 0.02)
 
 
 def test_values_are_normalised_to_float_and_tuples():
@@ -437,6 +439,12 @@ BAD_INPUTS = [
     ({"solver.max_iterations": 0}, "solver.max_iterations"),
     ({"solver.max_iterations": 5.5}, "solver.max_iterations"),
     ({"solver.max_load_steps": True}, "solver.max_load_steps"),
+    ({"solver.max_iterations_total": 0}, "solver.max_iterations_total"),
+    ({"solver.max_iterations_total": 1e3}, "solver.max_iterations_total"),
+    ({"solver.max_elements": 1}, "solver.max_elements"),
+    ({"solver.max_strain": 0.0}, "solver.max_strain"),
+    ({"solver.max_strain": 0.2}, "solver.max_strain"),
+    ({"solver.max_strain": "2 %"}, "solver.max_strain"),
     ({"name": 5}, "name"),
 ]
 

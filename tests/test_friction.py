@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
 
 import pipelay_fast as pf
 from pipelay_fast.guess import free_span
 from pipelay_fast.solver import slipping_length_bound
+from tests.helpers import EXAMPLES
 
 
 def lateral_drag(case, prof):

@@ -4,29 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from reference.catenary import natural_catenary_two_weights
-from reference.elastica import jlay_elastica
 
 import pipelay_fast as pf
-
-
-def weights(case):
-    """Submerged and dry effective weight [N/m], recomputed here from the pipe data."""
-    p, env = case.pipe, case.environment
-    g = env.gravity
-    steel = p.steel_density * np.pi * (p.outer_diameter**2 - p.inner_diameter**2) / 4
-    coat = p.coating_density * np.pi * (p.coating_outer_diameter**2 - p.outer_diameter**2) / 4
-    w_dry = g * (steel + coat)
-    return w_dry - env.water_density * g * np.pi * p.coating_outer_diameter**2 / 4, w_dry
-
-
-def elastica_for(case, **tension):
-    w_sub, w_dry = weights(case)
-    x_top, z_top = case.lay.top
-    ei = case.pipe.youngs_modulus * np.pi * (
-        case.pipe.outer_diameter**4 - case.pipe.inner_diameter**4) / 64
-    return jlay_elastica(ei, w_sub, w_dry, case.environment.water_depth, x_top, z_top,
-                         top_angle_deg=case.lay.top_angle, **tension)
+from tests.helpers import EXAMPLES, elastica_for, weights
+from tests.reference.catenary import natural_catenary_two_weights
 
 
 TENSIONS = {
@@ -164,8 +145,6 @@ def test_given_pipe_length_keeps_lower_end_fixed(j125):
     ("s67", "2d"), ("s67_3d", "3d"), ("s125", "2d"), ("s125_3d", "3d"),
 ])
 def test_bundled_scenes_load_with_their_dimension(name, dimension):
-    from conftest import EXAMPLES
-
     case = pf.load_case(EXAMPLES / f"{name}.toml")
     assert case.resolved_dimension == dimension
 

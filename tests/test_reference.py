@@ -8,26 +8,20 @@ independent integrator. Run with ``-s`` to print the J125 numbers.
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.integrate import quad, simpson, solve_ivp
 
-_HERE = str(Path(__file__).resolve().parent)
-if _HERE not in sys.path:  # tests/ has no __init__.py; works in any import mode
-    sys.path.insert(0, _HERE)
-
-from reference.catenary import (  # noqa: E402
+from tests.reference.catenary import (
     catenary_profile,
     natural_catenary,
     natural_catenary_two_weights,
 )
-from reference.elastica import jlay_elastica  # noqa: E402
+from tests.reference.elastica import jlay_elastica
 
 # ---------------------------------------------------------------- the paper's pipe
-from reference.paper import EI, W_DRY, W_SUB  # noqa: E402
+from tests.reference.paper import EI, W_DRY, W_SUB
 
 EI_REAL = EI
 EI_TINY = 1e-6 * 2.59e8  # [N m^2]: flexural length ~ 2.5 cm

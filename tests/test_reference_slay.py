@@ -13,21 +13,15 @@ of ``a``. Run with ``-s`` to print the S67 table.
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.integrate import quad, simpson, solve_ivp
 from scipy.optimize import brentq
 
-_HERE = str(Path(__file__).resolve().parent)
-if _HERE not in sys.path:  # tests/ has no __init__.py; works in any import mode
-    sys.path.insert(0, _HERE)
-
 # ---------------------------------------------------------------- scene S67
-from reference.paper import EI, W_DRY, W_SUB  # noqa: E402
-from reference.slay import Stinger, slay_elastica, slay_regime_switch  # noqa: E402
+from tests.reference.paper import EI, W_DRY, W_SUB
+from tests.reference.slay import Stinger, slay_elastica, slay_regime_switch
 
 DEPTH = 67.0
 LOWER, UPPER = (41.5, 265.0), (72.0, 400.0)  # (x, z) [m]

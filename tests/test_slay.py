@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
 
 import pipelay_fast as pf
+from tests.helpers import EXAMPLES
 
 
 @pytest.fixture(scope="module")
@@ -105,7 +105,7 @@ S67_A = {
 def test_s67_matches_planar_elastica(s67, name):
     """FE against the independent elastica of tests/reference/slay.py (S67 2D,
     no current): peaks within 1 %, touchdown and lift-off within 0.5 m."""
-    from reference.slay import slay_elastica
+    from tests.reference.slay import slay_elastica
 
     a = S67_A[name]
     case = s67.with_changes({"environment.current.speed": 0.0, "lay.stinger.a": a,

@@ -2,7 +2,7 @@
 
 The sweep (coarse 8 m mesh, a few seconds) mixes a J-lay current chain, a
 J-lay scene in 3D, an S67 chain over a, and two impossible cases: a negative
-bottom tension and a stinger that dips below the seabed. Summaries are checked
+bottom tension and a concave-up stinger (a > 0). Summaries are checked
 against ``pf.solve`` of the same cases run here directly.
 """
 
@@ -11,6 +11,7 @@ from __future__ import annotations
 import io
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -23,10 +24,11 @@ import pyarrow.parquet as pq
 import pytest
 
 import pipelay_fast as pf
+from pipelay_fast import runner
 from pipelay_fast.cli import main
 from pipelay_fast.dataset import read_profiles, read_summary
 from pipelay_fast.io import read_units
-from pipelay_fast.runner import Progress, run_sweep
+from pipelay_fast.runner import progress_bar, run_sweep
 from pipelay_fast.sweep import chains, load_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -123,7 +125,7 @@ def test_impossible_cases_fail_alone_with_their_message(sweep, one_worker):
     dip = failed[failed["a"] == 0.02]
     assert len(negative) == 3 and len(dip) == 1 and len(failed) == 4
     assert all("lay.bottom_tension = -10000.0 must be positive" in m for m in negative["message"])
-    assert "lay.stinger.a = 0.02 makes the stinger dip below the seabed" in dip["message"].iloc[0]
+    assert "lay.stinger.a = 0.02 must not be positive" in dip["message"].iloc[0]
     assert dip["scene"].iloc[0] == "S67" and dip["method"].iloc[0] == "S"
     assert failed["max_von_mises"].isna().all() and failed["n_elements"].isna().all()
     ok = table[table["status"] == "ok"]
@@ -246,14 +248,51 @@ def test_dask_backend_gives_the_loky_table(sweep, two_workers, tmp_path):
     assert_same_table(by_case(out), by_case(two_workers[0]))
 
 
-def test_progress_shows_done_failed_and_eta():
+def test_ray_backend_gives_the_loky_table(sweep, two_workers, tmp_path):
+    """Ray started by the run on 2 CPUs (tasks dispatched in rounds: Ray's joblib
+    backend does not stream results) gives the loky rows, and is shut down after."""
+    ray = pytest.importorskip("ray", reason="Ray is the optional 'ray' extra (and in 'test')")
+    out = tmp_path / "results"
+    try:
+        report = run_sweep(sweep, out, workers=2, backend="ray", chunk_size=4, progress=False)
+        assert not ray.is_initialized()
+    finally:
+        ray.shutdown()  # left running only if the run failed
+    assert report.solved == len(sweep.cases())
+    assert os.getpid() not in report.worker_pids
+    assert_same_table(by_case(out), by_case(two_workers[0]))
+
+
+def test_progress_in_a_log_is_sparse_lines_with_the_failed_count(sweep, tmp_path, capsys):
+    """stderr not a terminal (captured here): one line at the start, one at the
+    end and one per 10 s at most between, none redrawn with a carriage return;
+    the last counts every case, the 4 impossible ones failed, and no time left."""
+    start = time.perf_counter()
+    run_sweep(sweep, tmp_path / "results", workers=1, chunk_size=4)
+    seconds = time.perf_counter() - start
+    err = capsys.readouterr().err
+    n = len(sweep.cases())
+    assert "\r" not in err and err.endswith("\n")
+    lines = err.splitlines()
+    assert 2 <= len(lines) <= 2 + seconds // 10
+    assert all(len(line) <= 80 for line in lines)
+    assert re.fullmatch(rf"  0%\|\s+\| 0/{n} \[00:00<\?, \? cases/s, failed=0\]", lines[0])
+    assert re.fullmatch(rf"100%\|#+\| {n}/{n} \[\d\d:\d\d<00:00, +[\d.]+ cases/s, failed=4\]",
+                        lines[-1]), lines[-1]
+
+
+def test_progress_on_a_terminal_is_redrawn_in_place(monkeypatch):
+    monkeypatch.setattr(runner, "_terminal", lambda stream: True)
     stream = io.StringIO()
-    bar = Progress(10, stream=stream)
-    bar.update(4, 1)
-    bar.update(10, 2)
-    lines = stream.getvalue().splitlines()
-    assert lines[-1].startswith("[########################] 10/10 cases, 2 failed, ")
-    assert lines[-1].endswith("ETA 0:00:00")
+    with progress_bar(10, stream=stream) as bar:
+        bar.set_postfix(failed=1, refresh=False)
+        bar.update(4)
+        bar.set_postfix(failed=2, refresh=False)
+        bar.update(6)
+    draws = stream.getvalue().split("\r")
+    assert draws[0] == "" and len(draws) >= 3  # the first draw and the last, each after a \r
+    assert " 10/10 [" in draws[-1] and draws[-1].rstrip().endswith("failed=2]")
+    assert draws[-1].endswith("\n") and "\n" not in "".join(draws[:-1])
 
 
 def test_select_finds_the_equal_peaks_and_the_stress_minimum(one_worker, capsys):

@@ -72,15 +72,13 @@ OK = 0
 MAX_ITERATIONS = 1
 SINGULAR = 2
 NOT_FINITE = 3
-LINE_SEARCH = 4
-ACTIVE_SET_CYCLE = 5
+ACTIVE_SET_CYCLE = 4
 
 STATUS_TEXT = {
     OK: "converged",
     MAX_ITERATIONS: "maximum number of Newton iterations reached",
     SINGULAR: "singular tangent matrix (a mechanism: is the pipe held?)",
     NOT_FINITE: "non-finite residual (the iteration diverged)",
-    LINE_SEARCH: "line search could not reduce the residual",
     ACTIVE_SET_CYCLE: "contact active set did not settle",
 }
 

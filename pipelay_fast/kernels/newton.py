@@ -60,10 +60,8 @@ I_STATUS = 0
 I_ITER = 1
 I_RES = 2  # weighted residual (max norm) at exit
 I_DELTA = 3  # largest constraint violation at exit [m]
-I_CUTS = 4  # line-search halvings
-I_CHANGES = 5  # active-set changes
-I_TOP_RES = 6  # relative top-tension residual
-N_INFO = 7
+I_TOP_RES = 4  # relative top-tension residual
+N_INFO = 5
 
 
 @jit
@@ -127,14 +125,6 @@ def _top_tension_row(nd, ab, kl, ku, g, u, top_node, d):
             acc += g[base + i] * ((1.0 if i == j else 0.0) - ti * tj) / a
         d[base + nd + j] += acc
     return te
-
-
-@jit
-def _seen(history, node):
-    for k in range(history.shape[0]):
-        if history[k] == node:
-            return True
-    return False
 
 
 @jit
@@ -417,7 +407,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     last_step = np.inf
     r_max = 0.0
     changes_total = 0
-    cuts_total = 0
     it = 0
     fr_out = np.zeros(n)
     # nodes held laterally by the stinger, fixed during the step
@@ -682,7 +671,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             if not (m1 < 1e300) and alpha < 1e-3:
                 break
             alpha *= 0.5
-            cuts_total += 1
         if not accepted:
             # take the full step anyway when the merit is flat (active-set change,
             # constraint correction); a diverging step is caught above
@@ -771,6 +759,4 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         friction_commit(nd, u, props, bed_active, fric, s_nd)
     info[I_STATUS] = status
     info[I_ITER] = it
-    info[I_CUTS] = cuts_total
-    info[I_CHANGES] = changes_total
     return status

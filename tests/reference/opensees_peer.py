@@ -101,7 +101,7 @@ projected on the node's tangent (the line's angle plus the node's rotation),
 the internal moment m = M_j at an element's upper end and -M_i at its lower end
 (sagging positive, EI theta'); nodal values are the mean of the two elements
 meeting there (the top and the lower end: their one element). Von Mises stress
-as pipelay_fast defines it (DESIGN section 4): wall tension Tw = Te + pi Ai -
+as pipelay_fast defines it (``pipelay_fast.results.build_profile``): wall tension Tw = Te + pi Ai -
 pe Ae, sigma_a = Tw/As +- |m| Do/(2I), hoop (pi Di - pe Do)/(2t), the larger
 fibre. Touchdown: the last node in seabed contact k; the moment of the free
 span, which grows linearly from zero at touchdown, is extrapolated to zero from
@@ -145,6 +145,38 @@ class PeerResult:
     profile: dict
     summary: dict
     stats: dict = field(default_factory=dict)
+
+
+class Unavailable(ImportError):
+    """openseespy is not installed or cannot load; the message says how to mend it."""
+
+
+# the shared libraries openseespy's extension links against, and their Debian packages
+SYSTEM_LIBRARIES = {"libblas.so.3": "libblas3", "liblapack.so.3": "liblapack3"}
+
+
+def opensees():
+    """The ``openseespy.opensees`` module, or :class:`Unavailable` naming what is missing.
+
+    openseespy 3.7 on Linux wraps its extension's ImportError (a system library
+    not found) in ``RuntimeError("Failed to import openseespy on Linux.")``; the
+    loader's own message is found in that exception's chain.
+    """
+    try:
+        import openseespy.opensees as ops
+    except (ImportError, RuntimeError) as err:
+        if isinstance(err, ModuleNotFoundError) and (err.name or "").startswith("openseespy"):
+            raise Unavailable("openseespy is not installed: pip install '.[test]' "
+                              "(or '.[peers]')") from err
+        root = err
+        while root.__cause__ or root.__context__:
+            root = root.__cause__ or root.__context__
+        hint = ""
+        if any(library in str(root) for library in SYSTEM_LIBRARIES):
+            hint = (f"; it needs the system BLAS and LAPACK ({', '.join(SYSTEM_LIBRARIES)}), "
+                    f"on Debian/Ubuntu: apt-get install {' '.join(SYSTEM_LIBRARIES.values())}")
+        raise Unavailable(f"openseespy cannot load: {root}{hint}") from err
+    return ops
 
 
 # --------------------------------------------------------------------------- geometry
@@ -228,8 +260,7 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
     log : str or None
         OpenSees log file; None sends OpenSees' messages to /dev/null.
     """
-    import openseespy.opensees as ops
-
+    ops = opensees()
     t_start = time.perf_counter()
     lay, pipe = case.lay, case.pipe
     if lay.top_tension is None:
@@ -548,7 +579,7 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
 
 
 def von_mises(case, te, moment, x):
-    """Largest fibre von Mises stress [Pa], DESIGN section 4 without torque.
+    """Largest fibre von Mises stress [Pa], as ``pipelay_fast.results.build_profile`` without torque.
 
     ``te`` effective tension [N], ``moment`` bending moment [N m], ``x`` height [m].
     """

@@ -1,5 +1,6 @@
-"""The paper's pipe (Table 1) and the values DESIGN.md section 6 adds, computed
-here by hand for the reference solutions and their tests (SI units)."""
+"""The paper's pipe (Table 1) and E, which the paper does not state (207 GPa, as
+in ``pipelay_fast/examples/``), computed here by hand for the reference solutions
+and their tests (SI units)."""
 
 from __future__ import annotations
 

@@ -1,0 +1,50 @@
+"""Helpers shared by test modules: the bundled examples, weights, the J-lay elastica."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pipelay_fast as pf
+from tests.reference.elastica import jlay_elastica
+
+EXAMPLES = Path(pf.__file__).resolve().parent / "examples"
+# set by .ci/run: a peer engine that cannot load fails its tests instead of skipping them
+REQUIRE_PEERS = "PIPELAY_FAST_REQUIRE_PEERS"
+
+
+def require_peer(load):
+    """What ``load()`` returns (a peer engine's module); when it raises ImportError
+    (the engine is not installed or cannot load), skip the test, or the test
+    module when called at import, with the error's message as the reason, or
+    fail when the environment sets PIPELAY_FAST_REQUIRE_PEERS=1."""
+    try:
+        return load()
+    except ImportError as err:
+        reason = str(err)
+    if os.environ.get(REQUIRE_PEERS) == "1":
+        pytest.fail(f"{reason} ({REQUIRE_PEERS}=1)", pytrace=False)
+    pytest.skip(reason, allow_module_level=True)
+
+
+def weights(case):
+    """Submerged and dry effective weight [N/m], recomputed here from the pipe data."""
+    p, env = case.pipe, case.environment
+    g = env.gravity
+    steel = p.steel_density * np.pi * (p.outer_diameter**2 - p.inner_diameter**2) / 4
+    coat = p.coating_density * np.pi * (p.coating_outer_diameter**2 - p.outer_diameter**2) / 4
+    w_dry = g * (steel + coat)
+    return w_dry - env.water_density * g * np.pi * p.coating_outer_diameter**2 / 4, w_dry
+
+
+def elastica_for(case, **tension):
+    """The planar J-lay elastica (:func:`jlay_elastica`) of ``case`` with ``tension`` given."""
+    w_sub, w_dry = weights(case)
+    x_top, z_top = case.lay.top
+    ei = case.pipe.youngs_modulus * np.pi * (
+        case.pipe.outer_diameter**4 - case.pipe.inner_diameter**4) / 64
+    return jlay_elastica(ei, w_sub, w_dry, case.environment.water_depth, x_top, z_top,
+                         top_angle_deg=case.lay.top_angle, **tension)

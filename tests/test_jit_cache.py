@@ -1,0 +1,128 @@
+"""The kernels' on-disk cache follows their sources (``pipelay_fast._jit``)."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numba
+import numba.core.caching as caching
+import pytest
+
+from pipelay_fast import _jit
+from pipelay_fast.kernels import loads
+
+PACKAGE = Path(_jit.__file__).resolve().parent
+
+# effective_weight (kernels/loads.py) reads props[W_DRY], W_DRY a constant of kernels/layout.py
+PROBE = """
+import json, numpy as np
+from pipelay_fast.kernels import layout, loads
+props = 100.0 + np.arange(layout.N_PROPS)
+weight = loads.effective_weight(props, 1e9)  # above the sea and the contents: the dry weight
+stats = loads.effective_weight.stats
+print(json.dumps({"file": loads.__file__, "weight": weight, "cache": stats.cache_path,
+                  "hits": sum(stats.cache_hits.values())}))
+"""
+
+
+def _probe(root: Path, cache_dir: Path | None) -> dict:
+    """Import the package copy under ``root`` in a fresh process and call the probe kernel."""
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["PYTHONPATH"] = str(root)
+    if cache_dir is not None:
+        env["NUMBA_CACHE_DIR"] = str(cache_dir)
+    done = subprocess.run([sys.executable, "-c", PROBE], cwd=root, env=env, capture_output=True,
+                          text=True, timeout=120, check=True)
+    answer = json.loads(done.stdout.splitlines()[-1])
+    assert Path(answer["file"]).resolve().is_relative_to(root.resolve())  # the copy, not the installed package
+    return answer
+
+
+def _edit(path: Path, old: str, new: str) -> None:
+    text = path.read_text()
+    assert text.count(old) == 1, f"{old!r} not found once in {path}"
+    path.write_text(text.replace(old, new))
+
+
+@pytest.mark.skipif(numba.config.DISABLE_JIT, reason="no machine code without the JIT")
+@pytest.mark.parametrize("numba_cache_dir", [False, True], ids=["in-tree", "NUMBA_CACHE_DIR"])
+def test_an_edit_in_another_module_reaches_the_cached_kernel(tmp_path, numba_cache_dir):
+    shutil.copytree(PACKAGE, tmp_path / "pipelay_fast",
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    layout = tmp_path / "pipelay_fast" / "kernels" / "layout.py"
+    jit_module = tmp_path / "pipelay_fast" / "_jit.py"
+    cache_dir = tmp_path / "numba-cache" if numba_cache_dir else None
+
+    first = _probe(tmp_path, cache_dir)
+    assert first["weight"] == 100.0 + 2 and first["hits"] == 0  # W_DRY = 2, compiled
+    expected_cache = (tmp_path / "pipelay_fast" / "kernels" / "__pycache__" if cache_dir is None
+                      else cache_dir)
+    assert Path(first["cache"]).resolve().is_relative_to(expected_cache.resolve())
+    assert (Path(first["cache"]) / _jit.STAMP_NAME).is_file()
+
+    _edit(layout, "W_DRY = 2  #", "W_DRY = 7  #")
+    # numba alone: loads.py is unchanged, so its cached machine code (W_DRY = 2) is loaded
+    original = jit_module.read_text()
+    _edit(jit_module, "\nexpire_stale_cache()\n", "\n")
+    stale = _probe(tmp_path, cache_dir)
+    assert stale["weight"] == 100.0 + 2 and stale["hits"] == 1
+
+    jit_module.write_text(original)
+    fresh = _probe(tmp_path, cache_dir)
+    assert fresh["weight"] == 100.0 + 7 and fresh["hits"] == 0  # recompiled with W_DRY = 7
+    again = _probe(tmp_path, cache_dir)
+    assert again["weight"] == 100.0 + 7 and again["hits"] == 1  # and cached again
+
+
+def _locator(name: str):
+    """numba's cache locator class ``name`` (named with a leading underscore before 0.60)."""
+    return getattr(caching, name, None) or getattr(caching, "_" + name)
+
+
+def test_cache_dirs_are_numbas(monkeypatch, tmp_path):
+    func = loads.effective_weight.py_func
+    path = loads.__file__
+    in_tree = _locator("InTreeCacheLocator")(func, path).get_cache_path()
+    user_wide = _locator("UserWideCacheLocator")(func, path).get_cache_path()
+    monkeypatch.setattr(numba.config, "CACHE_DIR", "")
+    assert _jit.cache_dirs(os.path.dirname(path)) == [in_tree, user_wide]
+
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))
+    provided = _locator("UserProvidedCacheLocator")(func, path).get_cache_path()
+    assert _jit.cache_dirs(os.path.dirname(path)) == [provided]
+
+
+def test_expire_deletes_only_the_kernels_cache_files(tmp_path):
+    kernel_files = ["loads.effective_weight-15.py311.nbi", "loads.effective_weight-15.py311.1.nbc"]
+    others = ["loads.cpython-311.pyc", "select.choose-3.py311.nbi"]
+    for name in kernel_files + others:
+        (tmp_path / name).write_bytes(b"x")
+
+    assert _jit.expire(str(tmp_path), "digest 1", {"loads", "layout"})
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(others + [_jit.STAMP_NAME])
+    assert (tmp_path / _jit.STAMP_NAME).read_text() == "digest 1"
+
+    (tmp_path / kernel_files[0]).write_bytes(b"x")  # compiled under the current stamp
+    assert _jit.expire(str(tmp_path), "digest 1", {"loads"})
+    assert (tmp_path / kernel_files[0]).exists()
+    assert _jit.expire(str(tmp_path), "digest 2", {"loads"})
+    assert not (tmp_path / kernel_files[0]).exists()
+    assert (tmp_path / _jit.STAMP_NAME).read_text() == "digest 2"
+
+
+def test_expire_reports_an_unwritable_directory(tmp_path):
+    blocked = tmp_path / "a file" / "cache"  # below a file: cannot be created
+    (tmp_path / "a file").write_text("")
+    assert not _jit.expire(str(blocked), "digest", {"loads"})
+
+
+def test_every_module_with_kernels_is_hashed():
+    uses_jit = {str(path) for path in PACKAGE.rglob("*.py")
+                if re.search(r"^from \.+_jit import", path.read_text(), flags=re.MULTILINE)}
+    assert uses_jit and uses_jit <= {str(Path(p).resolve()) for p in _jit.kernel_sources()}
