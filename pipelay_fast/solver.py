@@ -183,8 +183,8 @@ def build_problem(case: Case) -> Problem:
 
 def _follow(case: Case, pb: Problem, s_focus: float):
     """On a rigid seabed, map the mesh onto touchdown at the node nearest ``s_focus``."""
-    if case.seabed.stiffness is not None or case.lay.stinger is not None:
-        return  # S-lay: the stinger's active set still walks touchdown's nodes
+    if case.solver.contact != "boundaries":
+        return
     k = int(np.argmin(np.abs(pb.s[1:-1] - s_focus))) + 1
     pb.bed_active[:] = 0
     pb.bed_active[1:k + 1] = 1

@@ -21,6 +21,21 @@ the equation Te(top) = R_top . t_top - T_top = 0 (the reaction at the pinned top
 is the internal force there). Its row and column are local to the two ends, so
 the bordered system is solved with the band factors and one extra solve.
 
+Touchdown as an unknown (``td_node >= 0``, ``solver.contact = "boundaries"``):
+the mesh follows touchdown, node i at s_i = s_a[i] + s_b[i] s_T, so that node
+``td_node`` is touchdown and the nodes within a few flexural lengths of it
+slide along the pipe as s_T changes (:func:`mesh_lengths`). The seabed contact
+is then fixed: every node from the lower end to touchdown lies on the seabed,
+tangent to it, touchdown included. s_T is a bordered unknown whose equation is
+the continuum's third condition there, no moment on the free side: the
+residual of the first free element at touchdown's slope unknown (the laid
+side carries none). Its column dG/ds_T and the border equations' derivatives
+by s_T are central differences in s_T at fixed nodal unknowns. Friction
+anchors belong to material points (:func:`.contact.anchor_at`), so nodes that
+slide along the pipe keep the springs' stretch. All border unknowns (bottom
+tension, tip multiplier, touchdown) are eliminated by one dense Schur
+complement (:func:`_solve_dense`).
+
 The kernel never raises: it writes a status code (:mod:`.layout`) into ``info``.
 """
 
