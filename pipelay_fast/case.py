@@ -60,6 +60,7 @@ __all__ = [
 METHODS = ("S", "J")
 PROFILES = ("uniform", "linear", "power", "table")
 DIMENSIONS = ("auto", "2d", "3d")
+CONTACTS = ("active_set", "boundaries")
 _PLANAR_TOL = 1e-12
 MAX_STINGER_TURN = 90.0  # deg, the most a stinger may turn the pipe (Stinger)
 
@@ -513,6 +514,13 @@ class Solver:
         Finest graded element [m], <= element_length; None: the solver picks.
     grading : bool
         Grade the mesh at touchdown and lift-off; default true.
+    contact : str
+        How contact boundaries are found: "active_set" (the default: nodes
+        join and leave the seabed and stinger contacts between Newton
+        iterations) or "boundaries" (experimental, J-lay on a rigid seabed:
+        touchdown's arc length is an unknown of Newton and the mesh follows it,
+        see :func:`pipelay_fast.kernels.newton.newton`). The second will
+        replace the first once it covers the stinger (S-lay) too.
     laid_length : float or None
         Length of pipe modelled on the seabed [m]; None: the solver picks.
     tolerance : float
@@ -549,6 +557,7 @@ class Solver:
     element_length: float = 4.0
     min_element_length: float | None = None
     grading: bool = True
+    contact: str = "active_set"
     laid_length: float | None = None
     tolerance: float = 1e-8
     max_iterations: int = 100
@@ -559,6 +568,7 @@ class Solver:
 
     def __post_init__(self):
         choice("solver.dimension", self.dimension, DIMENSIONS)
+        choice("solver.contact", self.contact, CONTACTS)
         optional = [name for name in ("min_element_length", "laid_length")
                     if getattr(self, name) is not None]
         set_numbers(self, "solver", positive=("element_length", "tolerance", *optional))
@@ -611,6 +621,11 @@ class Case:
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
+        if self.solver.contact == "boundaries" and (self.lay.method != "J"
+                                                    or not self.seabed.is_rigid):
+            fail("solver.contact", "boundaries", "covers J-lay on a rigid seabed so far "
+                 f"(lay.method = {self.lay.method!r}, seabed.stiffness = "
+                 f"{self.seabed.stiffness!r}); use \"active_set\"")
         check_case(self)
 
     @property

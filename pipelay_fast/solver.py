@@ -85,6 +85,38 @@ class Problem:
     href: float
     stats: dict = field(default_factory=dict)
     before_current: list | None = None  # state snapshot before the current (friction path)
+    # the mesh follows touchdown: node i at s_a[i] + s_b[i] * s_td[0], node td_node on
+    # touchdown (-1: a fixed mesh, touchdown found by the active set)
+    td_node: int = -1
+    s_a: np.ndarray | None = None
+    s_b: np.ndarray | None = None
+    s_td: np.ndarray = field(default_factory=lambda: np.zeros(1))
+
+    def follow_touchdown(self, k: int, zone: float):
+        """Map the mesh onto touchdown at node ``k``: the nodes within ``zone``
+        [m] of it (between two nodes that stay material points) move with s_T,
+        each side scaling linearly and keeping its grading; the rest is fixed."""
+        s = self.s
+        s_t = s[k]
+        lo = int(np.searchsorted(s, s_t - zone))
+        lo = min(max(lo - 1, 0), k - 1)
+        hi = int(np.searchsorted(s, s_t + zone))
+        hi = max(min(hi, s.size - 2), k + 1)
+        idx = np.arange(s.size)
+        below = (idx >= lo) & (idx <= k)
+        above = (idx > k) & (idx <= hi)
+        s_lo, s_hi = s[lo], s[hi]
+        f = (s - s_lo) / (s_t - s_lo)
+        g = (s - s_t) / (s_hi - s_t)
+        self.s_a = np.where(below, s_lo * (1.0 - f), np.where(above, s_hi * g, s))
+        self.s_b = np.where(below, f, np.where(above, 1.0 - g, 0.0))
+        self.td_node = k
+        self.s_td = np.array([s_t])
+
+    def update_nodes(self):
+        """Node arc lengths from the touchdown unknown (after a solve)."""
+        if self.td_node >= 0:
+            self.s[:] = self.s_a + self.s_b * self.s_td[0]
 
     @property
     def ndn(self) -> int:
@@ -144,7 +176,19 @@ def build_problem(case: Case) -> Problem:
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
                case.lay.top_tension or 0.0)
     s_stinger = g.s_liftoff if g.s_liftoff is not None else np.inf
-    return _problem(case, nd, s, u, g.cat.h, s_focus, s_stinger, fref, stats)
+    pb = _problem(case, nd, s, u, g.cat.h, s_focus, s_stinger, fref, stats)
+    _follow(case, pb, s_focus)
+    return pb
+
+
+def _follow(case: Case, pb: Problem, s_focus: float):
+    """On a rigid seabed, map the mesh onto touchdown at the node nearest ``s_focus``."""
+    if case.solver.contact != "boundaries":
+        return
+    k = int(np.argmin(np.abs(pb.s[1:-1] - s_focus))) + 1
+    pb.bed_active[:] = 0
+    pb.bed_active[1:k + 1] = 1
+    pb.follow_touchdown(k, 3.0 * pb.stats["flexural_length"])
 
 
 def _laid_source(case: Case, cat, lam: float) -> str:
@@ -214,7 +258,7 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
         st_active[:] = 0
     props, table = build_props(case)
     fric = np.zeros((nn, L.N_FRIC))
-    _anchor(fric, u, nd)
+    _anchor(fric, u, nd, s)
     return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
                    stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof,
                    np.array([float(tb)]), top,
@@ -224,11 +268,16 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
 def _run_newton(pb: Problem, g_off, tol, maxit):
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
+    if pb.td_node >= 0:
+        s_a, s_b = pb.s_a, pb.s_b
+    else:
+        s_a = s_b = np.zeros(pb.nn)
     status = newton(pb.nd, pb.s_el, pb.u, pb.props, pb.table, pb.fix_mask, pb.fix_val,
                     pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.stinger, pb.st_active,
                     pb.tip, pb.fric, pb.f_node, g_off,
                     pb.slide_dof, pb.tb, pb.top_node, pb.top_target, tol, pb.fref, pb.href,
-                    maxit, react, info)
+                    maxit, react, info, pb.td_node, s_a, s_b, pb.s_td)
+    pb.update_nodes()
     return status, react, info
 
 
@@ -239,7 +288,7 @@ def _residual(pb: Problem):
     _system(pb.nd, pb.s_el, pb.u, pb.props, pb.table, torques, np.zeros((1, 1)), 1, 1, g,
             pb.f_node, np.zeros_like(pb.u), pb.slide_dof, pb.tb, pb.phi_r, pb.phi_rp, False)
     friction_forces(pb.nd, pb.u, g, np.zeros((1, 1)), 0, pb.props, pb.bed_active, pb.fric,
-                    np.zeros_like(pb.u))
+                    np.zeros_like(pb.u), pb.s)
     g[pb.fix_mask != 0] = 0.0
     g[0::pb.ndn][pb.bed_active != 0] = 0.0
     return g
@@ -272,7 +321,7 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     return status, react, info
 
 
-_STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp")
+_STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp", "s", "s_td")
 
 
 def _snapshot(pb: Problem):
@@ -348,7 +397,10 @@ def _curvature_window(pb: Problem, lo: int, hi: int):
 
 
 def touchdown_position(case: Case, pb: Problem) -> float:
-    """Arc length of touchdown [m], located inside its element (see results)."""
+    """Arc length of touchdown [m]: the node that follows it, or located
+    inside its element (see results) on a fixed mesh."""
+    if pb.td_node >= 0:
+        return float(pb.s[pb.td_node])
     k = touchdown_index(pb)
     lo, hi = max(k - 1, 0), min(k + 5, pb.nn)
     _, kvec = _curvature_window(pb, lo, hi)
@@ -474,7 +526,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         near = 0.02 * pb.stats["h_min"]
         held = pb.stats.get("stinger_foci", [])
         lift_ok = all(any(abs(f - h) <= near for h in held) for f in foci)
-        if abs(s_t - pb.stats["focus"]) <= near and lift_ok and not short_laid:
+        on_node = pb.td_node >= 0 or abs(s_t - pb.stats["focus"]) <= near
+        if on_node and lift_ok and not short_laid:
             break
         pb = remesh(case, pb, s_t, foci)
         if path:
@@ -487,7 +540,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     while path:
         pb.before_current = _snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
-        _anchor(pb.fric, pb.u, pb.nd)
+        _anchor(pb.fric, pb.u, pb.nd, pb.s)
         pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, np.maximum(react[0::pb.ndn], 0.0), 0.0)
         pb.props[L.FRICTION_ON] = 1.0
         react, more = apply_current(case, pb, budget)
@@ -497,7 +550,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         near = 0.02 * pb.stats["h_min"]
         current_passes += 1
         if (not case.solver.grading or current_passes > MAX_MESH_PASSES
-                or abs(s_t - pb.stats["focus"]) <= near):
+                or pb.td_node >= 0 or abs(s_t - pb.stats["focus"]) <= near):
             break
         # the current moved touchdown off the fine mesh: mesh again around where
         # it ends, from the pipe under gravity alone, and follow the path again
@@ -564,6 +617,10 @@ def warm_problem(case: Case, old: Problem) -> Problem:
                    old.fref, dict(old.stats))
     for name in ("bed_active", "st_active", "tip", "fric"):
         getattr(new, name)[:] = state[name]
+    if old.td_node >= 0:
+        new.td_node, new.s_a, new.s_b = old.td_node, old.s_a.copy(), old.s_b.copy()
+        new.s_td = state["s_td"].copy()
+        new.s[:] = state["s"]
     _onto_stinger(new, old.stinger)
     return new
 
@@ -652,6 +709,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
     s_c = conform_end(case, pb)
     s_stinger = np.inf if s_c is None else s_c + extra - tol
     new = _problem(case, nd, s, u, pb.tb[0], focus + tol, s_stinger, pb.fref, stats)
+    _follow(case, new, focus)
     new.tip[:] = pb.tip  # a bearing tip keeps bearing (its point moves with the pipe)
     return new
 
@@ -764,9 +822,11 @@ def friction_path(case: Case) -> bool:
     return (lateral or case.seabed.axial_friction > 0.0) and case.environment.current.speed > 0.0
 
 
-def _anchor(fric, u, nd):
-    """Friction springs unstretched: anchors at the nodes' present positions."""
+def _anchor(fric, u, nd, s):
+    """Friction springs unstretched: anchors at the nodes' present positions
+    and material points (arc lengths ``s`` [m])."""
     ndn = 2 * nd + 1
+    fric[:, L.FR_S] = s
     fric[:, L.FR_Z] = u[nd - 1::ndn]
     if nd == 3:
         fric[:, L.FR_Y] = u[1::ndn]

@@ -273,14 +273,44 @@ def _friction_dofs(nd, props, comp):
 
 
 @jit
-def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out):
+def node_arcs(s_el, s):
+    """Node arc lengths [m] from the element lengths (the lower end at s = 0)."""
+    s[0] = 0.0
+    for e in range(s_el.shape[0]):
+        s[e + 1] = s[e] + s_el[e]
+
+
+@jit
+def anchor_at(fric, col, s, node):
+    """Anchor ``col`` of the material point at node ``node``'s arc length s[node]:
+    the anchors belong to material points (column FR_S), and a mesh that follows
+    touchdown moves its nodes along the pipe, so the anchor is interpolated
+    linearly between the neighbouring nodes' anchor points."""
+    nn = s.shape[0]
+    s_n = s[node]
+    s0 = fric[node, L.FR_S]
+    if s_n == s0:
+        return fric[node, col]
+    other = node - 1 if s_n < s0 else node + 1
+    if other < 0 or other >= nn:
+        return fric[node, col]
+    s1 = fric[other, L.FR_S]
+    if s1 == s0:
+        return fric[node, col]
+    t = (s_n - s0) / (s1 - s0)
+    return fric[node, col] + t * (fric[other, col] - fric[node, col])
+
+
+@jit
+def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out, s):
     """Add the seabed friction springs to the residual ``g`` (and, when ``ab``
     has more than one row, their stiffness to its diagonal row ``kv``).
 
     Each seabed contact resists lateral (and axial) motion from its anchor d
     with the force -mu W clip(d / d_slip, -1, 1): elastic up to the mobilising
     displacement d_slip, then sliding at mu W. W is the node's normal reaction
-    (lagged one iteration). ``out`` (ndof,) receives the force on the pipe.
+    (lagged one iteration). ``out`` (ndof,) receives the force on the pipe;
+    ``s`` (nn,) holds the node arc lengths [m] (see :func:`anchor_at`).
     """
     if props[L.FRICTION_ON] == 0.0:
         return
@@ -297,7 +327,7 @@ def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out):
                 continue
             dof = node * ndn + slot
             f_max = mu * w
-            d = (u[dof] - fric[node, col]) / d_slip
+            d = (u[dof] - anchor_at(fric, col, s, node)) / d_slip
             if abs(d) < 1.0:
                 force = -f_max * d
                 if tangent:
@@ -309,7 +339,7 @@ def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out):
 
 
 @jit
-def friction_track(nd, u, react, bed_active, fric):
+def friction_track(nd, u, react, bed_active, fric, s):
     """Per Newton iteration: each contact's normal reaction W; free nodes keep
     their anchors where they are, so a node that lands is anchored there."""
     ndn = 2 * nd + 1
@@ -322,18 +352,29 @@ def friction_track(nd, u, react, bed_active, fric):
             fric[node, L.FR_DIR] = 0.0
             fric[node, L.FR_DIRZ] = 0.0
             fric[node, L.FR_Z] = u[base + nd - 1]
+            fric[node, L.FR_S] = s[node]
             if nd == 3:
                 fric[node, L.FR_Y] = u[base + 1]
 
 
 @jit
-def friction_commit(nd, u, props, bed_active, fric):
+def friction_commit(nd, u, props, bed_active, fric, s):
     """End of a load step (return mapping): a spring stretched to or beyond
     its mobilising displacement slides, its anchor following the pipe to
-    d_slip behind it; the slip direction is recorded (``FR_DIR``, ``FR_DIRZ``)."""
+    d_slip behind it; the slip direction is recorded (``FR_DIR``, ``FR_DIRZ``).
+    Every anchor is then taken to the node's present material point."""
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
-    for node in range(bed_active.shape[0]):
+    nn = bed_active.shape[0]
+    moved = np.empty((nn, 2))
+    for node in range(nn):
+        moved[node, 0] = anchor_at(fric, L.FR_Y, s, node)
+        moved[node, 1] = anchor_at(fric, L.FR_Z, s, node)
+    for node in range(nn):
+        fric[node, L.FR_Y] = moved[node, 0]
+        fric[node, L.FR_Z] = moved[node, 1]
+        fric[node, L.FR_S] = s[node]
+    for node in range(nn):
         for comp in range(2):
             slot, mu, col, dcol = _friction_dofs(nd, props, comp)
             if slot < 0:

@@ -58,7 +58,8 @@ FR_Y = 1  # lateral anchor y [m]
 FR_W = 2  # normal reaction carried [N] (lagged one Newton iteration)
 FR_DIRZ = 3  # axial: as FR_DIR, along z
 FR_Z = 4  # axial anchor z [m]
-N_FRIC = 5
+FR_S = 5  # arc length [m] of the material point the anchors belong to
+N_FRIC = 6
 
 # --- current profiles ---------------------------------------------------------
 PROFILE_UNIFORM = 0

@@ -21,6 +21,21 @@ the equation Te(top) = R_top . t_top - T_top = 0 (the reaction at the pinned top
 is the internal force there). Its row and column are local to the two ends, so
 the bordered system is solved with the band factors and one extra solve.
 
+Touchdown as an unknown (``td_node >= 0``, ``solver.contact = "boundaries"``):
+the mesh follows touchdown, node i at s_i = s_a[i] + s_b[i] s_T, so that node
+``td_node`` is touchdown and the nodes within a few flexural lengths of it
+slide along the pipe as s_T changes (:func:`mesh_lengths`). The seabed contact
+is then fixed: every node from the lower end to touchdown lies on the seabed,
+tangent to it, touchdown included. s_T is a bordered unknown whose equation is
+the continuum's third condition there, no moment on the free side: the
+residual of the first free element at touchdown's slope unknown (the laid
+side carries none). Its column dG/ds_T and the border equations' derivatives
+by s_T are central differences in s_T at fixed nodal unknowns. Friction
+anchors belong to material points (:func:`.contact.anchor_at`), so nodes that
+slide along the pipe keep the springs' stretch. All border unknowns (bottom
+tension, tip multiplier, touchdown) are eliminated by one dense Schur
+complement (:func:`_solve_dense`).
+
 The kernel never raises: it writes a status code (:mod:`.layout`) into ``info``.
 """
 
@@ -33,6 +48,7 @@ import numpy as np
 from .._jit import jit
 from . import layout as L
 from .assembly import assemble, distribute_torque, rotate_node
+from .element import element_force
 from .banded import band_factor, band_solve
 from .contact import (
     CS_COUNT,
@@ -46,6 +62,7 @@ from .contact import (
     friction_commit,
     friction_forces,
     friction_track,
+    node_arcs,
     lateral_hold,
     stinger_angle,
     stinger_gap,
@@ -189,12 +206,124 @@ def _weighted_max(nd, g, cmask, fref, href):
 
 
 RELEASE_DELTA = 1e-3  # constraint correction (per href) above which no contact is released
+N_BORDER = 3  # bordered unknowns: bottom tension, tip multiplier, touchdown arc length
+
+
+@jit
+def mesh_lengths(s_a, s_b, s_td, s_el):
+    """Element lengths [m] of the mesh that follows touchdown: node i sits at
+    s_i = s_a[i] + s_b[i] s_T, with s_T = s_td[0] the touchdown arc length."""
+    for e in range(s_el.shape[0]):
+        s_el[e] = (s_a[e + 1] - s_a[e]) + (s_b[e + 1] - s_b[e]) * s_td[0]
+
+
+@jit
+def _solve_dense(nb, sm, rh, dz):
+    """Solve the nb x nb border system ``sm dz = rh`` (Gaussian elimination with
+    partial pivoting; sm and rh are overwritten). Returns False when singular."""
+    for k in range(nb):
+        p = k
+        for i in range(k + 1, nb):
+            if abs(sm[i, k]) > abs(sm[p, k]):
+                p = i
+        if sm[p, k] == 0.0:
+            return False
+        if p != k:
+            for j in range(nb):
+                tmp = sm[k, j]
+                sm[k, j] = sm[p, j]
+                sm[p, j] = tmp
+            tmp = rh[k]
+            rh[k] = rh[p]
+            rh[p] = tmp
+        for i in range(k + 1, nb):
+            f = sm[i, k] / sm[k, k]
+            for j in range(k, nb):
+                sm[i, j] -= f * sm[k, j]
+            rh[i] -= f * rh[k]
+    for k in range(nb - 1, -1, -1):
+        acc = rh[k]
+        for j in range(k + 1, nb):
+            acc -= sm[k, j] * dz[j]
+        dz[k] = acc / sm[k, k]
+    return True
+
+
+@jit
+def _free_moment(nd, s_el, u, props, table, torques, td_node):
+    """Residual [N m] of the first free element at touchdown's slope unknown."""
+    ndn = 2 * nd + 1
+    ne = 2 * ndn
+    fe = np.zeros(ne)
+    ke = np.zeros((ne, ne))
+    e = td_node
+    element_force(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke, False)
+    return fe[nd]
+
+
+@jit
+def _touchdown_border(nd, s_el, u, props, table, torques, f_node, g_off, slide_dof, tb,
+                      phi_r, phi_rp, td_node, s_a, s_b, s_td, href, g_p, g_m, col, row,
+                      top_node, stinger, grad, cross, bed_active, fric, s_nd, fr_tmp):
+    """Touchdown's bordered unknown s_T: its column dG/ds_T and its equation.
+
+    The equation is the moment at touchdown on the free side: the residual of
+    the first free element at the slope unknown of its lower node (node
+    ``td_node``, on the seabed, its slope held). It vanishes when that moment
+    does, as the continuum's does at touchdown on a flat seabed (the laid side
+    carries none). Returns (residual [N m], its derivative d/ds_T at fixed u);
+    ``cross`` gets the derivatives by s_T of the top tension [N/m] and of the
+    tip's gap [-], the other border equations that the element lengths change.
+    """
+    ndn = 2 * nd + 1
+    ne = 2 * ndn
+    h = 1e-6 * href
+    s0 = s_td[0]
+    dummy = np.zeros((1, 1))
+    s_td[0] = s0 + h
+    mesh_lengths(s_a, s_b, s_td, s_el)
+    _system(nd, s_el, u, props, table, torques, dummy, 1, 1, g_p, f_node, g_off, slide_dof, tb,
+            phi_r, phi_rp, False)
+    node_arcs(s_el, s_nd)
+    friction_forces(nd, u, g_p, dummy, 0, props, bed_active, fric, fr_tmp, s_nd)
+    e = td_node
+    fe = np.zeros(ne)
+    ke = np.zeros((ne, ne))
+    element_force(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke, False)
+    r_p = fe[nd]
+    te_p = _top_te(nd, g_p, u, top_node)
+    gap_p = 0.0
+    if stinger[ST_ON] != 0.0:
+        _f, gap_p, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
+    s_td[0] = s0 - h
+    mesh_lengths(s_a, s_b, s_td, s_el)
+    _system(nd, s_el, u, props, table, torques, dummy, 1, 1, g_m, f_node, g_off, slide_dof, tb,
+            phi_r, phi_rp, False)
+    node_arcs(s_el, s_nd)
+    friction_forces(nd, u, g_m, dummy, 0, props, bed_active, fric, fr_tmp, s_nd)
+    element_force(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke, False)
+    r_m = fe[nd]
+    te_m = _top_te(nd, g_m, u, top_node)
+    gap_m = 0.0
+    if stinger[ST_ON] != 0.0:
+        _f, gap_m, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
+    cross[0] = (te_p - te_m) / (2.0 * h)
+    cross[1] = (gap_p - gap_m) / (2.0 * h)
+    s_td[0] = s0
+    mesh_lengths(s_a, s_b, s_td, s_el)
+    for i in range(col.shape[0]):
+        col[i] = (g_p[i] - g_m[i]) / (2.0 * h)
+        row[i] = 0.0
+    element_force(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke, True)
+    for j in range(ne):
+        row[e * ndn + j] = ke[nd, j]
+    return fe[nd], (r_p - r_m) / (2.0 * h)
 
 
 @jit
 def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
            stinger, st_active, tip, fric, f_node, g_off, slide_dof, tb, top_node, top_target,
-           tol, fref, href, maxit, react, info):
+           tol, fref, href, maxit, react, info, td_node, s_a, s_b, s_td):
     """Solve G(u) = reactions for one load level; see the module docstring.
 
     Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
@@ -266,12 +395,27 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     reac = np.zeros(nn)
     grad = np.zeros(n)
     grad_t = np.zeros(n)
-    rows = np.zeros((2, n))
-    cols = np.zeros((2, n))
-    ys = np.zeros((2, n))
-    res_b = np.zeros(2)
-    dz = np.zeros(2)
-    kind = np.zeros(2, dtype=np.int64)  # 0: bottom tension, 1: tip multiplier
+    rows = np.zeros((N_BORDER, n))
+    cols = np.zeros((N_BORDER, n))
+    ys = np.zeros((N_BORDER, n))
+    res_b = np.zeros(N_BORDER)
+    d_b = np.zeros((N_BORDER, N_BORDER))  # border equations by border unknowns, fixed u
+    dz = np.zeros(N_BORDER)
+    sm = np.zeros((N_BORDER, N_BORDER))
+    rh = np.zeros(N_BORDER)
+    kind = np.zeros(N_BORDER, dtype=np.int64)  # 0: bottom tension, 1: tip, 2: touchdown
+    has_td = td_node >= 0
+    g_p = np.zeros(n)
+    g_m = np.zeros(n)
+    col_t = np.zeros(n)
+    row_t = np.zeros(n)
+    res_td = 0.0
+    td_res = 0.0
+    cross = np.zeros(2)
+    s_nd = np.zeros(nn)  # node arc lengths [m]
+    fr_tmp = np.zeros(n)
+    if has_td:
+        mesh_lengths(s_a, s_b, s_td, s_el)
     g_tip = 0.0
     has_stinger = stinger[ST_ON] != 0.0
     tip_toggles = 0
@@ -299,7 +443,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # ---- 1-2: system in nodal frames --------------------------------
         _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
                 slide_dof, tb, phi_r, phi_rp, True)
-        friction_forces(nd, u, g, ab, kl + ku, props, bed_active, fric, fr_out)
+        node_arcs(s_el, s_nd)
+        friction_forces(nd, u, g, ab, kl + ku, props, bed_active, fric, fr_out, s_nd)
         tip_on = False
         if has_stinger and tip[0] != 0.0:
             found, g_tip, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
@@ -313,9 +458,17 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         te_top = 0.0
         if solve_tb:
             te_top = _top_tension_row(nd, ab, kl, ku, g, u, top_node, d)
+        d_td = 0.0
+        if has_td:
+            res_td, d_td = _touchdown_border(nd, s_el, u, props, table, torques, f_node, g_off,
+                                             slide_dof, tb, phi_r, phi_rp, td_node, s_a, s_b,
+                                             s_td, href, g_p, g_m, col_t, row_t, top_node,
+                                             stinger, grad_t, cross, bed_active, fric,
+                                             s_nd, fr_tmp)
         _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, True)
         # border unknowns: rows (constraint gradients) and columns (dG/dz)
         nb = 0
+        d_b[:, :] = 0.0
         if solve_tb:
             _rotate_all(nd, dummy_ab, kl, ku, d, phi_r, phi_rp, False)
             rows[nb, :] = d
@@ -331,6 +484,17 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 cols[nb, i] = -grad[i]
             res_b[nb] = g_tip
             kind[nb] = 1
+            nb += 1
+        if has_td:
+            _rotate_all(nd, dummy_ab, kl, ku, col_t, phi_r, phi_rp, False)
+            _rotate_all(nd, dummy_ab, kl, ku, row_t, phi_r, phi_rp, False)
+            rows[nb, :] = row_t
+            cols[nb, :] = col_t
+            res_b[nb] = res_td
+            for j in range(nb):
+                d_b[j, nb] = cross[0] if kind[j] == 0 else cross[1]
+            d_b[nb, nb] = d_td
+            kind[nb] = 2
             nb += 1
         # ---- constrained set and prescribed increments -----------------
         max_delta = 0.0
@@ -350,7 +514,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             # at every contact node (a lower end resting on the seabed included)
             # except at touchdown, the contact node followed by free pipe
             on_bed = bed_active[node] != 0 or (node == 0 and fix_mask[0] != 0)
-            touchdown = node + 1 < nn and bed_active[node + 1] == 0
+            touchdown = node + 1 < nn and bed_active[node + 1] == 0 and not has_td
             if on_bed and not touchdown and fix_mask[base + nd] == 0:
                 cmask[base + nd] = True
                 delta[base + nd] = -u[base + nd]
@@ -382,6 +546,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             top_res = abs(te_top - top_target) / top_target
         if tip_on:
             max_delta = max(max_delta, abs(g_tip) / href)
+        td_res = abs(res_td) / (fref * href) if has_td else 0.0
         if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
             status = L.NOT_FINITE
             break
@@ -393,7 +558,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # fine mesh far from the origin cannot reach every tolerance).
         at_roundoff = last_step <= 1e3 * 2.2e-16 * (r_max + href) and res_max <= 1e-4
         if (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
-                and (top_res <= tol or at_roundoff) and not changed):
+                and (top_res <= tol or at_roundoff) and (td_res <= tol or at_roundoff)
+                and not changed):
             status = L.OK
             it -= 1
             break
@@ -430,8 +596,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             for i in range(n):
                 ys[j, i] = 0.0 if cmask[i] else cols[j, i] * scale[i % ndn]
             band_solve(ab, kl, ku, ipiv, ys[j])
-        sm = np.zeros((2, 2))
-        rh = np.zeros(2)
+        # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz
         for i2 in range(nb):
             acc = 0.0
             for k in range(n):
@@ -441,21 +606,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 acc = 0.0
                 for k in range(n):
                     acc += rows[i2, k] * scale[k % ndn] * ys[j, k]
-                sm[i2, j] = acc
-        singular_border = False
-        if nb == 1:
-            if sm[0, 0] == 0.0:
-                singular_border = True
-            else:
-                dz[0] = rh[0] / sm[0, 0]
-        elif nb == 2:
-            det = sm[0, 0] * sm[1, 1] - sm[0, 1] * sm[1, 0]
-            if det == 0.0:
-                singular_border = True
-            else:
-                dz[0] = (rh[0] * sm[1, 1] - sm[0, 1] * rh[1]) / det
-                dz[1] = (sm[0, 0] * rh[1] - sm[1, 0] * rh[0]) / det
-        if singular_border:
+                sm[i2, j] = acc - d_b[i2, j]
+        if nb > 0 and not _solve_dense(nb, sm, rh, dz):
             status = L.SINGULAR
             break
         for j in range(nb):
@@ -463,11 +615,14 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 du[i] -= dz[j] * ys[j, i]
         dtb = 0.0
         dmu = 0.0
+        dstd = 0.0
         for j in range(nb):
             if kind[j] == 0:
                 dtb = dz[j]
-            else:
+            elif kind[j] == 1:
                 dmu = dz[j]
+            else:
+                dstd = dz[j]
         # reactions (linearised) on the constrained rows, physical units
         for i in range(n):
             react[i] = 0.0
@@ -487,17 +642,30 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         u_old[:] = u
         tb_old = tb[0]
         mu_old = tip[1]
-        merit0 = res_ssq + top_res * top_res + (g_tip / href) ** 2 * tip_on
+        merit0 = res_ssq + top_res * top_res + (g_tip / href) ** 2 * tip_on + td_res * td_res
+        std_old = s_td[0]
         alpha = 1.0
+        if has_td:
+            # touchdown stays inside its zone: no element there shrinks to under
+            # a tenth of its length
+            for e in range(nn - 1):
+                rate = s_b[e + 1] - s_b[e]
+                if rate * dstd < -0.9 * s_el[e]:
+                    alpha = min(alpha, 0.9 * s_el[e] / abs(rate * dstd))
+        alpha0 = alpha
         accepted = False
         for _ls in range(12):
             for i in range(n):
                 u[i] = u_old[i] + alpha * du_free[i]
             tb[0] = tb_old + alpha * dtb
             tip[1] = mu_old + alpha * dmu
+            if has_td:
+                s_td[0] = std_old + alpha * dstd
+                mesh_lengths(s_a, s_b, s_td, s_el)
             _system(nd, s_el, u, props, table, torques, dummy_ab, kl, ku, g_trial, f_node,
                     g_off, slide_dof, tb, phi_r, phi_rp, False)
-            friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out)
+            node_arcs(s_el, s_nd)
+            friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out, s_nd)
             gt = 0.0
             if tip_on:
                 found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
@@ -506,9 +674,12 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             tr = 0.0
             if solve_tb:
                 tr = (_top_te(nd, g_trial, u, top_node) - top_target) / top_target
+            tdr = 0.0
+            if has_td:
+                tdr = _free_moment(nd, s_el, u, props, table, torques, td_node) / (fref * href)
             _rotate_all(nd, dummy_ab, kl, ku, g_trial, phi_r, phi_rp, False)
             _rm, rs = _weighted_max(nd, g_trial, cmask, fref, href)
-            m1 = rs + tr * tr + (gt / href) ** 2
+            m1 = rs + tr * tr + (gt / href) ** 2 + tdr * tdr
             if m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < (tol * tol) or m1 < 1e-300:
                 accepted = True
                 break
@@ -519,9 +690,12 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             # take the full step anyway when the merit is flat (active-set change,
             # constraint correction); a diverging step is caught above
             for i in range(n):
-                u[i] = u_old[i] + du_free[i]
-            tb[0] = tb_old + dtb
-            tip[1] = mu_old + dmu
+                u[i] = u_old[i] + alpha0 * du_free[i]
+            tb[0] = tb_old + alpha0 * dtb
+            tip[1] = mu_old + alpha0 * dmu
+            if has_td:
+                s_td[0] = std_old + alpha0 * dstd
+                mesh_lengths(s_a, s_b, s_td, s_el)
         last_step = 0.0
         r_max = 0.0
         for i in range(n):
@@ -544,8 +718,12 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 gap[node] = u[base]
             else:
                 gap[node] = np.inf
-        changed = update_region(bed_active, gap, reac, 1, pen_tol, pen_frozen, release, cs_bed)
-        friction_track(nd, u, react, bed_active, fric)
+        changed = False
+        if not has_td:
+            changed = update_region(bed_active, gap, reac, 1, pen_tol, pen_frozen, release,
+                                    cs_bed)
+        node_arcs(s_el, s_nd)
+        friction_track(nd, u, react, bed_active, fric, s_nd)
         if has_stinger:
             for node in range(nn):
                 base = node * ndn
@@ -589,10 +767,11 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     if status == L.OK:
         # the friction forces join the reactions; slipping springs' anchors follow
         fr_out[:] = 0.0
-        friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out)
+        node_arcs(s_el, s_nd)
+        friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out, s_nd)
         for i in range(n):
             react[i] += fr_out[i]
-        friction_commit(nd, u, props, bed_active, fric)
+        friction_commit(nd, u, props, bed_active, fric, s_nd)
     info[I_STATUS] = status
     info[I_ITER] = it
     return status
