@@ -1,10 +1,10 @@
-"""The element kernel: tangent = finite difference of the residual; 2D = 3D."""
+"""The element kernel: tangent and d/dle = finite differences of the residual; 2D = 3D."""
 
 import numpy as np
 import pytest
 
 from pipelay_fast.kernels import layout as L
-from pipelay_fast.kernels.element import element_force
+from pipelay_fast.kernels.element import element_force, hermite_crossing
 
 
 def make_props(drag=0.0, torque_free=True, extensible=True, bed_k=0.0):
@@ -35,7 +35,7 @@ def make_props(drag=0.0, torque_free=True, extensible=True, bed_k=0.0):
     return p
 
 
-def random_state(nd, rng, x0=20.0):
+def random_state(nd, rng, x0=20.0, chord=1.7):
     """A bent, slightly stretched element state."""
     ndn = 2 * nd + 1
     ue = np.zeros(2 * ndn)
@@ -45,7 +45,7 @@ def random_state(nd, rng, x0=20.0):
     t_b /= np.linalg.norm(t_b)
     ue[0:nd] = rng.normal(size=nd) + np.r_[x0, np.zeros(nd - 1)]
     ue[nd:2 * nd] = t_a * 1.001
-    ue[ndn:ndn + nd] = ue[0:nd] + 1.7 * (t_a + t_b) / 2
+    ue[ndn:ndn + nd] = ue[0:nd] + chord * (t_a + t_b) / 2
     ue[ndn + nd:ndn + 2 * nd] = t_b * 0.999
     ue[2 * nd] = 3e5
     ue[ndn + 2 * nd] = 2.5e5
@@ -90,6 +90,85 @@ def test_tangent_matches_central_difference(nd, kw):
     ke, kfd = fd_tangent(nd, 1.7, ue, props, np.zeros((0, 2)), torque)
     scale = np.abs(kfd).max(axis=1, keepdims=True) + 1e-30
     assert np.max(np.abs(ke - kfd) / scale) < 2e-6
+
+
+DLE_CASES = [
+    {},
+    {"extensible": False},
+    {"drag": 0.5 * 1025 * 1.0 * 0.71},
+    {"drag": 0.5 * 1025 * 1.0 * 0.71, "extensible": False},
+    {"torque_free": False},
+    {"torque_free": False, "drag": 0.5 * 1025 * 1.0 * 0.71},
+    {"bed_k": 1e5},
+]
+
+
+def centred_state(nd, rng, le, x_mid):
+    """A random state of an element of length ``le`` whose nodes are centred at
+    height ``x_mid``."""
+    ue = random_state(nd, rng, chord=le)
+    ndn = 2 * nd + 1
+    shift = x_mid - 0.5 * (ue[0] + ue[ndn])
+    ue[0] += shift
+    ue[ndn] += shift
+    return ue
+
+
+def crossings(nd, le, ue, props):
+    """Where the element crosses the water surface and the contents level (-1: nowhere)."""
+    ndn = 2 * nd + 1
+    return [hermite_crossing(ue[0], ue[nd], ue[ndn], ue[ndn + nd], le, props[level])
+            for level in (L.DEPTH, L.H_CONT)]
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+@pytest.mark.parametrize("kw", DLE_CASES, ids=lambda kw: "-".join(kw) or "plain")
+@pytest.mark.parametrize("le", [0.5, 4.0, 20.0])
+def test_length_derivative_matches_central_difference(nd, kw, le):
+    props = make_props(**kw)
+    table = np.zeros((0, 2))
+    torque = 0.0 if kw.get("torque_free", True) else 4.0e4
+    rng = np.random.default_rng(7)
+    ndn = 2 * nd + 1
+    # rows grouped by kind (position, tangent, lambda): each has its own unit
+    kinds = [np.r_[0:nd, ndn:ndn + nd], np.r_[nd:2 * nd, ndn + nd:ndn + 2 * nd],
+             np.array([2 * nd, ndn + 2 * nd])]
+    for _ in range(4):
+        # centred at x = 20 m, or at the seabed so that part of it penetrates
+        ue = centred_state(nd, rng, le, 0.0 if kw.get("bed_k") else 20.0)
+        assert crossings(nd, le, ue, props) == [-1.0, -1.0]
+        if kw.get("bed_k"):
+            assert min(ue[0], ue[ndn]) < 0.0 < max(ue[0], ue[ndn])
+        fe = np.zeros(ue.size)
+        ke = np.zeros((ue.size, ue.size))
+        dfe = np.full(ue.size, np.nan)
+        element_force(nd, le, ue, props, table, torque, fe, ke, False, dfe)
+        h = 1e-5 * le
+        fp = np.zeros(ue.size)
+        element_force(nd, le + h, ue, props, table, torque, fp, ke, False)
+        element_force(nd, le - h, ue, props, table, torque, fe, ke, False)
+        dfd = (fp - fe) / (2 * h)
+        for rows in kinds:
+            scale = np.abs(dfd[rows]).max()
+            assert scale > 0.0
+            assert np.max(np.abs(dfe[rows] - dfd[rows])) < 1e-8 * scale
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+def test_length_derivative_leaves_residual_and_tangent_unchanged(nd):
+    props = make_props(drag=300.0, torque_free=False)
+    rng = np.random.default_rng(9)
+    ue = centred_state(nd, rng, 1.7, props[L.DEPTH])
+    assert crossings(nd, 1.7, ue, props)[0] > 0.0  # integrated in two parts
+    ne = ue.size
+    out = []
+    for dfe in (None, np.zeros(ne)):
+        fe = np.zeros(ne)
+        ke = np.zeros((ne, ne))
+        element_force(nd, 1.7, ue, props, np.zeros((0, 2)), 4.0e4, fe, ke, True, dfe)
+        out.append((fe, ke))
+    assert np.array_equal(out[0][0], out[1][0])
+    assert np.array_equal(out[0][1], out[1][1])
 
 
 def test_planar_state_gives_same_forces_in_2d_and_3d():

@@ -27,13 +27,14 @@ def assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent):
     ke = np.empty((ne, ne))
     ws = np.empty(WORK_SIZE)
     wm = np.empty((3, 3))
+    no_dfe = np.empty(0)
     g[:] = 0.0
     if want_tangent:
         ab[:, :] = 0.0
     for e in range(nel):
         g0 = e * ndn
         element_force_ws(nd, s_el[e], u[g0:g0 + ne], props, table, torques[e], fe, ke,
-                         want_tangent, ws, wm)
+                         want_tangent, no_dfe, False, ws, wm)
         for a in range(ne):
             g[g0 + a] += fe[a]
         if want_tangent:

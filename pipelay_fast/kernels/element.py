@@ -1,4 +1,5 @@
-"""Garrett's rod element: internal-minus-external force vector and its tangent.
+"""Garrett's rod element: internal-minus-external force vector, its tangent, and
+its derivative with respect to the element length.
 
 Weak form over one element of unstretched length ``le`` (s the unstretched arc
 length, ``d`` a virtual field, ``'`` = d/ds):
@@ -19,6 +20,25 @@ the normal current (times the current factor), an elastic seabed -k x e_x where
 x < 0. The torque and distributed-moment terms are evaluated only when they are
 non-zero. The tangent is the exact derivative of G except for the jump of w at
 the water surface.
+
+Derivative with respect to the element length (for meshes mapped onto moving
+contact boundaries), at fixed nodal unknowns and fixed Gauss abscissae xi.
+The shape functions are N_k = le^p_k f_k(xi) with p = (0, 1, 0, 1) (k = 0..3
+for r_a, r'_a, r_b, r'_b), so with ' = d/ds = (1/le) d/dxi and ds = le dxi
+
+    d(N_k ds) = (p_k + 1) N_k ds / le,   d(N_k' ds) = p_k N_k' ds / le,
+    d(N_k'' ds) = (p_k - 1) N_k'' ds / le,
+    dr   =  (N_1 r'_a + N_3 r'_b) / le,
+    dr'  = -(r'  - N_1' r'_a - N_3' r'_b) / le,
+    dr'' = -(2 r'' - N_1'' r'_a - N_3'' r'_b) / le,
+
+where d = d/dle, dx is the x component of dr and lam (linear in xi) does not
+change. The rest is the chain rule: dq = (dq/dx) dx + (dq/dr') dr' with
+the load derivatives the tangent uses (seabed, drag), dc3 = H (dr' x r'' +
+r' x dr'') + dr' x m, and in the constraint row d[(r'.r' - 1)/2 - e] = r'.dr'
+- (1 + eps) (2 EI r''.dr'' + (dTw/dx) dx) / EA. The cut points move with le
+too; like the tangent, dfe omits the jump of the integrand there (the movement
+of the cut), so it is exact only for an element that crosses no level.
 
 The same code serves 2D (nd = 2: slots x, z) and 3D (nd = 3: x, y, z), so the
 planar model is a reduction of the spatial one, not a second model.
@@ -101,22 +121,42 @@ def _cross3(a, b, out):
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
-WORK_SIZE = 64
-
-
 @jit
-def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent):
-    """Force vector ``fe`` (= G) and tangent ``ke`` = dG/due of one element.
+def _cross_t(a, b):
+    """a x b of two 3-tuples, as a tuple."""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
-    Allocating wrapper of :func:`element_force_ws` for tests and one-off calls.
+
+# Layout of the scratch vector ``ws``: offsets of the per-Gauss-point values.
+# The kernel views them through slices; _dle_gauss_point indexes ``ws`` directly
+# (slices there would cost more than its arithmetic).
+_N, _DN, _DDN = 0, 4, 8  # shape functions and their d/ds, d2/ds2
+_R, _RP, _RPP = 12, 15, 18  # r, r', r''
+_Q, _QD, _DQ_DX = 21, 24, 27  # load, drag, d(drag)/dx
+_RP3, _RPP3, _M3, _C3, _E3 = 30, 33, 36, 39, 42  # 3-vectors of the torque terms
+_CUTS, _DWORK = 45, 49  # crossing abscissae; drag_force's scratch (15)
+_DRP, _DRPP, _DQ = 64, 67, 70  # d/dle of r', r'', q
+WORK_SIZE = 73
+_P = (0.0, 1.0, 0.0, 1.0)  # power of le in each shape function
+
+
+def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=None):
+    """Force vector ``fe`` (= G), tangent ``ke`` = dG/due and, if ``dfe`` is
+    given, ``dfe`` = dG/dle of one element.
+
+    Allocating Python wrapper of :func:`element_force_ws` for tests and one-off
+    calls; it always calls the kernel with the same argument types.
     """
+    want_dle = dfe is not None
     element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent,
+                     dfe if want_dle else np.empty(0), want_dle,
                      np.empty(WORK_SIZE), np.empty((3, 3)))
 
 
 @jit
-def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, ws, wm):
-    """Force vector ``fe`` (= G) and tangent ``ke`` = dG/due of one element.
+def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe, want_dle,
+                     ws, wm):
+    """Force vector ``fe`` (= G), tangent ``ke`` = dG/due, and dG/dle of one element.
 
     Parameters
     ----------
@@ -134,6 +174,11 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, ws,
         Residual [N, N m, m] and tangent.
     want_tangent : bool
         Skip the tangent when only the residual is needed (line search).
+    dfe : float64 array, overwritten when ``want_dle``
+        dG/dle [N/m, N, 1] at fixed ``ue`` (length ``ue.size``; may be empty
+        when not wanted).
+    want_dle : bool
+        Compute ``dfe`` (in the same pass over the Gauss points).
     ws, wm : float64 work arrays of sizes ``WORK_SIZE`` and (3, 3)
         Scratch space, so the kernel allocates nothing.
     """
@@ -155,36 +200,39 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, ws,
         for a in range(ne):
             for b in range(ne):
                 ke[a, b] = 0.0
+    if want_dle:
+        for a in range(ne):
+            dfe[a] = 0.0
 
     # local index of shape function k, component i:  off[k] + i
     off = (0, nd, ndn, ndn + nd)
     lam_idx = (2 * nd, ndn + 2 * nd)
 
-    n = ws[0:4]
-    dn = ws[4:8]
-    ddn = ws[8:12]
-    r = ws[12:12 + nd]
-    rp = ws[15:15 + nd]
-    rpp = ws[18:18 + nd]
-    q = ws[21:21 + nd]
-    qd = ws[24:24 + nd]
-    dq_dx = ws[27:27 + nd]
+    n = ws[_N:_N + 4]
+    dn = ws[_DN:_DN + 4]
+    ddn = ws[_DDN:_DDN + 4]
+    r = ws[_R:_R + nd]
+    rp = ws[_RP:_RP + nd]
+    rpp = ws[_RPP:_RPP + nd]
+    q = ws[_Q:_Q + nd]
+    qd = ws[_QD:_QD + nd]
+    dq_dx = ws[_DQ_DX:_DQ_DX + nd]
     dq_drp = wm[:nd, :nd]
     # 3-vectors for the torque / moment terms (2D embeds y = 0)
-    rp3 = ws[30:33]
-    rpp3 = ws[33:36]
-    m3 = ws[36:39]
+    rp3 = ws[_RP3:_RP3 + 3]
+    rpp3 = ws[_RPP3:_RPP3 + 3]
+    m3 = ws[_M3:_M3 + 3]
     m3[0] = mx
     m3[1] = my
     m3[2] = mz
-    c3 = ws[39:42]
-    e3 = ws[42:45]
-    dwork = ws[49:64]
+    c3 = ws[_C3:_C3 + 3]
+    e3 = ws[_E3:_E3 + 3]
+    dwork = ws[_DWORK:_DWORK + 15]
     slot3 = (0, 1 if nd == 3 else 2, 2)
 
     # Split the element where it crosses the water surface or the contents level,
     # so the jump of the effective weight is integrated exactly.
-    cuts = ws[45:49]
+    cuts = ws[_CUTS:_CUTS + 4]
     cuts[0] = 0.0
     ncut = 1
     for lev in range(2):
@@ -276,6 +324,10 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, ws,
                 for i in range(nd):
                     fe[off[k] + i] += wl * c3[slot3[i]] * dn[k]
 
+        if want_dle:
+            _dle_gauss_point(nd, le, ue, props, torque if use_torque else 0.0, wl, p0, p1, lam,
+                             cval, de_deps, deps_dx, dqx_dx, has_drag, ws, wm, dfe)
+
         if not want_tangent:
             continue
 
@@ -335,3 +387,72 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, ws,
                     for k in range(4):
                         for i in range(nd):
                             ke[off[k] + i, off[l] + j] += wl * dn[k] * dv[slot3[i]]
+
+
+@jit
+def _dle_gauss_point(nd, le, ue, props, torque, wl, p0, p1, lam, cval, de_deps, deps_dx,
+                     dqx_dx, has_drag, ws, wm, dfe):
+    """Add one Gauss point's share of dG/dle to ``dfe`` (module docstring).
+
+    Reads the point's values that :func:`element_force_ws` left in ``ws`` and
+    ``wm``; ``torque`` is 0 where the torque term is off. A function of its own,
+    not inlined, so that the kernel's Gauss loop runs as fast without it.
+    """
+    ndn = 2 * nd + 1
+    off = (0, nd, ndn, ndn + nd)
+    slot3 = (0, 1 if nd == 3 else 2, 2)
+    ei = props[L.EI]
+    ea = props[L.EA]
+    inv_le = 1.0 / le
+    dx = (ws[_N + 1] * ue[nd] + ws[_N + 3] * ue[ndn + nd]) * inv_le
+    dcval = 0.0
+    drpp_rpp = 0.0
+    for i in range(nd):
+        ta = ue[nd + i]
+        tb = ue[ndn + nd + i]
+        drp = (ws[_DN + 1] * ta + ws[_DN + 3] * tb - ws[_RP + i]) * inv_le
+        drpp = (ws[_DDN + 1] * ta + ws[_DDN + 3] * tb - 2.0 * ws[_RPP + i]) * inv_le
+        ws[_DRP + i] = drp
+        ws[_DRPP + i] = drpp
+        dcval += ws[_RP + i] * drp
+        drpp_rpp += ws[_RPP + i] * drpp
+    for i in range(nd):
+        dq = dqx_dx * dx if i == 0 else 0.0
+        if has_drag:
+            dq += ws[_DQ_DX + i] * dx
+            for j in range(nd):
+                dq += wm[i, j] * ws[_DRP + j]
+        ws[_DQ + i] = dq
+    if props[L.EXTENSIBLE] != 0.0:
+        dcval -= de_deps * (2.0 * ei * drpp_rpp / ea + deps_dx * dx)
+    d_lam_row = wl * (cval * inv_le + dcval)
+    dfe[2 * nd] += p0 * d_lam_row
+    dfe[ndn + 2 * nd] += p1 * d_lam_row
+
+    # c3 (computed by the kernel) and dc3 = H (dr' x r'' + r' x dr'') + dr' x m
+    c3 = (0.0, 0.0, 0.0)
+    dc3 = (0.0, 0.0, 0.0)
+    m3 = (ws[_M3], ws[_M3 + 1], ws[_M3 + 2])
+    use_moment = m3[0] != 0.0 or m3[1] != 0.0 or m3[2] != 0.0
+    if torque != 0.0 or use_moment:
+        c3 = (ws[_C3], ws[_C3 + 1], ws[_C3 + 2])
+        drp3 = (ws[_DRP], ws[_DRP + 1] if nd == 3 else 0.0, ws[_DRP + nd - 1])
+        drpp3 = (ws[_DRPP], ws[_DRPP + 1] if nd == 3 else 0.0, ws[_DRPP + nd - 1])
+        h1 = _cross_t(drp3, (ws[_RPP3], ws[_RPP3 + 1], ws[_RPP3 + 2]))
+        h2 = _cross_t((ws[_RP3], ws[_RP3 + 1], ws[_RP3 + 2]), drpp3)
+        dm = _cross_t(drp3, m3)
+        dc3 = (torque * (h1[0] + h2[0]) + dm[0], torque * (h1[1] + h2[1]) + dm[1],
+               torque * (h1[2] + h2[2]) + dm[2])
+    for k in range(4):
+        pk = _P[k]
+        nk = ws[_N + k]
+        dnk = ws[_DN + k]
+        ddnk = ws[_DDN + k]
+        for i in range(nd):
+            rp_term = lam * ws[_RP + i] + c3[slot3[i]]
+            drp_term = lam * ws[_DRP + i] + dc3[slot3[i]]
+            dfe[off[k] + i] += wl * (
+                (ei * ws[_RPP + i] * ddnk * (pk - 1.0) + rp_term * dnk * pk
+                 - ws[_Q + i] * nk * (pk + 1.0)) * inv_le
+                + ei * ws[_DRPP + i] * ddnk + drp_term * dnk - ws[_DQ + i] * nk)
+
