@@ -302,6 +302,52 @@ def anchor_at(fric, col, s, node):
 
 
 @jit
+def _anchor_slope(fric, col, s, node):
+    """d(anchor)/ds [-] of :func:`anchor_at` at node ``node``: the slope of the
+    segment it interpolates on (their mean where the node sits on its own
+    anchor point, between the two segments)."""
+    nn = s.shape[0]
+    s0 = fric[node, L.FR_S]
+    total = 0.0
+    count = 0
+    for other in (node - 1, node + 1):
+        if other < 0 or other >= nn:
+            continue
+        on_side = (s[node] < s0) == (other < node)
+        if s[node] != s0 and not on_side:
+            continue
+        ds = fric[other, L.FR_S] - s0
+        if ds != 0.0:
+            total += (fric[other, col] - fric[node, col]) / ds
+            count += 1
+    return total / count if count > 0 else 0.0
+
+
+@jit
+def friction_length_derivative(nd, u, props, bed_active, fric, s, s_b, col):
+    """Add to ``col`` d(friction in the residual)/d s_T at fixed nodal unknowns:
+    a sticking spring's stretch u - anchor(s_i) changes as its node moves along
+    the pipe by ds_i/ds_T = s_b[i] (a sliding spring's force does not)."""
+    if props[L.FRICTION_ON] == 0.0:
+        return
+    d_slip = props[L.FRICTION_SLIP]
+    ndn = 2 * nd + 1
+    for node in range(bed_active.shape[0]):
+        w = fric[node, L.FR_W]
+        if bed_active[node] == 0 or w <= 0.0 or s_b[node] == 0.0:
+            continue
+        for comp in range(2):
+            slot, mu, ccol, _dcol = _friction_dofs(nd, props, comp)
+            if slot < 0 or mu <= 0.0:
+                continue
+            dof = node * ndn + slot
+            d = (u[dof] - anchor_at(fric, ccol, s, node)) / d_slip
+            if abs(d) < 1.0:
+                # g -= force, force = -mu w d: dg/ds_T = mu w dd/ds_T
+                col[dof] -= mu * w * _anchor_slope(fric, ccol, s, node) * s_b[node] / d_slip
+
+
+@jit
 def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out, s):
     """Add the seabed friction springs to the residual ``g`` (and, when ``ab``
     has more than one row, their stiffness to its diagonal row ``kv``).

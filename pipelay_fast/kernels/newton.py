@@ -30,7 +30,7 @@ tangent to it, touchdown included. s_T is a bordered unknown whose equation is
 the continuum's third condition there, no moment on the free side: the
 residual of the first free element at touchdown's slope unknown (the laid
 side carries none). Its column dG/ds_T and the border equations' derivatives
-by s_T are central differences in s_T at fixed nodal unknowns. Friction
+by s_T are analytic (the elements' dG/dle, :func:`_touchdown_border`). Friction
 anchors belong to material points (:func:`.contact.anchor_at`), so nodes that
 slide along the pipe keep the springs' stretch. All border unknowns (bottom
 tension, tip multiplier, touchdown) are eliminated by one dense Schur
@@ -48,7 +48,7 @@ import numpy as np
 from .._jit import jit
 from . import layout as L
 from .assembly import assemble, distribute_torque, rotate_node
-from .element import element_force
+from .element import WORK_SIZE, element_force_ws
 from .banded import band_factor, band_solve
 from .contact import (
     CS_COUNT,
@@ -61,6 +61,7 @@ from .contact import (
     ST_ZU,
     friction_commit,
     friction_forces,
+    friction_length_derivative,
     friction_track,
     node_arcs,
     lateral_hold,
@@ -255,16 +256,16 @@ def _free_moment(nd, s_el, u, props, table, torques, td_node):
     ndn = 2 * nd + 1
     ne = 2 * ndn
     fe = np.zeros(ne)
-    ke = np.zeros((ne, ne))
     e = td_node
-    element_force(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke, False)
+    element_force_ws(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe,
+                     np.zeros((1, 1)), False, np.zeros(0), False, np.empty(WORK_SIZE),
+                     np.empty((3, 3)))
     return fe[nd]
 
 
 @jit
-def _touchdown_border(nd, s_el, u, props, table, torques, f_node, g_off, slide_dof, tb,
-                      phi_r, phi_rp, td_node, s_a, s_b, s_td, href, g_p, g_m, col, row,
-                      top_node, stinger, grad, cross, bed_active, fric, s_nd, fr_tmp):
+def _touchdown_border(nd, s_el, u, props, table, torques, td_node, s_a, s_b, s_td, href, col,
+                      row, top_node, stinger, grad, cross, bed_active, fric, s_nd):
     """Touchdown's bordered unknown s_T: its column dG/ds_T and its equation.
 
     The equation is the moment at touchdown on the free side: the residual of
@@ -274,50 +275,64 @@ def _touchdown_border(nd, s_el, u, props, table, torques, f_node, g_off, slide_d
     carries none). Returns (residual [N m], its derivative d/ds_T at fixed u);
     ``cross`` gets the derivatives by s_T of the top tension [N/m] and of the
     tip's gap [-], the other border equations that the element lengths change.
+
+    At fixed nodal unknowns s_T changes only the element lengths, by
+    d le_e / d s_T = s_b[e+1] - s_b[e], and the material points the friction
+    anchors are read at: the column is the sum of the elements' analytic
+    dG/dle (:func:`.element.element_force_ws`) times those rates, plus the
+    springs' :func:`.contact.friction_length_derivative`. The tip's gap, which
+    only an S-lay has, is differenced (central, 1e-6 href).
     """
     ndn = 2 * nd + 1
     ne = 2 * ndn
-    h = 1e-6 * href
-    s0 = s_td[0]
-    dummy = np.zeros((1, 1))
-    s_td[0] = s0 + h
-    mesh_lengths(s_a, s_b, s_td, s_el)
-    _system(nd, s_el, u, props, table, torques, dummy, 1, 1, g_p, f_node, g_off, slide_dof, tb,
-            phi_r, phi_rp, False)
-    node_arcs(s_el, s_nd)
-    friction_forces(nd, u, g_p, dummy, 0, props, bed_active, fric, fr_tmp, s_nd)
-    e = td_node
+    nel = s_el.shape[0]
     fe = np.zeros(ne)
     ke = np.zeros((ne, ne))
-    element_force(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke, False)
-    r_p = fe[nd]
-    te_p = _top_te(nd, g_p, u, top_node)
-    gap_p = 0.0
-    if stinger[ST_ON] != 0.0:
-        _f, gap_p, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
-    s_td[0] = s0 - h
-    mesh_lengths(s_a, s_b, s_td, s_el)
-    _system(nd, s_el, u, props, table, torques, dummy, 1, 1, g_m, f_node, g_off, slide_dof, tb,
-            phi_r, phi_rp, False)
-    node_arcs(s_el, s_nd)
-    friction_forces(nd, u, g_m, dummy, 0, props, bed_active, fric, fr_tmp, s_nd)
-    element_force(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke, False)
-    r_m = fe[nd]
-    te_m = _top_te(nd, g_m, u, top_node)
-    gap_m = 0.0
-    if stinger[ST_ON] != 0.0:
-        _f, gap_m, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
-    cross[0] = (te_p - te_m) / (2.0 * h)
-    cross[1] = (gap_p - gap_m) / (2.0 * h)
-    s_td[0] = s0
-    mesh_lengths(s_a, s_b, s_td, s_el)
+    dfe = np.zeros(ne)
+    ws = np.empty(WORK_SIZE)
+    wm = np.empty((3, 3))
     for i in range(col.shape[0]):
-        col[i] = (g_p[i] - g_m[i]) / (2.0 * h)
+        col[i] = 0.0
         row[i] = 0.0
-    element_force(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke, True)
-    for j in range(ne):
-        row[e * ndn + j] = ke[nd, j]
-    return fe[nd], (r_p - r_m) / (2.0 * h)
+    res = 0.0
+    d_own = 0.0
+    for e in range(nel):
+        rate = s_b[e + 1] - s_b[e]
+        if rate == 0.0 and e != td_node:
+            continue
+        g0 = e * ndn
+        element_force_ws(nd, s_el[e], u[g0:g0 + ne], props, table, torques[e], fe, ke,
+                         e == td_node, dfe, True, ws, wm)
+        for a in range(ne):
+            col[g0 + a] += rate * dfe[a]
+        if e == td_node:
+            res = fe[nd]
+            d_own = rate * dfe[nd]
+            for j in range(ne):
+                row[g0 + j] = ke[nd, j]
+    node_arcs(s_el, s_nd)
+    friction_length_derivative(nd, u, props, bed_active, fric, s_nd, s_b, col)
+    base = top_node * ndn
+    a = 0.0
+    te = 0.0
+    for i in range(nd):
+        a += u[base + nd + i] ** 2
+        te += col[base + i] * u[base + nd + i]
+    cross[0] = te / math.sqrt(a)
+    cross[1] = 0.0
+    if stinger[ST_ON] != 0.0:
+        h = 1e-6 * href
+        s0 = s_td[0]
+        s_td[0] = s0 + h
+        mesh_lengths(s_a, s_b, s_td, s_el)
+        _f, gap_p, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
+        s_td[0] = s0 - h
+        mesh_lengths(s_a, s_b, s_td, s_el)
+        _f, gap_m, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
+        s_td[0] = s0
+        mesh_lengths(s_a, s_b, s_td, s_el)
+        cross[1] = (gap_p - gap_m) / (2.0 * h)
+    return res, d_own
 
 
 @jit
@@ -405,15 +420,12 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     rh = np.zeros(N_BORDER)
     kind = np.zeros(N_BORDER, dtype=np.int64)  # 0: bottom tension, 1: tip, 2: touchdown
     has_td = td_node >= 0
-    g_p = np.zeros(n)
-    g_m = np.zeros(n)
     col_t = np.zeros(n)
     row_t = np.zeros(n)
     res_td = 0.0
     td_res = 0.0
     cross = np.zeros(2)
     s_nd = np.zeros(nn)  # node arc lengths [m]
-    fr_tmp = np.zeros(n)
     if has_td:
         mesh_lengths(s_a, s_b, s_td, s_el)
     g_tip = 0.0
@@ -460,11 +472,9 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             te_top = _top_tension_row(nd, ab, kl, ku, g, u, top_node, d)
         d_td = 0.0
         if has_td:
-            res_td, d_td = _touchdown_border(nd, s_el, u, props, table, torques, f_node, g_off,
-                                             slide_dof, tb, phi_r, phi_rp, td_node, s_a, s_b,
-                                             s_td, href, g_p, g_m, col_t, row_t, top_node,
-                                             stinger, grad_t, cross, bed_active, fric,
-                                             s_nd, fr_tmp)
+            res_td, d_td = _touchdown_border(nd, s_el, u, props, table, torques, td_node, s_a,
+                                             s_b, s_td, href, col_t, row_t, top_node, stinger,
+                                             grad_t, cross, bed_active, fric, s_nd)
         _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, True)
         # border unknowns: rows (constraint gradients) and columns (dG/dz)
         nb = 0
