@@ -182,7 +182,8 @@ def build_problem(case: Case) -> Problem:
 
 
 def _follow(case: Case, pb: Problem, s_focus: float):
-    """On a rigid seabed, map the mesh onto touchdown at the node nearest ``s_focus``."""
+    """With solver.contact = "boundaries" (a J-lay on a rigid seabed: the case
+    checks it), map the mesh onto touchdown at the node nearest ``s_focus``."""
     if case.solver.contact != "boundaries":
         return
     k = int(np.argmin(np.abs(pb.s[1:-1] - s_focus))) + 1

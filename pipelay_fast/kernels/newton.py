@@ -264,24 +264,23 @@ def _free_moment(nd, s_el, u, props, table, torques, td_node):
 
 
 @jit
-def _touchdown_border(nd, s_el, u, props, table, torques, td_node, s_a, s_b, s_td, href, col,
-                      row, top_node, stinger, grad, cross, bed_active, fric, s_nd):
+def _touchdown_border(nd, s_el, u, props, table, torques, td_node, s_b, col, row, top_node,
+                      bed_active, fric, s_nd):
     """Touchdown's bordered unknown s_T: its column dG/ds_T and its equation.
 
     The equation is the moment at touchdown on the free side: the residual of
     the first free element at the slope unknown of its lower node (node
     ``td_node``, on the seabed, its slope held). It vanishes when that moment
     does, as the continuum's does at touchdown on a flat seabed (the laid side
-    carries none). Returns (residual [N m], its derivative d/ds_T at fixed u);
-    ``cross`` gets the derivatives by s_T of the top tension [N/m] and of the
-    tip's gap [-], the other border equations that the element lengths change.
+    carries none). Returns (residual [N m], its derivative d/ds_T at fixed u,
+    the top tension's derivative d/ds_T [N/m]: the other border equation that
+    the element lengths change; a J-lay has no tip).
 
     At fixed nodal unknowns s_T changes only the element lengths, by
     d le_e / d s_T = s_b[e+1] - s_b[e], and the material points the friction
     anchors are read at: the column is the sum of the elements' analytic
     dG/dle (:func:`.element.element_force_ws`) times those rates, plus the
-    springs' :func:`.contact.friction_length_derivative`. The tip's gap, which
-    only an S-lay has, is differenced (central, 1e-6 href).
+    springs' :func:`.contact.friction_length_derivative`.
     """
     ndn = 2 * nd + 1
     ne = 2 * ndn
@@ -312,27 +311,8 @@ def _touchdown_border(nd, s_el, u, props, table, torques, td_node, s_a, s_b, s_t
                 row[g0 + j] = ke[nd, j]
     node_arcs(s_el, s_nd)
     friction_length_derivative(nd, u, props, bed_active, fric, s_nd, s_b, col)
-    base = top_node * ndn
-    a = 0.0
-    te = 0.0
-    for i in range(nd):
-        a += u[base + nd + i] ** 2
-        te += col[base + i] * u[base + nd + i]
-    cross[0] = te / math.sqrt(a)
-    cross[1] = 0.0
-    if stinger[ST_ON] != 0.0:
-        h = 1e-6 * href
-        s0 = s_td[0]
-        s_td[0] = s0 + h
-        mesh_lengths(s_a, s_b, s_td, s_el)
-        _f, gap_p, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
-        s_td[0] = s0 - h
-        mesh_lengths(s_a, s_b, s_td, s_el)
-        _f, gap_m, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
-        s_td[0] = s0
-        mesh_lengths(s_a, s_b, s_td, s_el)
-        cross[1] = (gap_p - gap_m) / (2.0 * h)
-    return res, d_own
+    # the top tension G_top . t is linear in G: its derivative is col's
+    return res, d_own, _top_te(nd, col, u, top_node)
 
 
 @jit
@@ -424,7 +404,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     row_t = np.zeros(n)
     res_td = 0.0
     td_res = 0.0
-    cross = np.zeros(2)
     s_nd = np.zeros(nn)  # node arc lengths [m]
     if has_td:
         mesh_lengths(s_a, s_b, s_td, s_el)
@@ -471,10 +450,11 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         if solve_tb:
             te_top = _top_tension_row(nd, ab, kl, ku, g, u, top_node, d)
         d_td = 0.0
+        d_top = 0.0
         if has_td:
-            res_td, d_td = _touchdown_border(nd, s_el, u, props, table, torques, td_node, s_a,
-                                             s_b, s_td, href, col_t, row_t, top_node, stinger,
-                                             grad_t, cross, bed_active, fric, s_nd)
+            res_td, d_td, d_top = _touchdown_border(nd, s_el, u, props, table, torques,
+                                                    td_node, s_b, col_t, row_t, top_node,
+                                                    bed_active, fric, s_nd)
         _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, True)
         # border unknowns: rows (constraint gradients) and columns (dG/dz)
         nb = 0
@@ -501,8 +481,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             rows[nb, :] = row_t
             cols[nb, :] = col_t
             res_b[nb] = res_td
-            for j in range(nb):
-                d_b[j, nb] = cross[0] if kind[j] == 0 else cross[1]
+            for j in range(nb):  # the top tension; a J-lay has no tip
+                d_b[j, nb] = d_top if kind[j] == 0 else 0.0
             d_b[nb, nb] = d_td
             kind[nb] = 2
             nb += 1
