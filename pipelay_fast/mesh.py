@@ -38,15 +38,7 @@ def _span_count(phi):
     return max(1, int(np.ceil(phi[-1] - 1e-9)))
 
 
-def element_count(length, foci, h_max, h_min, growth=GROWTH, grading=True) -> int:
-    """Number of elements :func:`graded_nodes` gives for these arguments,
-    found without building the mesh (a guard against meshes too large)."""
-    if not grading:
-        return _uniform_count(length, h_max)
-    return sum(_span_count(phi) for *_, phi in _spans(length, foci, h_max, h_min, growth))
-
-
-def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True):
+def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=None):
     """Node positions s in [0, length] [m], graded towards each focus point.
 
     Parameters
@@ -61,12 +53,22 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True):
         Ratio between neighbouring element lengths.
     grading : bool
         False gives a uniform mesh of about ``h_max`` (foci ignored).
+    check : callable or None
+        Called with the element count before any node is placed (it may
+        raise to refuse a mesh too large).
     """
     if not grading:
-        return np.linspace(0.0, length, _uniform_count(length, h_max) + 1)
+        n = _uniform_count(length, h_max)
+        if check is not None:
+            check(n)
+        return np.linspace(0.0, length, n + 1)
+    spans = list(_spans(length, foci, h_max, h_min, growth))
+    counts = [_span_count(phi) for *_, phi in spans]
+    if check is not None:
+        check(sum(counts))
     nodes = [0.0]
-    for _a, b, t, phi in _spans(length, foci, h_max, h_min, growth):
-        targets = np.linspace(0.0, phi[-1], _span_count(phi) + 1)[1:]
+    for (_a, b, t, phi), count in zip(spans, counts, strict=True):
+        targets = np.linspace(0.0, phi[-1], count + 1)[1:]
         nodes.extend(np.interp(targets, phi, t))
         nodes[-1] = b
     return np.asarray(nodes)

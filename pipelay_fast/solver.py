@@ -39,7 +39,7 @@ from .kernels.contact import (
 )
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
 from .limits import IterationBudget, check_mesh_size, strain_beyond_line
-from .mesh import element_count, graded_nodes
+from .mesh import graded_nodes
 from .model import build_props, dimension_of
 from .results import (
     Result,
@@ -159,10 +159,9 @@ def build_problem(case: Case) -> Problem:
     # initial seabed contact ends there.
     s_focus = max(g.laid - lam, 0.25 * g.laid)
     foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
-    check_mesh_size(case, element_count(g.total, foci, h_max, h_min,
-                                        grading=case.solver.grading),
-                    g.total, g.laid, _laid_source(case, g.cat, lam))
-    s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading)
+    s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading,
+                     check=lambda n: check_mesh_size(case, n, g.total, g.laid,
+                                                     _laid_source(case, g.cat, lam)))
     x, z, th, te, kappa = shape(case, g, s)
     u = np.zeros(s.size * ndn)
     u[0::ndn] = x
@@ -689,11 +688,11 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
     focus = s_tdp + extra
     held = [f + extra for f in stinger_foci]
     foci = [focus, total, *held]
-    check_mesh_size(case, element_count(total, foci, pb.stats["h_max"], pb.stats["h_min"]),
-                    total, focus, f"remeshed, {extra:.4g} m of it prepended to keep two "
-                    f"flexural lengths sqrt(EI/T) = {lam:.4g} m behind touchdown, which a lower "
-                    "tension T there lengthens")
-    s = graded_nodes(total, foci, pb.stats["h_max"], pb.stats["h_min"])
+    source = (f"remeshed, {extra:.4g} m of it prepended to keep two flexural lengths "
+              f"sqrt(EI/T) = {lam:.4g} m behind touchdown, which a lower tension T there "
+              "lengthens")
+    s = graded_nodes(total, foci, pb.stats["h_max"], pb.stats["h_min"],
+                     check=lambda n: check_mesh_size(case, n, total, focus, source))
     u = interpolate_state(pb.s + extra, pb.u, nd, s)
     first = s < extra
     if first.any():

@@ -20,7 +20,7 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.limits import check_case
-from pipelay_fast.mesh import element_count, graded_nodes
+from pipelay_fast.mesh import graded_nodes
 from tests.helpers import EXAMPLES
 
 SWEEPS = Path(__file__).resolve().parents[1] / "sweeps"
@@ -191,8 +191,10 @@ def test_the_paper_scenes_pass_the_checks():
     (517.6, [25.0], 4.0, 0.5, False),
 ])
 def test_element_count_is_the_size_of_the_mesh(length, foci, h_max, h_min, grading):
-    nodes = graded_nodes(length, foci, h_max, h_min, grading=grading)
-    assert element_count(length, foci, h_max, h_min, grading=grading) == nodes.size - 1
+    """The count the size check sees before any node is placed is the mesh's."""
+    seen = []
+    nodes = graded_nodes(length, foci, h_max, h_min, grading=grading, check=seen.append)
+    assert seen == [nodes.size - 1]
 
 
 def test_tiny_elements_are_refused_before_the_mesh_is_built(j125):
