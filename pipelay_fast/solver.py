@@ -85,38 +85,54 @@ class Problem:
     href: float
     stats: dict = field(default_factory=dict)
     before_current: list | None = None  # state snapshot before the current (friction path)
-    # the mesh follows touchdown: node i at s_a[i] + s_b[i] * s_td[0], node td_node on
-    # touchdown (-1: a fixed mesh, touchdown found by the active set)
-    td_node: int = -1
+    # the mesh follows the contact boundaries (solver.contact = "boundaries"):
+    # node i at s_a[i] + s_b[0, i] s_bd[0] + s_b[1, i] s_bd[1], touchdown on node
+    # bnodes[0], lift-off from the stinger on node bnodes[1] (-1: none, a fixed
+    # mesh, the active set finds that boundary)
+    bnodes: np.ndarray = field(default_factory=lambda: np.full(2, -1, dtype=np.int64))
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
-    s_td: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    s_bd: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    # 1 where a followed boundary's arc length is an unknown, 0 where it is held
+    bfree: np.ndarray = field(default_factory=lambda: np.ones(2, dtype=np.int64))
 
-    def follow_touchdown(self, k: int, zone: float):
-        """Map the mesh onto touchdown at node ``k``: the nodes within ``zone``
-        [m] of it (between two nodes that stay material points) move with s_T,
-        each side scaling linearly and keeping its grading; the rest is fixed."""
+    @property
+    def td_node(self) -> int:
+        return int(self.bnodes[0])
+
+    @property
+    def lo_node(self) -> int:
+        return int(self.bnodes[1])
+
+    def follow(self, nodes, zones):
+        """Map the mesh onto the contact boundaries at ``nodes`` (touchdown,
+        lift-off; -1: none): the nodes within ``zones[b]`` = (below, above) [m]
+        of boundary b, between two nodes that stay material points, move with
+        it, each side scaling linearly and keeping its grading; the rest is
+        fixed. The zones must not overlap."""
         s = self.s
-        s_t = s[k]
-        lo = int(np.searchsorted(s, s_t - zone))
-        lo = min(max(lo - 1, 0), k - 1)
-        hi = int(np.searchsorted(s, s_t + zone))
-        hi = max(min(hi, s.size - 2), k + 1)
         idx = np.arange(s.size)
-        below = (idx >= lo) & (idx <= k)
-        above = (idx > k) & (idx <= hi)
-        s_lo, s_hi = s[lo], s[hi]
-        f = (s - s_lo) / (s_t - s_lo)
-        g = (s - s_t) / (s_hi - s_t)
-        self.s_a = np.where(below, s_lo * (1.0 - f), np.where(above, s_hi * g, s))
-        self.s_b = np.where(below, f, np.where(above, 1.0 - g, 0.0))
-        self.td_node = k
-        self.s_td = np.array([s_t])
+        s_a, s_b = s.copy(), np.zeros((2, s.size))
+        for b, (k, (z_lo, z_hi)) in enumerate(zip(nodes, zones, strict=True)):
+            if k < 0:
+                continue
+            s_k = s[k]
+            lo = min(max(int(np.searchsorted(s, s_k - z_lo)) - 1, 0), k - 1)
+            hi = max(min(int(np.searchsorted(s, s_k + z_hi)), s.size - 2), k + 1)
+            below = (idx >= lo) & (idx <= k)
+            above = (idx > k) & (idx <= hi)
+            f = (s - s[lo]) / (s_k - s[lo])
+            g = (s - s_k) / (s[hi] - s_k)
+            s_a = np.where(below, s[lo] * (1.0 - f), np.where(above, s[hi] * g, s_a))
+            s_b[b] = np.where(below, f, np.where(above, 1.0 - g, 0.0))
+            self.s_bd[b] = s_k
+        self.s_a, self.s_b = s_a, np.ascontiguousarray(s_b)
+        self.bnodes = np.asarray(nodes, dtype=np.int64)
 
     def update_nodes(self):
-        """Node arc lengths from the touchdown unknown (after a solve)."""
-        if self.td_node >= 0:
-            self.s[:] = self.s_a + self.s_b * self.s_td[0]
+        """Node arc lengths from the boundary unknowns (after a solve)."""
+        if self.s_a is not None:
+            self.s[:] = self.s_a + self.s_bd @ self.s_b
 
     @property
     def ndn(self) -> int:
@@ -185,10 +201,22 @@ def _follow(case: Case, pb: Problem, s_focus: float):
     checks it), map the mesh onto touchdown at the node nearest ``s_focus``."""
     if case.solver.contact != "boundaries":
         return
-    k = int(np.argmin(np.abs(pb.s[1:-1] - s_focus))) + 1
+    s = pb.s
+    k = int(np.argmin(np.abs(s[1:-1] - s_focus))) + 1
     pb.bed_active[:] = 0
     pb.bed_active[1:k + 1] = 1
-    pb.follow_touchdown(k, 3.0 * pb.stats["flexural_length"])
+    zone = 3.0 * pb.stats["flexural_length"]
+    lift = pb.stats.get("stinger_foci") or []
+    if case.lay.stinger is None or not lift:
+        pb.follow((k, -1), ((zone, zone), (0.0, 0.0)))
+        return
+    # lift-off: the guess's, its zone clear of touchdown's
+    kl = int(np.argmin(np.abs(s[k + 2:-1] - lift[0]))) + k + 2
+    pb.st_active[:] = 0
+    pb.st_active[kl:-1] = 1
+    gap = s[kl] - s[k]
+    pb.follow((k, kl), ((zone, min(zone, 0.45 * gap)),
+                        (min(zone, 0.45 * gap), min(zone, 0.9 * (s[-1] - s[kl])))))
 
 
 def _laid_source(case: Case, cat, lam: float) -> str:
@@ -268,15 +296,15 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
 def _run_newton(pb: Problem, g_off, tol, maxit):
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
-    if pb.td_node >= 0:
+    if pb.s_a is not None:
         s_a, s_b = pb.s_a, pb.s_b
     else:
-        s_a = s_b = np.zeros(pb.nn)
+        s_a, s_b = np.zeros(pb.nn), np.zeros((2, pb.nn))
     status = newton(pb.nd, pb.s_el, pb.u, pb.props, pb.table, pb.fix_mask, pb.fix_val,
                     pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.stinger, pb.st_active,
                     pb.tip, pb.fric, pb.f_node, g_off,
                     pb.slide_dof, pb.tb, pb.top_node, pb.top_target, tol, pb.fref, pb.href,
-                    maxit, react, info, pb.td_node, s_a, s_b, pb.s_td)
+                    maxit, react, info, pb.bnodes, pb.bfree, s_a, s_b, pb.s_bd)
     pb.update_nodes()
     return status, react, info
 
@@ -315,13 +343,15 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     status, react, info = _run_newton(pb, g_off, case.solver.tolerance,
                                       budget.cap(case.solver.max_iterations))
     budget.charge(info[I_ITER])
+    if status == L.PAST_TIP:
+        raise SolveError(f"case {case.name!r} at {where}: {_newton_state(info, status)}")
     if status != L.OK and budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)} (last Newton "
                          f"call: {_newton_state(info, status)})")
     return status, react, info
 
 
-_STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp", "s", "s_td")
+_STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp", "s", "s_bd")
 
 
 def _snapshot(pb: Problem):
@@ -340,11 +370,23 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     Returns the reactions and a dict of iteration counts.
     """
     budget = budget or IterationBudget(case.solver.max_iterations_total)
-    start = _snapshot(pb)
     zero = np.zeros_like(pb.u)
+    held = 0
+    if pb.lo_node >= 0:
+        # S-lay: the boundaries held where the guess put them first, for the
+        # pipe's shape in equilibrium between them, from which Newton moves
+        # them (the guess kinks at lift-off; from it, the first steps with the
+        # boundaries free run touchdown into the lower end on S67; a J-lay
+        # guess needs no such start, it would add 2 to 40 iterations there)
+        pb.bfree[:] = 0
+        status, _react, info = _budgeted_newton(case, pb, zero, budget,
+                                               "the solve with the contact boundaries held")
+        pb.bfree[:] = 1
+        held = int(info[I_ITER])
+    start = _snapshot(pb)
     status, react, info = _budgeted_newton(case, pb, zero, budget,
                                           "the first Newton solve on a mesh")
-    iters = int(info[I_ITER])
+    iters = int(info[I_ITER]) + held
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
     # homotopy: G(u) - (1 - alpha) G(u0) = 0, alpha from 0 to 1
@@ -413,8 +455,10 @@ def conform_end(case: Case, pb: Problem):
 
     The pipe's curvature meets the stinger's there: their difference,
     extrapolated from the three free nodes below the last contact node, is zero
-    (as the moment is at touchdown).
+    (as the moment is at touchdown). On a mesh that follows lift-off, its node.
     """
+    if pb.lo_node >= 0:
+        return float(pb.s[pb.lo_node])
     k = liftoff_index(pb)
     if k < 0:
         return None
@@ -519,7 +563,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     while True:
         s_t = touchdown_position(case, pb)
         foci = _stinger_foci(case, pb)
-        if not case.solver.grading or passes >= MAX_MESH_PASSES:
+        if not case.solver.grading or passes >= MAX_MESH_PASSES or pb.s_a is not None:
             break
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
@@ -550,7 +594,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         near = 0.02 * pb.stats["h_min"]
         current_passes += 1
         if (not case.solver.grading or current_passes > MAX_MESH_PASSES
-                or pb.td_node >= 0 or abs(s_t - pb.stats["focus"]) <= near):
+                or pb.s_a is not None or abs(s_t - pb.stats["focus"]) <= near):
             break
         # the current moved touchdown off the fine mesh: mesh again around where
         # it ends, from the pipe under gravity alone, and follow the path again
@@ -617,9 +661,9 @@ def warm_problem(case: Case, old: Problem) -> Problem:
                    old.fref, dict(old.stats))
     for name in ("bed_active", "st_active", "tip", "fric"):
         getattr(new, name)[:] = state[name]
-    if old.td_node >= 0:
-        new.td_node, new.s_a, new.s_b = old.td_node, old.s_a.copy(), old.s_b.copy()
-        new.s_td = state["s_td"].copy()
+    if old.s_a is not None:
+        new.bnodes, new.s_a, new.s_b = old.bnodes.copy(), old.s_a.copy(), old.s_b.copy()
+        new.s_bd = state["s_bd"].copy()
         new.s[:] = state["s"]
     _onto_stinger(new, old.stinger)
     return new
@@ -756,6 +800,7 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     """Solve, build the result and refuse it if it is not finite, is strained
     beyond solver.max_strain or a contact pulls."""
     pb, react, stats, s_t, s_l = solve_problem(case, warm)
+    _check_regime(case, pb)
     columns = build_profile(case, pb, react)
     summary = build_summary(case, pb, columns, stats, s_t, s_l)
     bad = [key for key, val in summary.items() if isinstance(val, float) and np.isinf(val)]
@@ -770,6 +815,22 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     if case.solver.grading:  # without it a boundary stays inside its element
         _check_contacts_push(case, columns)
     return Result(case, summary, columns, state=pb)
+
+
+def _check_regime(case: Case, pb: Problem):
+    """Refuse a lift-off that the boundaries unknowns put below the stinger's
+    tip, on the curve continued past it: there the pipe bears on the tip, a
+    regime that solver.contact = "boundaries" does not cover yet."""
+    if pb.lo_node < 0:
+        return
+    z_lo = float(pb.u[pb.lo_node * pb.ndn + pb.nd - 1])
+    z_tip = float(pb.stinger[ST_ZL])
+    if z_lo < z_tip:
+        raise SolveError(
+            f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "
+            f"z = {z_lo:.3f} m, would lie below the tip, z = {z_tip:.3f} m); "
+            "solver.contact = \"boundaries\" does not cover the tip regime yet: "
+            "use \"active_set\"")
 
 
 MAX_PULL_SHARE = 0.5  # largest pull of a contact, as a share of the largest push
