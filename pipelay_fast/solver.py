@@ -187,7 +187,8 @@ def build_problem(case: Case) -> Problem:
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
              "focus": s_focus,
-             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
+             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
+             "at_tip": g.at_tip}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
                case.lay.top_tension or 0.0)
     s_stinger = g.s_liftoff if g.s_liftoff is not None else np.inf
@@ -210,8 +211,11 @@ def _follow(case: Case, pb: Problem, s_focus: float):
     if case.lay.stinger is None or not lift:
         pb.follow((k, -1), ((zone, zone), (0.0, 0.0)))
         return
-    # lift-off: the guess's, its zone clear of touchdown's
-    kl = int(np.argmin(np.abs(s[k + 2:-1] - lift[0]))) + k + 2
+    # lift-off: the guess's, its zone clear of touchdown's; where the guess
+    # leaves from the tip, the pipe regains the stinger further up (a gap span
+    # between, bearing on the tip): one flexural length above it as a start
+    s_lift = lift[0] + (zone / 3.0 if pb.stats.get("at_tip") else 0.0)
+    kl = int(np.argmin(np.abs(s[k + 2:-1] - s_lift))) + k + 2
     pb.st_active[:] = 0
     pb.st_active[kl:-1] = 1
     gap = s[kl] - s[k]

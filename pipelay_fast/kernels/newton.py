@@ -399,22 +399,67 @@ def _boundary_column(nd, s_el, u, props, table, torques, rate_b, col, bed_active
 
 
 @jit
-def _tip_gap_rate(nd, s_el, u, stinger, rate_b, grad, href):
-    """d(tip gap)/d s_b at fixed nodal unknowns [-]: the element lengths change
-    the Hermite interpolation the tip is found on (central differences)."""
+def _tip_gap_rate(nd, s_el, u, stinger, rate_b, grad, href, mu, col):
+    """d(tip gap)/d s_b at fixed nodal unknowns [-], and the tip force's share
+    of the column dG/ds_b (-mu d(grad)/ds_b, added to ``col``): the element
+    lengths change the Hermite interpolation the tip is found on (central
+    differences)."""
     h = 1e-6 * href
     nel = s_el.shape[0]
+    n = u.shape[0]
     le = np.empty(nel)
+    gp = np.zeros(n)
+    gp_val = 0.0
+    gm_val = 0.0
     for side in range(2):
         sgn = 1.0 if side == 0 else -1.0
         for e in range(nel):
             le[e] = s_el[e] + sgn * h * (rate_b[e + 1] - rate_b[e])
         _f, gap, _c, _s = tip_geometry(nd, le, u, stinger, grad)
         if side == 0:
-            gp = gap
+            gp_val = gap
+            gp[:] = grad
         else:
-            gm = gap
-    return (gp - gm) / (2.0 * h)
+            gm_val = gap
+    for i in range(n):
+        col[i] -= mu * (gp[i] - grad[i]) / (2.0 * h)
+    return (gp_val - gm_val) / (2.0 * h)
+
+
+@jit
+def _tip_stiffness(nd, s_el, u, stinger, mu, ab, kl, ku, href):
+    """The tip force's stiffness -mu d(grad)/du (the material point on the tip
+    slides along the pipe, and its normal turns), central differences over the
+    unknowns of the element that carries it, added to the band ``ab``."""
+    n = u.shape[0]
+    ndn = 2 * nd + 1
+    kv = kl + ku
+    g_p = np.zeros(n)
+    g_m = np.zeros(n)
+    found, _g, _c, _s = tip_geometry(nd, s_el, u, stinger, g_p)
+    if not found:
+        return
+    first = -1
+    for i in range(n):
+        if g_p[i] != 0.0:
+            first = i
+            break
+    if first < 0:
+        return
+    a = (first // ndn) * ndn
+    last = min(a + 2 * ndn, n)
+    for j in range(a, last):
+        hj = 1e-7 * (href if j % ndn < nd else 1.0)
+        if j % ndn == 2 * nd:
+            continue  # lam does not move the pipe
+        keep = u[j]
+        u[j] = keep + hj
+        tip_geometry(nd, s_el, u, stinger, g_p)
+        u[j] = keep - hj
+        tip_geometry(nd, s_el, u, stinger, g_m)
+        u[j] = keep
+        for i in range(a, last):
+            ab[kv + i - j, j] -= mu * (g_p[i] - g_m[i]) / (2.0 * hj)
 
 
 @jit
@@ -564,6 +609,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 tip_on = True
                 for i in range(n):
                     g[i] -= tip[1] * grad[i]
+                if has_lo:
+                    _tip_stiffness(nd, s_el, u, stinger, tip[1], ab, kl, ku, href)
             else:
                 tip[0] = 0.0
                 tip[1] = 0.0
@@ -577,7 +624,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 d_top[b] = _top_te(nd, bcols[b], u, top_node)
                 d_gap[b] = 0.0
                 if tip_on:
-                    d_gap[b] = _tip_gap_rate(nd, s_el, u, stinger, s_b[b], grad_t, href)
+                    d_gap[b] = _tip_gap_rate(nd, s_el, u, stinger, s_b[b], grad_t, href,
+                                             tip[1], bcols[b])
         _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, True)
         _curve_all(nd, ab, kl, ku, g, u, stinger, st_active, True)
         # border unknowns: rows (constraint gradients) and columns (dG/dz)
@@ -806,14 +854,18 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             # a boundary moves at most MAX_BOUNDARY_STEP reference lengths a step
             if abs(d_bnd[b]) * alpha > MAX_BOUNDARY_STEP * href:
                 alpha = MAX_BOUNDARY_STEP * href / abs(d_bnd[b])
-        alpha0 = alpha
         if has_lo and bfree[1] != 0:
-            # the Newton step takes lift-off an element length past the tip, on
-            # the curve continued beyond it: the tip regime, not covered here
+            # lift-off stays above the tip (the curve continued past it is no
+            # support): a step goes at most half way there
             base = bnodes[1] * ndn
-            if u[base + nd - 1] + d_bnd[1] * u[base + 2 * nd - 1] < stinger[ST_ZL] - href:
+            room = u[base + nd - 1] - stinger[ST_ZL]
+            dz_lo = d_bnd[1] * u[base + 2 * nd - 1]
+            if room < 1e-9 * href and dz_lo < 0.0:
                 status = L.PAST_TIP
                 break
+            if dz_lo * alpha < -0.5 * room:
+                alpha = 0.5 * room / -dz_lo
+        alpha0 = alpha
         accepted = False
         for _ls in range(12):
             _take_step(nd, alpha, u, u_old, du_free, stinger, st_active, tb, tb_old, dtb, tip,
@@ -916,6 +968,20 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 tip[1] = 0.0
                 changed = True
                 tip_toggles += 1
+        elif has_lo:
+            # the tip by the complementarity min(R, c g) = 0 (semismooth Newton:
+            # the branch that the present R and gap g select): it bears when
+            # R - c g > 0, its gap then an equation with R a bordered unknown,
+            # else R = 0. Only a tip over the free span counts: one under the
+            # stinger stretch held by the curve would be the curve continued.
+            found, gt, _c, s_tip = tip_geometry(nd, s_el, u, stinger, grad_t)
+            node_arcs(s_el, s_nd)
+            bears = found and s_tip < s_nd[bnodes[1]] and tip[1] - (fref / href) * gt > 0.0
+            if bears != (tip[0] != 0.0):
+                changed = True
+                tip[0] = 1.0 if bears else 0.0
+            if not bears:
+                tip[1] = 0.0
         if changed:
             changes_total += 1
             if changes_total > 2 * nn:
