@@ -37,7 +37,7 @@ from .kernels.contact import (
     friction_forces,
     tip_geometry,
 )
-from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
+from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_BND, N_INFO, _system, newton
 from .limits import IterationBudget, check_mesh_size, strain_beyond_line
 from .mesh import graded_nodes
 from .model import build_props, dimension_of
@@ -86,15 +86,16 @@ class Problem:
     stats: dict = field(default_factory=dict)
     before_current: list | None = None  # state snapshot before the current (friction path)
     # the mesh follows the contact boundaries (solver.contact = "boundaries"):
-    # node i at s_a[i] + s_b[0, i] s_bd[0] + s_b[1, i] s_bd[1], touchdown on node
-    # bnodes[0], lift-off from the stinger on node bnodes[1] (-1: none, a fixed
+    # node i at s_a[i] + sum_b s_b[b, i] s_bd[b], touchdown on node bnodes[0],
+    # lift-off from (or re-contact with) the stinger on bnodes[1], the
+    # material point over the stinger's tip on bnodes[2] (-1: none, a fixed
     # mesh, the active set finds that boundary)
-    bnodes: np.ndarray = field(default_factory=lambda: np.full(2, -1, dtype=np.int64))
+    bnodes: np.ndarray = field(default_factory=lambda: np.full(N_BND, -1, dtype=np.int64))
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
-    s_bd: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    s_bd: np.ndarray = field(default_factory=lambda: np.zeros(N_BND))
     # 1 where a followed boundary's arc length is an unknown, 0 where it is held
-    bfree: np.ndarray = field(default_factory=lambda: np.ones(2, dtype=np.int64))
+    bfree: np.ndarray = field(default_factory=lambda: np.ones(N_BND, dtype=np.int64))
 
     @property
     def td_node(self) -> int:
@@ -104,28 +105,57 @@ class Problem:
     def lo_node(self) -> int:
         return int(self.bnodes[1])
 
+    @property
+    def tip_node(self) -> int:
+        return int(self.bnodes[2])
+
     def follow(self, nodes, zones):
         """Map the mesh onto the contact boundaries at ``nodes`` (touchdown,
-        lift-off; -1: none): the nodes within ``zones[b]`` = (below, above) [m]
-        of boundary b, between two nodes that stay material points, move with
-        it, each side scaling linearly and keeping its grading; the rest is
-        fixed. The zones must not overlap."""
+        lift-off or re-contact on the stinger, the stinger's tip; -1: none).
+
+        Anchors are the boundary nodes, the ends of the pipe and, for boundary
+        b, the nodes ``zones[b]`` = (below, above) [m] away from it, unless
+        another boundary lies nearer; every node between two anchors keeps its
+        share of the span between them, so each span's mesh is mapped onto its
+        present ends with its grading, and nodes outside every zone stay put.
+        """
         s = self.s
-        idx = np.arange(s.size)
-        s_a, s_b = s.copy(), np.zeros((2, s.size))
-        for b, (k, (z_lo, z_hi)) in enumerate(zip(nodes, zones, strict=True)):
+        nn = s.size
+        kind = {0: -1, nn - 1: -1}  # anchor node -> boundary (-1: a fixed material point)
+        for b, k in enumerate(nodes):
+            if k >= 0:
+                kind[int(k)] = b
+        bnd = sorted(int(k) for k in nodes if k >= 0)
+        for b, k in enumerate(nodes):
             if k < 0:
                 continue
-            s_k = s[k]
-            lo = min(max(int(np.searchsorted(s, s_k - z_lo)) - 1, 0), k - 1)
-            hi = max(min(int(np.searchsorted(s, s_k + z_hi)), s.size - 2), k + 1)
-            below = (idx >= lo) & (idx <= k)
-            above = (idx > k) & (idx <= hi)
-            f = (s - s[lo]) / (s_k - s[lo])
-            g = (s - s_k) / (s[hi] - s_k)
-            s_a = np.where(below, s[lo] * (1.0 - f), np.where(above, s[hi] * g, s_a))
-            s_b[b] = np.where(below, f, np.where(above, 1.0 - g, 0.0))
-            self.s_bd[b] = s_k
+            z_lo, z_hi = zones[b]
+            lower = max([j for j in bnd if j < k], default=0)
+            upper = min([j for j in bnd if j > k], default=nn - 1)
+            lo = int(np.searchsorted(s, s[k] - z_lo)) - 1
+            hi = int(np.searchsorted(s, s[k] + z_hi))
+            if lower < lo < k:
+                kind.setdefault(lo, -1)
+            if k < hi < upper:
+                kind.setdefault(hi, -1)
+        anchors = sorted(kind)
+        s_a = s.copy()
+        s_b = np.zeros((N_BND, nn))
+        for a0, a1 in zip(anchors[:-1], anchors[1:], strict=True):
+            i = np.arange(a0, a1 + 1)
+            f = (s[i] - s[a0]) / (s[a1] - s[a0])
+            s_a[i] = 0.0
+            for end, share in ((a0, 1.0 - f), (a1, f)):
+                if kind[end] < 0:
+                    s_a[i] += share * s[end]
+                else:
+                    s_b[kind[end], i] = share
+        for k, b in kind.items():  # the anchors themselves (counted twice above)
+            s_a[k] = s[k] if b < 0 else 0.0
+            s_b[:, k] = 0.0
+            if b >= 0:
+                s_b[b, k] = 1.0
+                self.s_bd[b] = s[k]
         self.s_a, self.s_b = s_a, np.ascontiguousarray(s_b)
         self.bnodes = np.asarray(nodes, dtype=np.int64)
 
@@ -198,8 +228,9 @@ def build_problem(case: Case) -> Problem:
 
 
 def _follow(case: Case, pb: Problem, s_focus: float):
-    """With solver.contact = "boundaries" (a J-lay on a rigid seabed: the case
-    checks it), map the mesh onto touchdown at the node nearest ``s_focus``."""
+    """With solver.contact = "boundaries" (a rigid seabed: the case checks
+    it), map the mesh onto touchdown at the node nearest ``s_focus`` and, in
+    S-lay, onto lift-off and the material point over the stinger's tip."""
     if case.solver.contact != "boundaries":
         return
     s = pb.s
@@ -209,18 +240,20 @@ def _follow(case: Case, pb: Problem, s_focus: float):
     zone = 3.0 * pb.stats["flexural_length"]
     lift = pb.stats.get("stinger_foci") or []
     if case.lay.stinger is None or not lift:
-        pb.follow((k, -1), ((zone, zone), (0.0, 0.0)))
+        pb.follow((k, -1, -1), ((zone, zone), (0.0, 0.0), (0.0, 0.0)))
         return
-    # lift-off: the guess's, its zone clear of touchdown's; where the guess
-    # leaves from the tip, the pipe regains the stinger further up (a gap span
-    # between, bearing on the tip): one flexural length above it as a start
+    # lift-off: the guess's; where the guess leaves from the tip, the pipe
+    # regains the stinger further up (a gap span between, bearing on the
+    # tip): one flexural length above it as a start
     s_lift = lift[0] + (zone / 3.0 if pb.stats.get("at_tip") else 0.0)
-    kl = int(np.argmin(np.abs(s[k + 2:-1] - s_lift))) + k + 2
+    kl = int(np.argmin(np.abs(s[k + 4:-1] - s_lift))) + k + 4
     pb.st_active[:] = 0
     pb.st_active[kl:-1] = 1
-    gap = s[kl] - s[k]
-    pb.follow((k, kl), ((zone, min(zone, 0.45 * gap)),
-                        (min(zone, 0.45 * gap), min(zone, 0.9 * (s[-1] - s[kl])))))
+    # the tip: the node whose guessed height is nearest the tip's, below lift-off
+    z = pb.u[pb.nd - 1::pb.ndn]
+    kt = int(np.argmin(np.abs(z[k + 2:kl - 1] - pb.stinger[ST_ZL]))) + k + 2
+    pb.follow((k, kl, kt), ((zone, zone), (zone, min(zone, 0.9 * (s[-1] - s[kl]))),
+                            (zone, zone)))
 
 
 def _laid_source(case: Case, cat, lam: float) -> str:
@@ -303,7 +336,7 @@ def _run_newton(pb: Problem, g_off, tol, maxit):
     if pb.s_a is not None:
         s_a, s_b = pb.s_a, pb.s_b
     else:
-        s_a, s_b = np.zeros(pb.nn), np.zeros((2, pb.nn))
+        s_a, s_b = np.zeros(pb.nn), np.zeros((N_BND, pb.nn))
     status = newton(pb.nd, pb.s_el, pb.u, pb.props, pb.table, pb.fix_mask, pb.fix_val,
                     pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.stinger, pb.st_active,
                     pb.tip, pb.fric, pb.f_node, g_off,
@@ -480,6 +513,8 @@ def tip_position(pb: Problem):
     """Arc length [m] of the material point on the stinger's tip when it bears."""
     if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
         return None
+    if pb.tip_node >= 0:
+        return float(pb.s[pb.tip_node])
     found, _gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger, np.zeros_like(pb.u))
     return float(s_tip) if found else None
 

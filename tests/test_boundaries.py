@@ -96,8 +96,24 @@ def test_liftoff_unknown_3d_equals_2d(s67):
         assert b[key] == pytest.approx(a[key], rel=1e-9, abs=1e-9), key
 
 
-def test_liftoff_unknown_refuses_the_tip_regime(s67):
-    """a = -0.0009 bears on the tip (the reference's tip regime): not covered by
-    the boundaries unknowns yet, so the case is refused, naming the way out."""
-    with pytest.raises(pf.SolveError, match="tip.*active_set"):
-        pf.solve(s67.with_changes({"lay.stinger.a": -0.0009}))
+@pytest.mark.parametrize("a", [-0.001, -0.0009])
+def test_tip_regime_matches_slay_elastica(s67, a):
+    """Bearing on the tip (the reference's tip regime, re-contact 20 to 26 m up
+    the stinger): a node follows the material point over the tip, its contact
+    chosen by min(R, c g) = 0. The tip reaction to 1e-3 (measured 3.5e-5 and
+    1e-5), touchdown to 5 mm (0.1 mm), the peak moments to 1e-3."""
+    from tests.reference.slay import slay_elastica
+
+    case = s67.with_changes({"lay.stinger.a": a, "pipe.extensible": False})
+    d = case.environment.water_depth
+    ref = slay_elastica(case.pipe.bending_stiffness, float(case.effective_weight(0.0)),
+                        float(case.effective_weight(d + 1.0)), d, a, case.lay.stinger.lower,
+                        case.lay.stinger.upper, T_top=case.lay.top_tension)
+    assert ref["regime"] == "tip"
+    sm = pf.solve(case).summary
+    assert sm["tip_reaction"] == pytest.approx(ref["tip_reaction"], rel=1e-3)
+    assert abs(sm["tdp_z"] - ref["tdp_z"]) < 5e-3
+    assert sm["liftoff_z"] == pytest.approx(case.lay.stinger.lower[1], abs=1e-9)
+    assert sm["overbend_max_moment"] == pytest.approx(ref["overbend_max_moment"], rel=1e-3)
+    assert sm["sagbend_max_moment"] == pytest.approx(ref["sagbend_max_moment"], rel=1e-3)
+    assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-5)

@@ -268,7 +268,7 @@ def _weighted_max(nd, g, cmask, fref, href):
 
 MAX_BOUNDARY_STEP = 2.0  # largest move of a contact boundary per Newton step, in href
 RELEASE_DELTA = 1e-3  # constraint correction (per href) above which no contact is released
-N_BND = 2  # contact boundaries that can be unknowns: touchdown (0), lift-off (1)
+N_BND = 3  # boundaries that can be unknowns: touchdown (0), lift-off (1), the tip's point (2)
 N_BORDER = 2 + N_BND  # bordered unknowns: bottom tension, tip multiplier, the boundaries
 
 
@@ -363,6 +363,56 @@ def _free_moment(nd, s_el, u, props, table, torques, td_node, rate_b, row):
     for j in range(ne):
         row[e * ndn + j] = ke[nd, j]
     return fe[nd], (rate_b[e + 1] - rate_b[e]) * dfe[nd]
+
+
+@jit
+def _bnd_scale(b, fref, href):
+    """The scale of boundary b's equation: a moment (touchdown), a slope
+    (lift-off), a length (the tip's point)."""
+    if b == 0:
+        return fref * href
+    return 1.0 if b == 1 else href
+
+
+@jit
+def _tip_gap_normal(nd, u, stinger, node, phi):
+    """Clearance [m] of node ``node`` from the stinger's tip (x_L, z_L) along the
+    normal of a frame turned by ``phi`` (the pipe's, see :func:`_over_tip`)."""
+    ndn = 2 * nd + 1
+    base = node * ndn
+    z_l = stinger[ST_ZL]
+    x_l = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
+    return math.cos(phi) * (u[base] - x_l) - math.sin(phi) * (u[base + nd - 1] - z_l)
+
+
+@jit
+def _over_tip(nd, u, stinger, node, row):
+    """The tip's boundary equation: node ``node`` is the material point over
+    the stinger's tip, t . (r - r_tip) = 0 with t = r'/|r'| the pipe's tangent
+    [m] (the tip's projection on the pipe). ``row`` gets d/du (global frame)."""
+    ndn = 2 * nd + 1
+    base = node * ndn
+    z_l = stinger[ST_ZL]
+    x_l = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
+    for i in range(row.shape[0]):
+        row[i] = 0.0
+    a = 0.0
+    for i in range(nd):
+        a += u[base + nd + i] ** 2
+    a = math.sqrt(a)
+    d = np.zeros(3)
+    d[0] = u[base] - x_l
+    d[nd - 1] = u[base + nd - 1] - z_l
+    if nd == 3:
+        d[1] = u[base + 1]
+    e = 0.0
+    for i in range(nd):
+        e += d[i] * u[base + nd + i] / a
+    for i in range(nd):
+        t_i = u[base + nd + i] / a
+        row[base + i] = t_i
+        row[base + nd + i] = (d[i] - e * t_i) / a
+    return e
 
 
 @jit
@@ -566,6 +616,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     kind = np.zeros(N_BORDER, dtype=np.int64)
     has_td = bnodes[0] >= 0
     has_lo = bnodes[1] >= 0
+    has_tipn = bnodes[2] >= 0  # the tip's material point on a node of its own
     has_bnd = has_td or has_lo
     col_t = np.zeros(n)
     bcols = np.zeros((N_BND, n))  # dG/ds_b of each boundary, global frame
@@ -597,13 +648,17 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 if node != top_node:
                     phi_r[node] = 0.0
                     phi_rp[node] = 0.0
+        if has_tipn:
+            # the node over the tip: its frame along the pipe (normal, tangent)
+            base = bnodes[2] * ndn
+            phi_r[bnodes[2]] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
         # ---- 1-2: system in nodal frames --------------------------------
         _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
                 slide_dof, tb, phi_r, phi_rp, True)
         node_arcs(s_el, s_nd)
         friction_forces(nd, u, g, ab, kl + ku, props, bed_active, fric, fr_out, s_nd)
         tip_on = False
-        if has_stinger and tip[0] != 0.0:
+        if has_stinger and tip[0] != 0.0 and not has_tipn:
             found, g_tip, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
             if found:
                 tip_on = True
@@ -657,8 +712,10 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             if b == 0:
                 res_bnd[b], d_own = _free_moment(nd, s_el, u, props, table, torques, bnodes[b],
                                                  s_b[b], row_t)
-            else:
+            elif b == 1:
                 res_bnd[b] = _tangency(nd, u, stinger, b, bnodes[b], row_t)
+            else:
+                res_bnd[b] = _over_tip(nd, u, stinger, bnodes[b], row_t)
             _rotate_all(nd, dummy_ab, kl, ku, col_t, phi_r, phi_rp, False)
             _curve_all(nd, dummy_ab, kl, ku, col_t, u, stinger, st_active, False)
             _rotate_all(nd, dummy_ab, kl, ku, row_t, phi_r, phi_rp, False)
@@ -718,8 +775,13 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                     delta[base + 1] = -u[base + 1]
                     cmask[base + nd + 1] = True
                     delta[base + nd + 1] = -u[base + nd + 1]
+        if has_tipn and tip[0] != 0.0:
+            # bearing on the tip: the node on it along the pipe's normal
+            j = bnodes[2] * ndn
+            cmask[j] = True
+            delta[j] = -_tip_gap_normal(nd, u, stinger, bnodes[2], phi_r[bnodes[2]])
         for b in range(N_BND):
-            if b > 0 and bnodes[b] >= 0 and bfree[b] == 0:
+            if b == 1 and bnodes[b] >= 0 and bfree[b] == 0:
                 # a boundary held where it is: its node tangent to the support
                 j = bnodes[b] * ndn + nd
                 cmask[j] = True
@@ -739,7 +801,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         bnd_res = 0.0
         for b in range(N_BND):
             if bnodes[b] >= 0 and bfree[b] != 0:
-                bnd_res = max(bnd_res, abs(res_bnd[b]) / (fref * href if b == 0 else 1.0))
+                bnd_res = max(bnd_res, abs(res_bnd[b]) / _bnd_scale(b, fref, href))
         if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
             status = L.NOT_FINITE
             break
@@ -838,7 +900,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         merit0 = res_ssq + top_res * top_res + (g_tip / href) ** 2 * tip_on
         for b in range(N_BND):
             if bfree[b] != 0:
-                merit0 += (res_bnd[b] / (fref * href if b == 0 else 1.0)) ** 2
+                merit0 += (res_bnd[b] / _bnd_scale(b, fref, href)) ** 2
             bnd_old[b] = s_bd[b]
         alpha = 1.0
         if has_bnd:
@@ -890,6 +952,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 tdr += (v / (fref * href)) ** 2
             if has_lo and bfree[1] != 0:
                 tdr += _tangency(nd, u, stinger, 1, bnodes[1], row_t) ** 2
+            if has_tipn and bfree[2] != 0:
+                tdr += (_over_tip(nd, u, stinger, bnodes[2], row_t) / href) ** 2
             _rotate_all(nd, dummy_ab, kl, ku, g_trial, phi_r, phi_rp, False)
             _curve_all(nd, dummy_ab, kl, ku, g_trial, u, stinger, st_active, False)
             _rm, rs = _weighted_max(nd, g_trial, cmask, fref, href)
@@ -968,20 +1032,18 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 tip[1] = 0.0
                 changed = True
                 tip_toggles += 1
-        elif has_lo:
+        elif has_tipn:
             # the tip by the complementarity min(R, c g) = 0 (semismooth Newton:
-            # the branch that the present R and gap g select): it bears when
-            # R - c g > 0, its gap then an equation with R a bordered unknown,
-            # else R = 0. Only a tip over the free span counts: one under the
-            # stinger stretch held by the curve would be the curve continued.
-            found, gt, _c, s_tip = tip_geometry(nd, s_el, u, stinger, grad_t)
-            node_arcs(s_el, s_nd)
-            bears = found and s_tip < s_nd[bnodes[1]] and tip[1] - (fref / href) * gt > 0.0
+            # the branch that the present normal reaction R and gap g select):
+            # it bears when R - c g > 0, the node then held on it, else R = 0
+            kt = bnodes[2]
+            r_n = react[kt * ndn] if tip[0] != 0.0 else 0.0
+            g_n = _tip_gap_normal(nd, u, stinger, kt, phi_r[kt])
+            bears = r_n - (fref / href) * g_n > 0.0
             if bears != (tip[0] != 0.0):
                 changed = True
                 tip[0] = 1.0 if bears else 0.0
-            if not bears:
-                tip[1] = 0.0
+            tip[1] = r_n if bears else 0.0
         if changed:
             changes_total += 1
             if changes_total > 2 * nn:
