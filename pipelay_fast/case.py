@@ -621,9 +621,6 @@ class Case:
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
-        if self.solver.contact == "boundaries" and not self.seabed.is_rigid:
-            fail("solver.contact", "boundaries", "covers a rigid seabed only so far "
-                 f"(seabed.stiffness = {self.seabed.stiffness!r}); use \"active_set\"")
         check_case(self)
 
     @property

@@ -234,26 +234,54 @@ def _follow(case: Case, pb: Problem, s_focus: float):
     if case.solver.contact != "boundaries":
         return
     s = pb.s
-    k = int(np.argmin(np.abs(s[1:-1] - s_focus))) + 1
-    pb.bed_active[:] = 0
-    pb.bed_active[1:k + 1] = 1
     zone = 3.0 * pb.stats["flexural_length"]
+    k = -1
+    if case.seabed.is_rigid:  # an elastic seabed is a foundation, no contact boundary
+        k = int(np.argmin(np.abs(s[1:-1] - s_focus))) + 1
+        pb.bed_active[:] = 0
+        pb.bed_active[1:k + 1] = 1
     lift = pb.stats.get("stinger_foci") or []
     if case.lay.stinger is None or not lift:
-        pb.follow((k, -1, -1), ((zone, zone), (0.0, 0.0), (0.0, 0.0)))
+        _follow_nodes(case, pb, (k, -1, -1))
         return
     # lift-off: the guess's; where the guess leaves from the tip, the pipe
     # regains the stinger further up (a gap span between, bearing on the
     # tip): one flexural length above it as a start
     s_lift = lift[0] + (zone / 3.0 if pb.stats.get("at_tip") else 0.0)
-    kl = int(np.argmin(np.abs(s[k + 4:-1] - s_lift))) + k + 4
+    k0 = max(k, 0)
+    kl = int(np.argmin(np.abs(s[k0 + 4:-1] - s_lift))) + k0 + 4
     pb.st_active[:] = 0
     pb.st_active[kl:-1] = 1
     # the tip: the node whose guessed height is nearest the tip's, below lift-off
     z = pb.u[pb.nd - 1::pb.ndn]
-    kt = int(np.argmin(np.abs(z[k + 2:kl - 1] - pb.stinger[ST_ZL]))) + k + 2
-    pb.follow((k, kl, kt), ((zone, zone), (zone, min(zone, 0.9 * (s[-1] - s[kl]))),
-                            (zone, zone)))
+    kt = int(np.argmin(np.abs(z[k0 + 2:kl - 1] - pb.stinger[ST_ZL]))) + k0 + 2
+    _follow_nodes(case, pb, (k, kl, kt))
+
+
+def _follow_nodes(case: Case, pb: Problem, nodes):
+    """The mesh follows the boundaries on ``nodes`` (touchdown, lift-off, the
+    tip's point; -1: none), each with a zone of three flexural lengths."""
+    zone = 3.0 * pb.stats["flexural_length"]
+    pb.follow(nodes, ((zone, zone), (zone, min(zone, 0.9 * (pb.s[-1] - pb.s[nodes[1]]))),
+                      (zone, zone)))
+
+
+MAX_STRETCH = 1.5  # a mesh following the boundaries: largest element, in h_max
+MIN_SQUEEZE = 0.5  # ... smallest, in h_min; beyond either it is graded anew
+
+
+def _distorted(pb: Problem) -> bool:
+    """True when a mesh that follows the boundaries has moved so far that an
+    element exceeds MAX_STRETCH h_max or falls below MIN_SQUEEZE h_min."""
+    le = np.diff(pb.s)
+    return bool(le.max() > MAX_STRETCH * pb.stats["h_max"]
+                or le.min() < MIN_SQUEEZE * pb.stats["h_min"])
+
+
+def _follows_all(case: Case, pb: Problem) -> bool:
+    """True when the mesh follows every contact boundary of the case (the
+    boundaries mode on a rigid seabed): no pass moves the mesh onto them."""
+    return pb.td_node >= 0 and (case.lay.stinger is None or pb.lo_node >= 0)
 
 
 def _laid_source(case: Case, cat, lam: float) -> str:
@@ -602,16 +630,23 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     while True:
         s_t = touchdown_position(case, pb)
         foci = _stinger_foci(case, pb)
-        if not case.solver.grading or passes >= MAX_MESH_PASSES or pb.s_a is not None:
+        if not case.solver.grading or passes >= MAX_MESH_PASSES:
             break
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
-        near = 0.02 * pb.stats["h_min"]
-        held = pb.stats.get("stinger_foci", [])
-        lift_ok = all(any(abs(f - h) <= near for h in held) for f in foci)
-        on_node = pb.td_node >= 0 or abs(s_t - pb.stats["focus"]) <= near
-        if on_node and lift_ok and not short_laid:
-            break
+        if _follows_all(case, pb):
+            # the mesh follows the boundaries: graded anew only when it has
+            # moved too far, or when laid pipe is short
+            if not (_distorted(pb) or short_laid):
+                break
+            foci = [pb.s[k] for k in (pb.lo_node, pb.tip_node) if k >= 0]
+        else:
+            near = 0.02 * pb.stats["h_min"]
+            held = pb.stats.get("stinger_foci", [])
+            lift_ok = all(any(abs(f - h) <= near for h in held) for f in foci)
+            on_node = abs(s_t - pb.stats["focus"]) <= near
+            if on_node and lift_ok and not short_laid:
+                break
         pb = remesh(case, pb, s_t, foci)
         if path:
             pb.props[L.CURRENT_FACTOR] = 0.0
@@ -633,7 +668,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         near = 0.02 * pb.stats["h_min"]
         current_passes += 1
         if (not case.solver.grading or current_passes > MAX_MESH_PASSES
-                or pb.s_a is not None or abs(s_t - pb.stats["focus"]) <= near):
+                or _follows_all(case, pb) or abs(s_t - pb.stats["focus"]) <= near):
             break
         # the current moved touchdown off the fine mesh: mesh again around where
         # it ends, from the pipe under gravity alone, and follow the path again
@@ -792,7 +827,19 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
     s_c = conform_end(case, pb)
     s_stinger = np.inf if s_c is None else s_c + extra - tol
     new = _problem(case, nd, s, u, pb.tb[0], focus + tol, s_stinger, pb.fref, stats)
-    _follow(case, new, focus)
+    if _follows_all(case, pb):
+        # the boundaries mode: the new mesh follows the same boundaries, each
+        # on the node graded onto it
+        def at(k):
+            return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))
+        new.bed_active[:] = 0
+        new.bed_active[1:at(pb.td_node) + 1] = 1
+        if pb.lo_node >= 0:
+            new.st_active[:] = 0
+            new.st_active[at(pb.lo_node):-1] = 1
+        _follow_nodes(case, new, (at(pb.td_node), at(pb.lo_node), at(pb.tip_node)))
+    else:
+        _follow(case, new, focus)
     new.tip[:] = pb.tip  # a bearing tip keeps bearing (its point moves with the pipe)
     return new
 

@@ -266,6 +266,7 @@ def _weighted_max(nd, g, cmask, fref, href):
     return worst, ssq
 
 
+MERIT_RISE = 1e8  # boundaries mode: the largest rise of the merit a step may bring
 MAX_BOUNDARY_STEP = 2.0  # largest move of a contact boundary per Newton step, in href
 RELEASE_DELTA = 1e-3  # constraint correction (per href) above which no contact is released
 N_BND = 3  # boundaries that can be unknowns: touchdown (0), lift-off (1), the tip's point (2)
@@ -964,7 +965,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             # S67 and S125, 2 to 5 times the iterations, and some cases never
             # converged); a diverging step is caught by the iteration's checks
             if (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < (tol * tol) or m1 < 1e-300
-                    or (has_bnd and m1 < 1e300)):
+                    or (has_bnd and m1 <= MERIT_RISE * merit0)):
                 accepted = True
                 break
             if not (m1 < 1e300) and alpha < 1e-3:
