@@ -400,15 +400,35 @@ def _fail(case, step, info, status, extra=""):
                      f"{_newton_state(info, status)}{extra}")
 
 
-def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str):
+MAX_TIP_SWITCHES = 2  # switches to bearing on the tip within one Newton solve
+
+
+def _bear_on_tip(case: Case, pb: Problem):
+    """The regime switch the complementarity at the tip makes as lift-off
+    reaches it from above: the pipe now bears on the tip and regains the
+    stinger further up, one flexural length above (as a cold start from a
+    guess that leaves at the tip does), with the gap span between free."""
+    s = pb.s
+    k = int(np.searchsorted(s, s[pb.lo_node] + pb.stats["flexural_length"]))
+    k = min(max(k, pb.lo_node + 1), pb.nn - 2)
+    pb.st_active[:] = 0
+    pb.st_active[k:-1] = 1
+    pb.tip[0], pb.tip[1] = 1.0, 0.0
+    _follow_nodes(case, pb, (pb.td_node, k, pb.tip_node))
+
+
+def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
+                     switch: bool = False):
     """:func:`_run_newton` within the solve's iteration budget; a SolveError
-    naming solver.max_iterations_total when it is spent."""
+    naming solver.max_iterations_total when it is spent. ``switch``: a
+    lift-off that reaches the stinger's tip (status PAST_TIP) is returned to
+    the caller, which switches to bearing on the tip, instead of raised."""
     if budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
     status, react, info = _run_newton(pb, g_off, case.solver.tolerance,
                                       budget.cap(case.solver.max_iterations))
     budget.charge(info[I_ITER])
-    if status == L.PAST_TIP:
+    if status == L.PAST_TIP and not switch:
         raise SolveError(f"case {case.name!r} at {where}: {_newton_state(info, status)}")
     if status != L.OK and budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)} (last Newton "
@@ -443,14 +463,24 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
         # them (the guess kinks at lift-off; from it, the first steps with the
         # boundaries free run touchdown into the lower end on S67; a J-lay
         # guess needs no such start, it would add 2 to 40 iterations there)
-        pb.bfree[:] = 0
-        status, _react, info = _budgeted_newton(case, pb, zero, budget,
-                                               "the solve with the contact boundaries held")
-        pb.bfree[:] = 1
-        held = int(info[I_ITER])
-    start = _snapshot(pb)
-    status, react, info = _budgeted_newton(case, pb, zero, budget,
-                                          "the first Newton solve on a mesh")
+        for switches in range(MAX_TIP_SWITCHES + 1):
+            pb.bfree[:] = 0
+            status, _react, info = _budgeted_newton(
+                case, pb, zero, budget, "the solve with the contact boundaries held")
+            pb.bfree[:] = 1
+            held += int(info[I_ITER])
+            start = _snapshot(pb)
+            status, react, info = _budgeted_newton(case, pb, zero, budget,
+                                                  "the first Newton solve on a mesh",
+                                                  switch=switches < MAX_TIP_SWITCHES)
+            if status != L.PAST_TIP:
+                break
+            held += int(info[I_ITER])
+            _bear_on_tip(case, pb)
+    else:
+        start = _snapshot(pb)
+        status, react, info = _budgeted_newton(case, pb, zero, budget,
+                                              "the first Newton solve on a mesh")
     iters = int(info[I_ITER]) + held
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}

@@ -81,7 +81,8 @@ STATUS_TEXT = {
     SINGULAR: "singular tangent matrix (a mechanism: is the pipe held?)",
     NOT_FINITE: "non-finite residual (the iteration diverged)",
     ACTIVE_SET_CYCLE: "contact active set did not settle",
-    PAST_TIP: ("the lift-off unknown went past the stinger's tip: the pipe bears on the tip, "
-               "a regime solver.contact = \"boundaries\" does not cover yet (use \"active_set\")"),
+    PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
+               "down: the switch to bearing on the tip, which solver.contact = \"boundaries\" "
+               "does not make within a solve yet (use \"active_set\")"),
 }
 
