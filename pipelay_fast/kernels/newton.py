@@ -10,7 +10,8 @@ Python/numba boundary once per load step:
    unknowns are solved from the band system and the reactions recovered from
    the constrained rows, ``R_c = G_c + K_cf du_f + K_cc du_c``;
 4. a backtracking line search on the weighted residual norm;
-5. active-set update: nodes that penetrate the seabed or the stinger are
+5. active-set update (``solver.contact = "active_set"``, the default; see
+   below for "boundaries"): nodes that penetrate the seabed or the stinger are
    added, nodes whose reaction pulls are released (:mod:`.contact`); seabed
    friction enters as spring forces in G and K, not as constraints; converged
    when the residual is below the tolerance, the constraints hold and the
@@ -21,20 +22,43 @@ the equation Te(top) = R_top . t_top - T_top = 0 (the reaction at the pinned top
 is the internal force there). Its row and column are local to the two ends, so
 the bordered system is solved with the band factors and one extra solve.
 
-Touchdown as an unknown (``td_node >= 0``, ``solver.contact = "boundaries"``):
-the mesh follows touchdown, node i at s_i = s_a[i] + s_b[i] s_T, so that node
-``td_node`` is touchdown and the nodes within a few flexural lengths of it
-slide along the pipe as s_T changes (:func:`mesh_lengths`). The seabed contact
-is then fixed: every node from the lower end to touchdown lies on the seabed,
-tangent to it, touchdown included. s_T is a bordered unknown whose equation is
-the continuum's third condition there, no moment on the free side: the
-residual of the first free element at touchdown's slope unknown (the laid
-side carries none). Its column dG/ds_T and the border equations' derivatives
-by s_T are analytic (the elements' dG/dle, :func:`_touchdown_border`). Friction
-anchors belong to material points (:func:`.contact.anchor_at`), so nodes that
-slide along the pipe keep the springs' stretch. All border unknowns (bottom
-tension, tip multiplier, touchdown) are eliminated by one dense Schur
-complement (:func:`_solve_dense`).
+Stinger contacts are expressed in curve coordinates, not in frames rotated
+to the stinger (:func:`.assembly.curve_node`): x = f(z) + c, x' = f'(z) z' + c',
+c = 0 and c' = 0 held, z and z' sliding along the curve; the map's second
+derivatives, weighted by the residual (the support's reaction), enter the
+tangent, so a node that slides along the stinger keeps Newton quadratic, and
+the constraints hold exactly after every step.
+
+Contact boundaries as unknowns (``bnodes[b] >= 0``, ``solver.contact =
+"boundaries"``). The mesh follows each boundary b: node i at s_i = s_a[i] +
+sum_b s_b[b, i] s_bd[b], every span between anchors mapped onto its present
+ends (:func:`mesh_lengths`). The contact stretches are then fixed sets, no
+node walks: the seabed from the lower end to touchdown (b = 0), the stinger
+from lift-off (b = 1) to the top. Each arc length is a bordered unknown closed
+by its continuum condition:
+
+* touchdown: on the seabed, tangent to it, no moment on the free side (the
+  free element's nodal residual at the slope unknown, :func:`_free_moment`);
+* lift-off (or re-contact above a bearing tip): on the stinger, its node's
+  slope free and the pipe tangent to the stinger there (:func:`_tangency`),
+  which leaves its curvature continuous;
+* the tip (b = 2): a node follows the material point over the stinger's tip,
+  t . (r - r_tip) = 0 (:func:`_over_tip`), and its normal contact is chosen by
+  the complementarity min(R, c g) = 0, solved semismoothly (the branch the
+  present reaction R and gap g select, each iteration).
+
+Their columns dG/ds_b are the elements' analytic dG/dle times the length
+rates (:func:`_boundary_column`) plus the friction springs' anchor derivative
+(anchors belong to material points, :func:`.contact.anchor_at`). All border
+unknowns (bottom tension, tip multiplier of the active set, the boundaries)
+are eliminated by one dense Schur complement (:func:`_solve_dense`). The step
+is the full Newton step within limits: a boundary moves at most
+MAX_BOUNDARY_STEP href, no element of a zone shrinks below a tenth, lift-off
+goes at most half way to the tip; the merit may rise up to MERIT_RISE times
+(the weighted residual rises across good steps while the element lengths move
+with the boundaries). When lift-off reaches the tip from above and Newton
+moves it further, the kernel stops with PAST_TIP and the caller switches to
+bearing on the tip (:func:`pipelay_fast.solver.newton_with_fallback`).
 
 The kernel never raises: it writes a status code (:mod:`.layout`) into ``info``.
 """
