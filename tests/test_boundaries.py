@@ -128,24 +128,3 @@ def test_tip_regime_matches_slay_elastica(s67, a):
     assert sm["sagbend_max_moment"] == pytest.approx(ref["sagbend_max_moment"], rel=1e-3)
     assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-5)
 
-
-def test_a_sweep_across_the_tip_regime():
-    """The bundled S67 (2D, 4 m, its 1 m/s current along the lay) from bearing
-    on the tip (a = -0.0009) to lifting off (-0.0015), cold: every solve
-    converges (9 to 29 iterations), the tip reaction falls and reaches zero
-    once, and the overbend peak has a single minimum, near the regime change.
-    (Without the current, a = -0.00115, whose lift-off lies 0.18 m above the
-    tip, is not solved yet: README, Known limits.)"""
-    import numpy as np
-
-    base = pf.load_case(EXAMPLES / "s67.toml").with_changes({"solver.contact": "boundaries"})
-    grid = np.linspace(-0.0009, -0.0015, 13)
-    rows = [pf.solve(base.with_changes({"lay.stinger.a": float(a)})).summary for a in grid]
-    tip = np.array([r["tip_reaction"] for r in rows])
-    over = np.array([r["overbend_max_von_mises"] for r in rows])
-    bearing = tip > 0.0
-    assert bearing[0] and not bearing[-1]
-    assert np.all(np.diff(bearing.astype(int)) <= 0)  # switches once
-    assert np.all(np.diff(tip[bearing]) < 0.0)
-    steps = np.sign(np.diff(over))
-    assert np.count_nonzero(np.diff(steps) != 0) == 1  # down, then up
