@@ -517,10 +517,12 @@ class Solver:
     contact : str
         How contact boundaries are found: "active_set" (the default: nodes
         join and leave the seabed and stinger contacts between Newton
-        iterations) or "boundaries" (experimental, J-lay on a rigid seabed:
-        touchdown's arc length is an unknown of Newton and the mesh follows it,
-        see :func:`pipelay_fast.kernels.newton.newton`). The second will
-        replace the first once it covers the stinger (S-lay) too.
+        iterations) or "boundaries" (experimental: touchdown on a rigid
+        seabed, lift-off from the stinger and the material point over its
+        tip are unknowns of Newton and the mesh follows them, the tip's
+        contact chosen by a complementarity; see
+        :mod:`pipelay_fast.kernels.newton`). The second is to replace the
+        first; README, Method, gives where it stands.
     laid_length : float or None
         Length of pipe modelled on the seabed [m]; None: the solver picks.
     tolerance : float
@@ -621,11 +623,6 @@ class Case:
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
-        if self.solver.contact == "boundaries" and (self.lay.method != "J"
-                                                    or not self.seabed.is_rigid):
-            fail("solver.contact", "boundaries", "covers J-lay on a rigid seabed so far "
-                 f"(lay.method = {self.lay.method!r}, seabed.stiffness = "
-                 f"{self.seabed.stiffness!r}); use \"active_set\"")
         check_case(self)
 
     @property

@@ -123,15 +123,21 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         cos_psi = 1.0 / math.sqrt(1.0 + float(st.slope(z)) ** 2)
         return tension(x) * (1.0 - cos_psi) - _rise(w1, w2, depth, x)
 
-    zs = np.linspace(z_l, z_u, 41)  # brackets; brentq refines
+    # the cable's lift-off, on the stinger or on its curve continued below the tip
+    zs = np.linspace(z_l - (z_u - z_l), z_u, 81)  # brackets; brentq refines
     f = np.array([mismatch(z) for z in zs])
     change = np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:]))
+    z_lo, at_tip = z_l, True
     if change.size:
-        k = change[0]
-        z_lo = brentq(mismatch, zs[k], zs[k + 1], xtol=1e-10)
-        at_tip = False
-    else:
-        z_lo, at_tip = z_l, True
+        k = change[-1]
+        z_c = brentq(mismatch, zs[k], zs[k + 1], xtol=1e-10)
+        # a stiff pipe leaves about one flexural length sqrt(EI/Te) further up
+        # the stinger (boundary-layer asymptotics, EI -> 0)
+        lam = math.sqrt(case.pipe.bending_stiffness / max(tension(float(st.height(z_c))), 1e-9))
+        z_arc, arc = stinger_arc(st, z_c, z_u)
+        z_s = float(np.interp(lam, arc, z_arc))
+        if z_s > z_l:
+            z_lo, at_tip = z_s, False
     x_lo = float(st.height(z_lo))
     t_lo = tension(x_lo)
     h = t_lo - _rise(w1, w2, depth, x_lo)

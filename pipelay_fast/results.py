@@ -197,10 +197,14 @@ def tip_force(pb):
     """The stinger tip's reaction, or None when the tip does not bear.
 
     Returns (the element's two nodes, their shares N_a, N_b of the point load,
-    the normal reaction [N], the (x, z) force on the pipe [N]).
+    the normal reaction [N], the (x, z) force on the pipe [N]); with a node on
+    the tip, that node, share 1, the reaction and None.
     """
     if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
         return None
+    if pb.tip_node >= 0:  # a node on the tip (the boundaries mode): its normal reaction
+        k = pb.tip_node
+        return np.array([k]), np.array([1.0]), float(pb.tip[1]), None
     grad = np.zeros_like(pb.u)
     found, _gap, cos_t, _s = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger, grad)
     if not found:
@@ -272,8 +276,9 @@ def build_profile(case: Case, pb, react) -> dict:
         # the tip's point force shared by the two nodes of its element
         nodes, shares, normal, force = tip
         stinger[nodes] += normal * shares
-        reaction[nodes, 0] += force[0] * shares
-        reaction[nodes, 2] += force[1] * shares
+        if force is not None:  # a node on the tip has it among its constraint forces
+            reaction[nodes, 0] += force[0] * shares
+            reaction[nodes, 2] += force[1] * shares
         contact[nodes] = np.where(contact[nodes] == "free", "tip", contact[nodes])
     return {
         "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,

@@ -37,7 +37,7 @@ from .kernels.contact import (
     friction_forces,
     tip_geometry,
 )
-from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
+from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_BND, N_INFO, _system, newton
 from .limits import IterationBudget, check_mesh_size, strain_beyond_line
 from .mesh import graded_nodes
 from .model import build_props, dimension_of
@@ -85,38 +85,84 @@ class Problem:
     href: float
     stats: dict = field(default_factory=dict)
     before_current: list | None = None  # state snapshot before the current (friction path)
-    # the mesh follows touchdown: node i at s_a[i] + s_b[i] * s_td[0], node td_node on
-    # touchdown (-1: a fixed mesh, touchdown found by the active set)
-    td_node: int = -1
+    # the mesh follows the contact boundaries (solver.contact = "boundaries"):
+    # node i at s_a[i] + sum_b s_b[b, i] s_bd[b], touchdown on node bnodes[0],
+    # lift-off from (or re-contact with) the stinger on bnodes[1], the
+    # material point over the stinger's tip on bnodes[2] (-1: none, a fixed
+    # mesh, the active set finds that boundary)
+    bnodes: np.ndarray = field(default_factory=lambda: np.full(N_BND, -1, dtype=np.int64))
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
-    s_td: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    s_bd: np.ndarray = field(default_factory=lambda: np.zeros(N_BND))
+    # 1 where a followed boundary's arc length is an unknown, 0 where it is held
+    bfree: np.ndarray = field(default_factory=lambda: np.ones(N_BND, dtype=np.int64))
 
-    def follow_touchdown(self, k: int, zone: float):
-        """Map the mesh onto touchdown at node ``k``: the nodes within ``zone``
-        [m] of it (between two nodes that stay material points) move with s_T,
-        each side scaling linearly and keeping its grading; the rest is fixed."""
+    @property
+    def td_node(self) -> int:
+        return int(self.bnodes[0])
+
+    @property
+    def lo_node(self) -> int:
+        return int(self.bnodes[1])
+
+    @property
+    def tip_node(self) -> int:
+        return int(self.bnodes[2])
+
+    def follow(self, nodes, zones):
+        """Map the mesh onto the contact boundaries at ``nodes`` (touchdown,
+        lift-off or re-contact on the stinger, the stinger's tip; -1: none).
+
+        Anchors are the boundary nodes, the ends of the pipe and, for boundary
+        b, the nodes ``zones[b]`` = (below, above) [m] away from it, unless
+        another boundary lies nearer; every node between two anchors keeps its
+        share of the span between them, so each span's mesh is mapped onto its
+        present ends with its grading, and nodes outside every zone stay put.
+        """
         s = self.s
-        s_t = s[k]
-        lo = int(np.searchsorted(s, s_t - zone))
-        lo = min(max(lo - 1, 0), k - 1)
-        hi = int(np.searchsorted(s, s_t + zone))
-        hi = max(min(hi, s.size - 2), k + 1)
-        idx = np.arange(s.size)
-        below = (idx >= lo) & (idx <= k)
-        above = (idx > k) & (idx <= hi)
-        s_lo, s_hi = s[lo], s[hi]
-        f = (s - s_lo) / (s_t - s_lo)
-        g = (s - s_t) / (s_hi - s_t)
-        self.s_a = np.where(below, s_lo * (1.0 - f), np.where(above, s_hi * g, s))
-        self.s_b = np.where(below, f, np.where(above, 1.0 - g, 0.0))
-        self.td_node = k
-        self.s_td = np.array([s_t])
+        nn = s.size
+        kind = {0: -1, nn - 1: -1}  # anchor node -> boundary (-1: a fixed material point)
+        for b, k in enumerate(nodes):
+            if k >= 0:
+                kind[int(k)] = b
+        bnd = sorted(int(k) for k in nodes if k >= 0)
+        for b, k in enumerate(nodes):
+            if k < 0:
+                continue
+            z_lo, z_hi = zones[b]
+            lower = max([j for j in bnd if j < k], default=0)
+            upper = min([j for j in bnd if j > k], default=nn - 1)
+            lo = int(np.searchsorted(s, s[k] - z_lo)) - 1
+            hi = int(np.searchsorted(s, s[k] + z_hi))
+            if lower < lo < k:
+                kind.setdefault(lo, -1)
+            if k < hi < upper:
+                kind.setdefault(hi, -1)
+        anchors = sorted(kind)
+        s_a = s.copy()
+        s_b = np.zeros((N_BND, nn))
+        for a0, a1 in zip(anchors[:-1], anchors[1:], strict=True):
+            i = np.arange(a0, a1 + 1)
+            f = (s[i] - s[a0]) / (s[a1] - s[a0])
+            s_a[i] = 0.0
+            for end, share in ((a0, 1.0 - f), (a1, f)):
+                if kind[end] < 0:
+                    s_a[i] += share * s[end]
+                else:
+                    s_b[kind[end], i] = share
+        for k, b in kind.items():  # the anchors themselves (counted twice above)
+            s_a[k] = s[k] if b < 0 else 0.0
+            s_b[:, k] = 0.0
+            if b >= 0:
+                s_b[b, k] = 1.0
+                self.s_bd[b] = s[k]
+        self.s_a, self.s_b = s_a, np.ascontiguousarray(s_b)
+        self.bnodes = np.asarray(nodes, dtype=np.int64)
 
     def update_nodes(self):
-        """Node arc lengths from the touchdown unknown (after a solve)."""
-        if self.td_node >= 0:
-            self.s[:] = self.s_a + self.s_b * self.s_td[0]
+        """Node arc lengths from the boundary unknowns (after a solve)."""
+        if self.s_a is not None:
+            self.s[:] = self.s_a + self.s_bd @ self.s_b
 
     @property
     def ndn(self) -> int:
@@ -171,7 +217,8 @@ def build_problem(case: Case) -> Problem:
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
              "focus": s_focus,
-             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
+             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
+             "at_tip": g.at_tip}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
                case.lay.top_tension or 0.0)
     s_stinger = g.s_liftoff if g.s_liftoff is not None else np.inf
@@ -181,14 +228,60 @@ def build_problem(case: Case) -> Problem:
 
 
 def _follow(case: Case, pb: Problem, s_focus: float):
-    """With solver.contact = "boundaries" (a J-lay on a rigid seabed: the case
-    checks it), map the mesh onto touchdown at the node nearest ``s_focus``."""
+    """With solver.contact = "boundaries" (a rigid seabed: the case checks
+    it), map the mesh onto touchdown at the node nearest ``s_focus`` and, in
+    S-lay, onto lift-off and the material point over the stinger's tip."""
     if case.solver.contact != "boundaries":
         return
-    k = int(np.argmin(np.abs(pb.s[1:-1] - s_focus))) + 1
-    pb.bed_active[:] = 0
-    pb.bed_active[1:k + 1] = 1
-    pb.follow_touchdown(k, 3.0 * pb.stats["flexural_length"])
+    s = pb.s
+    zone = 3.0 * pb.stats["flexural_length"]
+    k = -1
+    if case.seabed.is_rigid:  # an elastic seabed is a foundation, no contact boundary
+        k = int(np.argmin(np.abs(s[1:-1] - s_focus))) + 1
+        pb.bed_active[:] = 0
+        pb.bed_active[1:k + 1] = 1
+    lift = pb.stats.get("stinger_foci") or []
+    if case.lay.stinger is None or not lift:
+        _follow_nodes(case, pb, (k, -1, -1))
+        return
+    # lift-off: the guess's; where the guess leaves from the tip, the pipe
+    # regains the stinger further up (a gap span between, bearing on the
+    # tip): one flexural length above it as a start
+    s_lift = lift[0] + (zone / 3.0 if pb.stats.get("at_tip") else 0.0)
+    k0 = max(k, 0)
+    kl = int(np.argmin(np.abs(s[k0 + 4:-1] - s_lift))) + k0 + 4
+    pb.st_active[:] = 0
+    pb.st_active[kl:-1] = 1
+    # the tip: the node whose guessed height is nearest the tip's, below lift-off
+    z = pb.u[pb.nd - 1::pb.ndn]
+    kt = int(np.argmin(np.abs(z[k0 + 2:kl - 1] - pb.stinger[ST_ZL]))) + k0 + 2
+    _follow_nodes(case, pb, (k, kl, kt))
+
+
+def _follow_nodes(case: Case, pb: Problem, nodes):
+    """The mesh follows the boundaries on ``nodes`` (touchdown, lift-off, the
+    tip's point; -1: none), each with a zone of three flexural lengths."""
+    zone = 3.0 * pb.stats["flexural_length"]
+    pb.follow(nodes, ((zone, zone), (zone, min(zone, 0.9 * (pb.s[-1] - pb.s[nodes[1]]))),
+                      (zone, zone)))
+
+
+MAX_STRETCH = 1.5  # a mesh following the boundaries: largest element, in h_max
+MIN_SQUEEZE = 0.5  # ... smallest, in h_min; beyond either it is graded anew
+
+
+def _distorted(pb: Problem) -> bool:
+    """True when a mesh that follows the boundaries has moved so far that an
+    element exceeds MAX_STRETCH h_max or falls below MIN_SQUEEZE h_min."""
+    le = np.diff(pb.s)
+    return bool(le.max() > MAX_STRETCH * pb.stats["h_max"]
+                or le.min() < MIN_SQUEEZE * pb.stats["h_min"])
+
+
+def _follows_all(case: Case, pb: Problem) -> bool:
+    """True when the mesh follows every contact boundary of the case (the
+    boundaries mode on a rigid seabed): no pass moves the mesh onto them."""
+    return pb.td_node >= 0 and (case.lay.stinger is None or pb.lo_node >= 0)
 
 
 def _laid_source(case: Case, cat, lam: float) -> str:
@@ -268,15 +361,15 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
 def _run_newton(pb: Problem, g_off, tol, maxit):
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
-    if pb.td_node >= 0:
+    if pb.s_a is not None:
         s_a, s_b = pb.s_a, pb.s_b
     else:
-        s_a = s_b = np.zeros(pb.nn)
+        s_a, s_b = np.zeros(pb.nn), np.zeros((N_BND, pb.nn))
     status = newton(pb.nd, pb.s_el, pb.u, pb.props, pb.table, pb.fix_mask, pb.fix_val,
                     pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.stinger, pb.st_active,
                     pb.tip, pb.fric, pb.f_node, g_off,
                     pb.slide_dof, pb.tb, pb.top_node, pb.top_target, tol, pb.fref, pb.href,
-                    maxit, react, info, pb.td_node, s_a, s_b, pb.s_td)
+                    maxit, react, info, pb.bnodes, pb.bfree, s_a, s_b, pb.s_bd)
     pb.update_nodes()
     return status, react, info
 
@@ -307,21 +400,43 @@ def _fail(case, step, info, status, extra=""):
                      f"{_newton_state(info, status)}{extra}")
 
 
-def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str):
+MAX_TIP_SWITCHES = 2  # switches to bearing on the tip within one Newton solve
+
+
+def _bear_on_tip(case: Case, pb: Problem):
+    """The regime switch the complementarity at the tip makes as lift-off
+    reaches it from above: the pipe now bears on the tip and regains the
+    stinger further up, one flexural length above (as a cold start from a
+    guess that leaves at the tip does), with the gap span between free."""
+    s = pb.s
+    k = int(np.searchsorted(s, s[pb.lo_node] + pb.stats["flexural_length"]))
+    k = min(max(k, pb.lo_node + 1), pb.nn - 2)
+    pb.st_active[:] = 0
+    pb.st_active[k:-1] = 1
+    pb.tip[0], pb.tip[1] = 1.0, 0.0
+    _follow_nodes(case, pb, (pb.td_node, k, pb.tip_node))
+
+
+def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
+                     switch: bool = False):
     """:func:`_run_newton` within the solve's iteration budget; a SolveError
-    naming solver.max_iterations_total when it is spent."""
+    naming solver.max_iterations_total when it is spent. ``switch``: a
+    lift-off that reaches the stinger's tip (status PAST_TIP) is returned to
+    the caller, which switches to bearing on the tip, instead of raised."""
     if budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
     status, react, info = _run_newton(pb, g_off, case.solver.tolerance,
                                       budget.cap(case.solver.max_iterations))
     budget.charge(info[I_ITER])
+    if status == L.PAST_TIP and not switch:
+        raise SolveError(f"case {case.name!r} at {where}: {_newton_state(info, status)}")
     if status != L.OK and budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)} (last Newton "
                          f"call: {_newton_state(info, status)})")
     return status, react, info
 
 
-_STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp", "s", "s_td")
+_STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp", "s", "s_bd")
 
 
 def _snapshot(pb: Problem):
@@ -340,11 +455,33 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     Returns the reactions and a dict of iteration counts.
     """
     budget = budget or IterationBudget(case.solver.max_iterations_total)
-    start = _snapshot(pb)
     zero = np.zeros_like(pb.u)
-    status, react, info = _budgeted_newton(case, pb, zero, budget,
-                                          "the first Newton solve on a mesh")
-    iters = int(info[I_ITER])
+    held = 0
+    if pb.lo_node >= 0:
+        # S-lay: the boundaries held where the guess put them first, for the
+        # pipe's shape in equilibrium between them, from which Newton moves
+        # them (the guess kinks at lift-off; from it, the first steps with the
+        # boundaries free run touchdown into the lower end on S67; a J-lay
+        # guess needs no such start, it would add 2 to 40 iterations there)
+        for switches in range(MAX_TIP_SWITCHES + 1):
+            pb.bfree[:] = 0
+            status, _react, info = _budgeted_newton(
+                case, pb, zero, budget, "the solve with the contact boundaries held")
+            pb.bfree[:] = 1
+            held += int(info[I_ITER])
+            start = _snapshot(pb)
+            status, react, info = _budgeted_newton(case, pb, zero, budget,
+                                                  "the first Newton solve on a mesh",
+                                                  switch=switches < MAX_TIP_SWITCHES)
+            if status != L.PAST_TIP:
+                break
+            held += int(info[I_ITER])
+            _bear_on_tip(case, pb)
+    else:
+        start = _snapshot(pb)
+        status, react, info = _budgeted_newton(case, pb, zero, budget,
+                                              "the first Newton solve on a mesh")
+    iters = int(info[I_ITER]) + held
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
     # homotopy: G(u) - (1 - alpha) G(u0) = 0, alpha from 0 to 1
@@ -413,8 +550,10 @@ def conform_end(case: Case, pb: Problem):
 
     The pipe's curvature meets the stinger's there: their difference,
     extrapolated from the three free nodes below the last contact node, is zero
-    (as the moment is at touchdown).
+    (as the moment is at touchdown). On a mesh that follows lift-off, its node.
     """
+    if pb.lo_node >= 0:
+        return float(pb.s[pb.lo_node])
     k = liftoff_index(pb)
     if k < 0:
         return None
@@ -432,6 +571,8 @@ def tip_position(pb: Problem):
     """Arc length [m] of the material point on the stinger's tip when it bears."""
     if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
         return None
+    if pb.tip_node >= 0:
+        return float(pb.s[pb.tip_node])
     found, _gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger, np.zeros_like(pb.u))
     return float(s_tip) if found else None
 
@@ -523,12 +664,19 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
             break
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
-        near = 0.02 * pb.stats["h_min"]
-        held = pb.stats.get("stinger_foci", [])
-        lift_ok = all(any(abs(f - h) <= near for h in held) for f in foci)
-        on_node = pb.td_node >= 0 or abs(s_t - pb.stats["focus"]) <= near
-        if on_node and lift_ok and not short_laid:
-            break
+        if _follows_all(case, pb):
+            # the mesh follows the boundaries: graded anew only when it has
+            # moved too far, or when laid pipe is short
+            if not (_distorted(pb) or short_laid):
+                break
+            foci = [pb.s[k] for k in (pb.lo_node, pb.tip_node) if k >= 0]
+        else:
+            near = 0.02 * pb.stats["h_min"]
+            held = pb.stats.get("stinger_foci", [])
+            lift_ok = all(any(abs(f - h) <= near for h in held) for f in foci)
+            on_node = abs(s_t - pb.stats["focus"]) <= near
+            if on_node and lift_ok and not short_laid:
+                break
         pb = remesh(case, pb, s_t, foci)
         if path:
             pb.props[L.CURRENT_FACTOR] = 0.0
@@ -550,7 +698,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         near = 0.02 * pb.stats["h_min"]
         current_passes += 1
         if (not case.solver.grading or current_passes > MAX_MESH_PASSES
-                or pb.td_node >= 0 or abs(s_t - pb.stats["focus"]) <= near):
+                or _follows_all(case, pb) or abs(s_t - pb.stats["focus"]) <= near):
             break
         # the current moved touchdown off the fine mesh: mesh again around where
         # it ends, from the pipe under gravity alone, and follow the path again
@@ -617,9 +765,9 @@ def warm_problem(case: Case, old: Problem) -> Problem:
                    old.fref, dict(old.stats))
     for name in ("bed_active", "st_active", "tip", "fric"):
         getattr(new, name)[:] = state[name]
-    if old.td_node >= 0:
-        new.td_node, new.s_a, new.s_b = old.td_node, old.s_a.copy(), old.s_b.copy()
-        new.s_td = state["s_td"].copy()
+    if old.s_a is not None:
+        new.bnodes, new.s_a, new.s_b = old.bnodes.copy(), old.s_a.copy(), old.s_b.copy()
+        new.s_bd = state["s_bd"].copy()
         new.s[:] = state["s"]
     _onto_stinger(new, old.stinger)
     return new
@@ -709,7 +857,19 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
     s_c = conform_end(case, pb)
     s_stinger = np.inf if s_c is None else s_c + extra - tol
     new = _problem(case, nd, s, u, pb.tb[0], focus + tol, s_stinger, pb.fref, stats)
-    _follow(case, new, focus)
+    if _follows_all(case, pb):
+        # the boundaries mode: the new mesh follows the same boundaries, each
+        # on the node graded onto it
+        def at(k):
+            return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))
+        new.bed_active[:] = 0
+        new.bed_active[1:at(pb.td_node) + 1] = 1
+        if pb.lo_node >= 0:
+            new.st_active[:] = 0
+            new.st_active[at(pb.lo_node):-1] = 1
+        _follow_nodes(case, new, (at(pb.td_node), at(pb.lo_node), at(pb.tip_node)))
+    else:
+        _follow(case, new, focus)
     new.tip[:] = pb.tip  # a bearing tip keeps bearing (its point moves with the pipe)
     return new
 
@@ -756,6 +916,7 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     """Solve, build the result and refuse it if it is not finite, is strained
     beyond solver.max_strain or a contact pulls."""
     pb, react, stats, s_t, s_l = solve_problem(case, warm)
+    _check_regime(case, pb)
     columns = build_profile(case, pb, react)
     summary = build_summary(case, pb, columns, stats, s_t, s_l)
     bad = [key for key, val in summary.items() if isinstance(val, float) and np.isinf(val)]
@@ -770,6 +931,22 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     if case.solver.grading:  # without it a boundary stays inside its element
         _check_contacts_push(case, columns)
     return Result(case, summary, columns, state=pb)
+
+
+def _check_regime(case: Case, pb: Problem):
+    """Refuse a lift-off that the boundaries unknowns put below the stinger's
+    tip, on the curve continued past it: there the pipe bears on the tip, a
+    regime that solver.contact = "boundaries" does not cover yet."""
+    if pb.lo_node < 0:
+        return
+    z_lo = float(pb.u[pb.lo_node * pb.ndn + pb.nd - 1])
+    z_tip = float(pb.stinger[ST_ZL])
+    if z_lo < z_tip:
+        raise SolveError(
+            f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "
+            f"z = {z_lo:.3f} m, would lie below the tip, z = {z_tip:.3f} m); "
+            "solver.contact = \"boundaries\" does not cover the tip regime yet: "
+            "use \"active_set\"")
 
 
 MAX_PULL_SHARE = 0.5  # largest pull of a contact, as a share of the largest push

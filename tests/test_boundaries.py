@@ -1,4 +1,4 @@
-"""Touchdown as an unknown of Newton (``solver.contact = "boundaries"``, J-lay).
+"""Contact boundaries as unknowns of Newton (``solver.contact = "boundaries"``).
 
 The mesh follows touchdown: its arc length s_T is a bordered unknown, closed
 by the continuum's condition there (the pipe on the seabed, tangent to it,
@@ -13,7 +13,7 @@ from __future__ import annotations
 import pytest
 
 import pipelay_fast as pf
-from tests.helpers import elastica_for
+from tests.helpers import EXAMPLES, elastica_for
 from tests.test_jlay import TENSIONS
 
 
@@ -25,8 +25,11 @@ def test_touchdown_unknown_matches_elastica(j125, name):
           else {"T_bottom": case.lay.bottom_tension})
     ref = elastica_for(case, **kw)
     sm = pf.solve(case).summary
-    # the active set, at the same 4 m mesh, misses touchdown by 2 to 7 mm
-    assert abs(sm["tdp_z"] - ref["tdp_z"]) < 1e-3
+    # the issue's target is 1 cm; the active set, at the same 4 m mesh, misses
+    # touchdown by 2 to 7 mm, this by 1.7 to 3.1 mm (the equation is the pipe
+    # tangent at a node whose slope is free: the laid element's consistent-load
+    # couple, O(w h^2), enters it)
+    assert abs(sm["tdp_z"] - ref["tdp_z"]) < 5e-3
     assert sm["sagbend_max_moment"] == pytest.approx(ref["sagbend_moment"], rel=1e-3)
     assert sm["top_tension"] == pytest.approx(ref["top_tension"], rel=1e-6)
     assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-6)
@@ -43,7 +46,85 @@ def test_touchdown_unknown_3d_equals_2d(j125, h):
         assert b[key] == pytest.approx(a[key], rel=1e-9, abs=1e-9), key
 
 
-def test_touchdown_unknown_refuses_slay(j125):
-    s67 = pf.load_case(pf.__path__[0] + "/examples/s67.toml")
-    with pytest.raises(ValueError, match="solver.contact"):
-        s67.with_changes({"solver.contact": "boundaries"})
+@pytest.mark.parametrize("name", ["j125.toml", "s67.toml"])
+def test_an_elastic_seabed_is_a_foundation_in_both_modes(name):
+    """An elastic seabed has no contact boundary (its springs act where the pipe
+    sinks in): the boundaries mode leaves it to the same foundation as the
+    active set and gives its answer (the stinger's boundaries aside, which
+    locate lift-off more closely: 1e-4)."""
+    base = pf.load_case(EXAMPLES / name).with_changes(
+        {"seabed.stiffness": 2e6, "environment.current.speed": 0.0})
+    a = pf.solve(base).summary
+    b = pf.solve(base.with_changes({"solver.contact": "boundaries"})).summary
+    rel = 1e-9 if name.startswith("j") else 1e-4
+    for key in ("max_von_mises", "sagbend_max_moment", "tdp_z", "bottom_tension"):
+        assert b[key] == pytest.approx(a[key], rel=rel), key
+
+
+# S-lay: lift-off from the stinger is a second boundary unknown (its node's
+# slope free, its equation the pipe tangent to the stinger there), the
+# stinger contacts in curve coordinates (x = f(z) + c, x' = f'(z) z' + c')
+S67_LIFTOFF = [-0.0014, -0.0019, -0.0022]  # lift-off above the tip in the reference
+
+
+@pytest.fixture(scope="module")
+def s67():
+    return pf.load_case(EXAMPLES / "s67.toml").with_changes(
+        {"environment.current.speed": 0.0, "solver.contact": "boundaries"})
+
+
+@pytest.mark.parametrize("a", S67_LIFTOFF)
+def test_liftoff_unknown_matches_slay_elastica(s67, a):
+    """S67 2D, 4 m elements, against the independent S-lay elastica
+    (``tests/reference/slay.py``): touchdown and lift-off to 5 mm (the issue's
+    target is 1 cm; the active set at the same mesh misses by 2 to 3 mm, this
+    by 1.0 and 1.2 mm), the peak moments to 1e-3, the bottom tension to 1e-5."""
+    from tests.reference.slay import slay_elastica
+
+    case = s67.with_changes({"lay.stinger.a": a, "pipe.extensible": False})
+    d = case.environment.water_depth
+    ref = slay_elastica(case.pipe.bending_stiffness, float(case.effective_weight(0.0)),
+                        float(case.effective_weight(d + 1.0)), d, a, case.lay.stinger.lower,
+                        case.lay.stinger.upper, T_top=case.lay.top_tension)
+    assert ref["regime"] == "liftoff"
+    sm = pf.solve(case).summary
+    assert abs(sm["tdp_z"] - ref["tdp_z"]) < 5e-3
+    assert abs(sm["liftoff_z"] - ref["liftoff_z"]) < 5e-3
+    assert sm["overbend_max_moment"] == pytest.approx(ref["overbend_max_moment"], rel=1e-3)
+    assert sm["sagbend_max_moment"] == pytest.approx(ref["sagbend_max_moment"], rel=1e-3)
+    assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-5)
+    assert sm["tip_reaction"] == 0.0
+
+
+def test_liftoff_unknown_3d_equals_2d(s67):
+    """With no lateral load the 3D kernels give the 2D answer (the stinger
+    holds y = 0, y' = 0; the laid pipe's lateral freedom carries nothing)."""
+    a = pf.solve(s67).summary
+    b = pf.solve(s67.with_changes({"solver.dimension": "3d"})).summary
+    for key in ("max_von_mises", "overbend_max_moment", "sagbend_max_moment", "tdp_z",
+                "liftoff_z", "bottom_tension"):
+        assert b[key] == pytest.approx(a[key], rel=1e-9, abs=1e-9), key
+
+
+@pytest.mark.parametrize("a", [-0.001, -0.0009])
+def test_tip_regime_matches_slay_elastica(s67, a):
+    """Bearing on the tip (the reference's tip regime, re-contact 20 to 26 m up
+    the stinger): a node follows the material point over the tip, its contact
+    chosen by min(R, c g) = 0. The tip reaction to 1e-3 (measured 3.5e-5 and
+    1e-5), touchdown to 5 mm (0.1 mm), the peak moments to 1e-3."""
+    from tests.reference.slay import slay_elastica
+
+    case = s67.with_changes({"lay.stinger.a": a, "pipe.extensible": False})
+    d = case.environment.water_depth
+    ref = slay_elastica(case.pipe.bending_stiffness, float(case.effective_weight(0.0)),
+                        float(case.effective_weight(d + 1.0)), d, a, case.lay.stinger.lower,
+                        case.lay.stinger.upper, T_top=case.lay.top_tension)
+    assert ref["regime"] == "tip"
+    sm = pf.solve(case).summary
+    assert sm["tip_reaction"] == pytest.approx(ref["tip_reaction"], rel=1e-3)
+    assert abs(sm["tdp_z"] - ref["tdp_z"]) < 5e-3
+    assert sm["liftoff_z"] == pytest.approx(case.lay.stinger.lower[1], abs=1e-9)
+    assert sm["overbend_max_moment"] == pytest.approx(ref["overbend_max_moment"], rel=1e-3)
+    assert sm["sagbend_max_moment"] == pytest.approx(ref["sagbend_max_moment"], rel=1e-3)
+    assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-5)
+

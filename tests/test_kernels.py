@@ -203,3 +203,67 @@ def test_lateral_friction_on_laid_pipe(j125, ratio):
              + p * lam**2 / tension * (np.cosh((s - length / 2) / lam)
                                        / np.cosh(length / (2 * lam)) - 1.0))
     np.testing.assert_allclose(y, exact, rtol=2e-3, atol=1e-4 * exact.max())
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+def test_curve_node_is_the_exact_tangent_of_the_curve_coordinates(nd):
+    """curve_node against a NumPy reference: a smooth banded residual g(u) on
+    four nodes, node 1 expressed on the parabola x = a z^2 + b z + c through
+    u = Phi(v) (x = f(z) + c, x' = f'(z) z' + c'). The kernel's residual must be
+    J^T g and its tangent the central-difference derivative of v -> J(v)^T g(Phi(v))."""
+    from pipelay_fast.kernels.assembly import curve_node
+
+    ndn = 2 * nd + 1
+    nn = 4
+    n = nn * ndn
+    kl = ku = 2 * ndn - 1
+    rng = np.random.default_rng(nd)
+    mat = np.zeros((n, n))
+    for i in range(n):
+        for j in range(max(0, i - kl), min(n, i + kl + 1)):
+            if abs(i // ndn - j // ndn) <= 1:
+                mat[i, j] = rng.normal()
+    mat = mat + mat.T
+    shift = rng.normal(size=n)
+    a, b, c = -0.0013, 0.6, 3.0
+    node, p, q = 1, ndn, ndn + nd - 1
+
+    def g_of(u):  # nonlinear, with a banded Jacobian
+        return mat @ u + 0.3 * np.sin(mat @ u) + shift
+
+    def phi(v):
+        u = v.copy()
+        z, zp = v[q], v[q + nd]
+        u[p] = (a * z + b) * z + c + v[p]
+        u[p + nd] = (2 * a * z + b) * zp + v[p + nd]
+        return u
+
+    def reduced(v):
+        u = phi(v)
+        g = g_of(u)
+        fp = 2 * a * u[q] + b
+        out = g.copy()
+        out[q] += fp * g[p] + 2 * a * u[q + nd] * g[p + nd]
+        out[q + nd] += fp * g[p + nd]
+        return out
+
+    v0 = rng.normal(size=n)
+    v0[q], v0[q + nd] = 280.0, 0.9
+    u0 = phi(v0)
+    g = g_of(u0)
+    jac = mat + 0.3 * np.cos(mat @ u0)[:, None] * mat
+    ab = dense_to_band(jac, kl, ku)
+    curve_node(nd, ab, kl, ku, g, node, 2 * a * u0[q] + b, 2 * a, u0[q + nd], True)
+    np.testing.assert_allclose(g, reduced(v0), rtol=1e-13, atol=1e-12)
+    h = 1e-6
+    fd = np.zeros((n, n))
+    for j in range(n):
+        e = np.zeros(n)
+        e[j] = h
+        fd[:, j] = (reduced(v0 + e) - reduced(v0 - e)) / (2 * h)
+    kv = kl + ku
+    dense = np.zeros((n, n))
+    for j in range(n):
+        for i in range(max(0, j - ku), min(n - 1, j + kl) + 1):
+            dense[i, j] = ab[kv + i - j, j]
+    np.testing.assert_allclose(dense, fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())

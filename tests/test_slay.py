@@ -143,12 +143,18 @@ def test_warm_start_refuses_another_dimension(s67, still):
         pf.solve(s67.with_changes({"solver.dimension": "3d"}), warm=still)
 
 
-@pytest.mark.parametrize("name,h", [("s67.toml", 2.0), ("s67_3d.toml", 4.0)])
-def test_a_sweep_across_the_tip_regime_has_no_jumps(name, h):
+@pytest.mark.parametrize("name,h,contact", [("s67.toml", 2.0, "active_set"),
+                                            ("s67_3d.toml", 4.0, "active_set"),
+                                            ("s67.toml", 4.0, "boundaries")])
+def test_a_sweep_across_the_tip_regime_has_no_jumps(name, h, contact):
     """From bearing on the tip (a = -0.0009) to lifting off the stinger
     (-0.0015): every solve converges, the tip reaction falls to zero once and
-    stays there, and the overbend peak has a single minimum (no chattering)."""
-    base = pf.load_case(EXAMPLES / name).with_changes({"solver.element_length": h})
+    stays there, and the overbend peak has a single minimum (no chattering).
+    With the boundaries unknowns the tip regime is a complementarity; 9 to 29
+    iterations. (S67 3D, and 2D without current, at a = -0.00115, whose
+    lift-off lies 0.18 m above the tip, do not converge there yet: README.)"""
+    base = pf.load_case(EXAMPLES / name).with_changes({"solver.element_length": h,
+                                                       "solver.contact": contact})
     grid = np.linspace(-0.0009, -0.0015, 13)
     rows = [pf.solve(base.with_changes({"lay.stinger.a": float(a)})).summary for a in grid]
     tip = np.array([r["tip_reaction"] for r in rows])

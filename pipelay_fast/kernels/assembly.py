@@ -129,3 +129,42 @@ def rotate_node(nd, ab, kl, ku, g, node, phi_r, phi_rp, want_tangent):
         rotate_pair_vec(g, p, q, c, s)
         if want_tangent:
             rotate_pair_band(ab, kl, ku, n, p, q, c, s, lo, hi)
+
+
+@jit
+def curve_node(nd, ab, kl, ku, g, node, fp, fpp, zp, want_tangent):
+    """Express node ``node`` in coordinates attached to a support curve x = f(z).
+
+    The node's unknowns become (c, z, c', z') with x = f(z) + c and
+    x' = f'(z) z' + c' (y, y' and lam unchanged): c = 0 puts the node on the
+    curve, c' = 0 makes it tangent to it, exactly, and z, z' slide along it.
+    With u = Phi(v) and J = dPhi/dv, the residual becomes J^T g and the
+    tangent J^T K J + g_x f'' E_zz + g_x' f'' (E_zz' + E_z'z): the second
+    derivatives of the map (x'' = f'' and d2x'/dz dz' = f'', f''' = 0 for a
+    parabola) weighted by the residual there, the support's reaction, whose
+    direction turns as the node slides (the term a rotated frame fixed
+    during the step leaves out). ``fp``, ``fpp``: f'(z), f''(z) at the node;
+    ``zp``: its z'.
+    """
+    ndn = 2 * nd + 1
+    n = g.shape[0]
+    base = node * ndn
+    p = base
+    q = base + nd - 1
+    p2 = base + nd
+    q2 = base + 2 * nd - 1
+    kv = kl + ku
+    cz = fpp * zp  # d x' / d z
+    if want_tangent:
+        lo, hi = node_coupling_range(nd, node, n)
+        for i in range(lo, hi + 1):  # columns: K J
+            ab[kv + i - q, q] += fp * ab[kv + i - p, p] + cz * ab[kv + i - p2, p2]
+            ab[kv + i - q2, q2] += fp * ab[kv + i - p2, p2]
+        for j in range(lo, hi + 1):  # rows: J^T (K J)
+            ab[kv + q - j, j] += fp * ab[kv + p - j, j] + cz * ab[kv + p2 - j, j]
+            ab[kv + q2 - j, j] += fp * ab[kv + p2 - j, j]
+        ab[kv, q] += fpp * g[p]
+        ab[kv + q - q2, q2] += fpp * g[p2]
+        ab[kv + q2 - q, q] += fpp * g[p2]
+    g[q] += fp * g[p] + cz * g[p2]
+    g[q2] += fp * g[p2]

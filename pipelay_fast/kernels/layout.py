@@ -73,6 +73,7 @@ MAX_ITERATIONS = 1
 SINGULAR = 2
 NOT_FINITE = 3
 ACTIVE_SET_CYCLE = 4
+PAST_TIP = 5
 
 STATUS_TEXT = {
     OK: "converged",
@@ -80,5 +81,8 @@ STATUS_TEXT = {
     SINGULAR: "singular tangent matrix (a mechanism: is the pipe held?)",
     NOT_FINITE: "non-finite residual (the iteration diverged)",
     ACTIVE_SET_CYCLE: "contact active set did not settle",
+    PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
+               "down: the switch to bearing on the tip, which solver.contact = \"boundaries\" "
+               "does not make within a solve yet (use \"active_set\")"),
 }
 
