@@ -64,7 +64,7 @@ import pipelay_fast as pf
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tests"))
-from test_hard_cases import weight_of  # noqa: E402  (tests/ has no __init__.py)
+from test_hard_cases import weight_of  # noqa: E402  (after the path insert above)
 from timed_pool import Pool  # noqa: E402
 
 EXAMPLES = Path(pf.__file__).parent / "examples"
