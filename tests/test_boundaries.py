@@ -128,3 +128,33 @@ def test_tip_regime_matches_slay_elastica(s67, a):
     assert sm["sagbend_max_moment"] == pytest.approx(ref["sagbend_max_moment"], rel=1e-3)
     assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-5)
 
+
+
+@pytest.mark.parametrize("example,changes", [
+    ("j125_3d.toml", {"environment.current.speed": 3.0}),
+    ("s67_3d.toml", {"environment.current.speed": 2.5}),
+    ("j125_2d.toml", {"seabed.axial_friction": 0.5}),
+])
+def test_cases_the_active_set_fails_are_admissible(example, changes):
+    """Cases the active set fails or refuses (a contact that pulls): J125 3D
+    under a 3 m/s lateral current, S67 3D under 2.5 m/s, J125 2D with axial
+    friction under its in-plane current. With the boundaries unknowns they
+    converge, no contact pulls (to 1e-6 of the largest reaction), and the
+    friction on every seabed node lies in its cone, mu W."""
+    import numpy as np
+
+    case = pf.load_case(EXAMPLES / example).with_changes(
+        {**changes, "solver.contact": "boundaries"})
+    prof = pf.solve(case).profile
+    seabed = prof["seabed_reaction"].to_numpy()
+    contact = np.concatenate([seabed[1:], prof["stinger_reaction"].to_numpy()])
+    assert contact.min() >= -1e-6 * contact.max()
+    on = prof["contact"].to_numpy() == "seabed"
+    on[0] = False  # the held lower end is a boundary condition
+    mu_y, mu_z = case.seabed.lateral_friction, case.seabed.axial_friction
+    if case.solver.dimension != "2d" and prof["y"].abs().max() > 0.0:
+        assert np.all(np.abs(prof["reaction_y"].to_numpy()[on])
+                      <= mu_y * seabed[on] * (1 + 1e-6) + 1e-6)
+    if mu_z > 0.0:
+        assert np.all(np.abs(prof["reaction_z"].to_numpy()[on])
+                      <= mu_z * seabed[on] * (1 + 1e-6) + 1e-6)
