@@ -87,9 +87,11 @@ def nodal_fields(nd, s, u, clamped=None):
     """r, r' and r'' at the nodes [m, -, 1/m].
 
     r'' is averaged over the two elements of a node, except at a node in
-    ``clamped`` (a boolean per node: its slope is held there and the element
-    below it is free, as at the stinger's tip under the lateral hold). The held
-    side carries the constraint's couple there, so r'' is the free side's.
+    ``clamped`` (a boolean per node: its lateral slope is held there and the
+    element below it is free, as at the stinger's tip under the lateral hold).
+    The held side carries the lateral constraint's couple there, so the
+    lateral y'' is the free side's; x'' and z'' are averaged as elsewhere (so
+    that 3D without lateral load reports what 2D does).
     """
     ndn = 2 * nd + 1
     nn = s.size
@@ -106,7 +108,7 @@ def nodal_fields(nd, s, u, clamped=None):
     rpp[1:-1] *= 0.5
     if clamped is not None:
         edge = np.flatnonzero(clamped[1:] & ~clamped[:-1]) + 1
-        rpp[edge] = end[edge - 1]
+        rpp[edge, 1] = end[edge - 1, 1]
     return r, rp, rpp
 
 
