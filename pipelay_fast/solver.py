@@ -252,9 +252,13 @@ def _follow(case: Case, pb: Problem, s_focus: float):
     kl = int(np.argmin(np.abs(s[k0 + 4:-1] - s_lift))) + k0 + 4
     pb.st_active[:] = 0
     pb.st_active[kl:-1] = 1
-    # the tip: the node whose guessed height is nearest the tip's, below lift-off
-    z = pb.u[pb.nd - 1::pb.ndn]
-    kt = int(np.argmin(np.abs(z[k0 + 2:kl - 1] - pb.stinger[ST_ZL]))) + k0 + 2
+    # bearing on the tip (a guess that leaves from it): a node follows the
+    # material point over the tip, the one whose guessed height is nearest
+    # the tip's; lifting off, there is none until lift-off reaches the tip
+    kt = -1
+    if pb.stats.get("at_tip"):
+        z = pb.u[pb.nd - 1::pb.ndn]
+        kt = int(np.argmin(np.abs(z[k0 + 2:kl - 1] - pb.stinger[ST_ZL]))) + k0 + 2
     _follow_nodes(case, pb, (k, kl, kt))
 
 
@@ -403,18 +407,31 @@ def _fail(case, step, info, status, extra=""):
 MAX_TIP_SWITCHES = 2  # switches to bearing on the tip within one Newton solve
 
 
+def _passes_below_tip(pb: Problem) -> bool:
+    """True when, lifting off with no node over the tip, the pipe passes below
+    the stinger's tip (the complementarity at the tip then asks it to bear)."""
+    if pb.lo_node < 0 or pb.tip_node >= 0:
+        return False
+    found, gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger,
+                                         np.zeros_like(pb.u))
+    return bool(found and s_tip < pb.s[pb.lo_node] and gap < -1e-9 * pb.href)
+
+
 def _bear_on_tip(case: Case, pb: Problem):
     """The regime switch the complementarity at the tip makes as lift-off
     reaches it from above: the pipe now bears on the tip and regains the
     stinger further up, one flexural length above (as a cold start from a
     guess that leaves at the tip does), with the gap span between free."""
     s = pb.s
+    kt = pb.tip_node
+    if kt < 0:  # lifting off there was none: lift-off's node, now at the tip
+        kt = pb.lo_node
     k = int(np.searchsorted(s, s[pb.lo_node] + pb.stats["flexural_length"]))
-    k = min(max(k, pb.lo_node + 1), pb.nn - 2)
+    k = min(max(k, pb.lo_node + 1, kt + 1), pb.nn - 2)
     pb.st_active[:] = 0
     pb.st_active[k:-1] = 1
     pb.tip[0], pb.tip[1] = 1.0, 0.0
-    _follow_nodes(case, pb, (pb.td_node, k, pb.tip_node))
+    _follow_nodes(case, pb, (pb.td_node, k, kt))
 
 
 def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
@@ -473,6 +490,8 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
             status, react, info = _budgeted_newton(case, pb, zero, budget,
                                                   "the first Newton solve on a mesh",
                                                   switch=switches < MAX_TIP_SWITCHES)
+            if status == L.OK and _passes_below_tip(pb) and switches < MAX_TIP_SWITCHES:
+                status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
             if status != L.PAST_TIP:
                 break
             held += int(info[I_ITER])

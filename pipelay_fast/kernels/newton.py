@@ -946,8 +946,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             # support): a step goes at most half way there
             base = bnodes[1] * ndn
             room = u[base + nd - 1] - stinger[ST_ZL]
-            dz_lo = d_bnd[1] * u[base + 2 * nd - 1]
-            if room < 1e-9 * href and dz_lo < 0.0:
+            dz_lo = du_free[base + nd - 1]  # the node's own z slides it along the curve
+            if room < 1e-3 * href and dz_lo < 0.0:
                 status = L.PAST_TIP
                 break
             if dz_lo * alpha < -0.5 * room:
