@@ -48,3 +48,15 @@ def elastica_for(case, **tension):
         case.pipe.outer_diameter**4 - case.pipe.inner_diameter**4) / 64
     return jlay_elastica(ei, w_sub, w_dry, case.environment.water_depth, x_top, z_top,
                          top_angle_deg=case.lay.top_angle, **tension)
+
+
+def slay_elastica_for(case):
+    """The planar S-lay elastica (:func:`tests.reference.slay.slay_elastica`) of
+    ``case``, its top tension given."""
+    from tests.reference.slay import slay_elastica
+
+    d = case.environment.water_depth
+    return slay_elastica(case.pipe.bending_stiffness, float(case.effective_weight(0.0)),
+                         float(case.effective_weight(d + 1.0)), d, case.lay.stinger.a,
+                         case.lay.stinger.lower, case.lay.stinger.upper,
+                         T_top=case.lay.top_tension)

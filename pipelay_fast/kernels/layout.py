@@ -82,7 +82,7 @@ STATUS_TEXT = {
     NOT_FINITE: "non-finite residual (the iteration diverged)",
     ACTIVE_SET_CYCLE: "contact active set did not settle",
     PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
-               "down: the switch to bearing on the tip, which solver.contact = \"boundaries\" "
-               "does not make within a solve yet (use \"active_set\")"),
+               "down, after the switches to bearing on the tip that a solve may make "
+               "(solver.contact = \"boundaries\"; \"active_set\" is the other way)"),
 }
 

@@ -474,70 +474,6 @@ def _boundary_column(nd, s_el, u, props, table, torques, rate_b, col, bed_active
 
 
 @jit
-def _tip_gap_rate(nd, s_el, u, stinger, rate_b, grad, href, mu, col):
-    """d(tip gap)/d s_b at fixed nodal unknowns [-], and the tip force's share
-    of the column dG/ds_b (-mu d(grad)/ds_b, added to ``col``): the element
-    lengths change the Hermite interpolation the tip is found on (central
-    differences)."""
-    h = 1e-6 * href
-    nel = s_el.shape[0]
-    n = u.shape[0]
-    le = np.empty(nel)
-    gp = np.zeros(n)
-    gp_val = 0.0
-    gm_val = 0.0
-    for side in range(2):
-        sgn = 1.0 if side == 0 else -1.0
-        for e in range(nel):
-            le[e] = s_el[e] + sgn * h * (rate_b[e + 1] - rate_b[e])
-        _f, gap, _c, _s = tip_geometry(nd, le, u, stinger, grad)
-        if side == 0:
-            gp_val = gap
-            gp[:] = grad
-        else:
-            gm_val = gap
-    for i in range(n):
-        col[i] -= mu * (gp[i] - grad[i]) / (2.0 * h)
-    return (gp_val - gm_val) / (2.0 * h)
-
-
-@jit
-def _tip_stiffness(nd, s_el, u, stinger, mu, ab, kl, ku, href):
-    """The tip force's stiffness -mu d(grad)/du (the material point on the tip
-    slides along the pipe, and its normal turns), central differences over the
-    unknowns of the element that carries it, added to the band ``ab``."""
-    n = u.shape[0]
-    ndn = 2 * nd + 1
-    kv = kl + ku
-    g_p = np.zeros(n)
-    g_m = np.zeros(n)
-    found, _g, _c, _s = tip_geometry(nd, s_el, u, stinger, g_p)
-    if not found:
-        return
-    first = -1
-    for i in range(n):
-        if g_p[i] != 0.0:
-            first = i
-            break
-    if first < 0:
-        return
-    a = (first // ndn) * ndn
-    last = min(a + 2 * ndn, n)
-    for j in range(a, last):
-        hj = 1e-7 * (href if j % ndn < nd else 1.0)
-        if j % ndn == 2 * nd:
-            continue  # lam does not move the pipe
-        keep = u[j]
-        u[j] = keep + hj
-        tip_geometry(nd, s_el, u, stinger, g_p)
-        u[j] = keep - hj
-        tip_geometry(nd, s_el, u, stinger, g_m)
-        u[j] = keep
-        for i in range(a, last):
-            ab[kv + i - j, j] -= mu * (g_p[i] - g_m[i]) / (2.0 * hj)
-
-
-@jit
 def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, tip, mu_old, dmu,
                has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el):
     """The state a fraction ``alpha`` along the Newton step: nodal unknowns
@@ -648,7 +584,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     row_t = np.zeros(n)
     res_bnd = np.zeros(N_BND)
     d_top = np.zeros(N_BND)  # the top tension by each boundary's arc length [N/m]
-    d_gap = np.zeros(N_BND)  # the tip gap by each boundary's arc length [-]
     d_bnd = np.zeros(N_BND)
     bnd_old = np.zeros(N_BND)
     bnd_res = 0.0
@@ -689,8 +624,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 tip_on = True
                 for i in range(n):
                     g[i] -= tip[1] * grad[i]
-                if has_lo:
-                    _tip_stiffness(nd, s_el, u, stinger, tip[1], ab, kl, ku, href)
             else:
                 tip[0] = 0.0
                 tip[1] = 0.0
@@ -702,10 +635,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 _boundary_column(nd, s_el, u, props, table, torques, s_b[b],
                                  bcols[b], bed_active, fric, s_nd)
                 d_top[b] = _top_te(nd, bcols[b], u, top_node)
-                d_gap[b] = 0.0
-                if tip_on:
-                    d_gap[b] = _tip_gap_rate(nd, s_el, u, stinger, s_b[b], grad_t, href,
-                                             tip[1], bcols[b])
         _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, True)
         _curve_all(nd, ab, kl, ku, g, u, stinger, st_active, True)
         # border unknowns: rows (constraint gradients) and columns (dG/dz)
@@ -748,13 +677,12 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             rows[nb, :] = row_t
             cols[nb, :] = col_t
             res_b[nb] = res_bnd[b]
-            # the earlier border equations by s_b at fixed u (a tangency does
-            # not depend on the element lengths)
+            # the earlier border equations by s_b at fixed u: the top tension
+            # (the active set's tip multiplier never meets a boundary unknown:
+            # with the boundaries the tip is a node of its own)
             for j in range(nb):
                 if kind[j] == 0:
                     d_b[j, nb] = d_top[b]
-                elif kind[j] == 1:
-                    d_b[j, nb] = d_gap[b]
             d_b[nb, nb] = d_own
             kind[nb] = 2 + b
             nb += 1
