@@ -57,6 +57,11 @@ class SolveError(RuntimeError):
     reason, or the limit."""
 
 
+class _ShortLaid(Exception):
+    """Newton stopped with SHORT_LAID: touchdown runs toward the modelled lower
+    end, and the mesh needs more laid pipe (:func:`_solve_gravity`)."""
+
+
 @dataclass
 class Problem:
     """Everything a Newton solve needs, as arrays (one mesh, one set of constraints)."""
@@ -445,6 +450,8 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     status, react, info = _run_newton(pb, g_off, case.solver.tolerance,
                                       budget.cap(case.solver.max_iterations))
     budget.charge(info[I_ITER])
+    if status == L.SHORT_LAID:
+        raise _ShortLaid
     if status == L.PAST_TIP and not switch:
         raise SolveError(f"case {case.name!r} at {where}: {_newton_state(info, status)}")
     if status != L.OK and budget.left < 1:
@@ -674,7 +681,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     if path:
         pb.props[L.CURRENT_FACTOR] = 0.0
         pb.props[L.FRICTION_ON] = 0.0
-    react, stats = newton_with_fallback(case, pb, budget)
+    pb, react, stats = _solve_gravity(case, pb, budget)
     passes = 1
     while True:
         s_t = touchdown_position(case, pb)
@@ -700,7 +707,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         if path:
             pb.props[L.CURRENT_FACTOR] = 0.0
             pb.props[L.FRICTION_ON] = 0.0
-        react, more = newton_with_fallback(case, pb, budget)
+        pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
     current_passes = 0
@@ -710,7 +717,18 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         _anchor(pb.fric, pb.u, pb.nd, pb.s)
         pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, np.maximum(react[0::pb.ndn], 0.0), 0.0)
         pb.props[L.FRICTION_ON] = 1.0
-        react, more = apply_current(case, pb, budget)
+        try:
+            react, more = apply_current(case, pb, budget)
+        except _ShortLaid:
+            # touchdown ran toward the lower end under the current: more laid
+            # pipe, and the path again from the pipe under gravity alone
+            _restore(pb, pb.before_current)
+            pb = _with_more_laid(case, pb)
+            pb.props[L.CURRENT_FACTOR] = 0.0
+            pb.props[L.FRICTION_ON] = 0.0
+            pb, react, more = _solve_gravity(case, pb, budget)
+            stats = {key: stats[key] + more[key] for key in stats}
+            continue
         stats = {key: stats[key] + more[key] for key in stats}
         s_t = touchdown_position(case, pb)
         foci = _stinger_foci(case, pb)
@@ -725,12 +743,46 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb = remesh(case, pb, s_t, foci)
         pb.props[L.CURRENT_FACTOR] = 0.0
         pb.props[L.FRICTION_ON] = 0.0
-        react, more = newton_with_fallback(case, pb, budget)
+        pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
     stats["mesh_passes"] = passes
     stats["seconds"] = time.perf_counter() - t0
     return pb, react, stats, s_t, liftoff_position(case, pb)
+
+
+def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
+    """:func:`newton_with_fallback`, with laid pipe prepended each time Newton
+    stops because touchdown runs toward the modelled lower end (SHORT_LAID).
+
+    Returns (problem, reactions, iteration counts).
+    """
+    used = budget.used
+    for _ in range(MAX_LAID_DOUBLINGS + 1):
+        try:
+            react, stats = newton_with_fallback(case, pb, budget)
+        except _ShortLaid:
+            pb = _with_more_laid(case, pb)
+            continue
+        stats["iterations"] = budget.used - used  # the stopped calls' too
+        return pb, react, stats
+    raise SolveError(f"case {case.name!r}: touchdown still runs toward the lower end with "
+                     f"{touchdown_position(case, pb):.4g} m of laid pipe modelled after "
+                     f"{MAX_LAID_DOUBLINGS} doublings of it; the case may have no touchdown")
+
+
+def _with_more_laid(case: Case, pb: Problem) -> Problem:
+    """The mesh with its laid pipe doubled (at least two flexural lengths):
+    touchdown ran toward the lower end. A given pipe length has no more pipe:
+    SolveError."""
+    s_t = touchdown_position(case, pb)
+    if case.lay.pipe_length is not None:
+        raise SolveError(f"case {case.name!r}: touchdown runs into the lower end, held at "
+                         f"lay.pipe_length = {case.lay.pipe_length!r} m (the pipe is too "
+                         "short to reach the seabed and lie on it)")
+    lam = pb.stats["flexural_length"]
+    foci = [pb.s[k] for k in (pb.lo_node, pb.tip_node) if k >= 0]
+    return remesh(case, pb, s_t, foci, laid=max(2.0 * lam, 2.0 * s_t))
 
 
 def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None,
@@ -839,18 +891,22 @@ def liftoff_index(pb: Problem) -> int:
     return int(act[0]) if act.size else -1
 
 
-def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=()) -> Problem:
+def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
+           laid: float | None = None) -> Problem:
     """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
     state interpolated onto it.
 
     Laid pipe is prepended when touchdown came closer to the lower end than one
-    flexural length.
+    flexural length (to two of them), or to ``laid`` [m] behind touchdown when
+    that is given.
     """
     nd, ndn = pb.nd, pb.ndn
     lam = pb.stats["flexural_length"]
     extra = 0.0
     if case.lay.pipe_length is None and s_tdp < lam:
         extra = 2.0 * lam - s_tdp
+    if laid is not None:
+        extra = max(extra, laid - s_tdp)
     total = pb.s[-1] + extra
     focus = s_tdp + extra
     held = [f + extra for f in stinger_foci]

@@ -154,3 +154,20 @@ def test_cases_the_active_set_fails_are_admissible(example, changes):
     if mu_z > 0.0:
         assert np.all(np.abs(prof["reaction_z"].to_numpy()[on])
                       <= mu_z * seabed[on] * (1 + 1e-6) + 1e-6)
+
+
+def test_touchdown_running_to_the_lower_end_gets_laid_pipe(j125):
+    """J125 held vertical at 580 kN hangs 124 m further out than its catenary
+    guess: touchdown runs past the modelled laid pipe (45 m), Newton stops
+    (SHORT_LAID), laid pipe is prepended and the solve goes on, to the
+    elastica's touchdown (the strain at the hang-off, 2.1 %, is admitted here
+    by solver.max_strain)."""
+    case = j125.with_changes({"lay.top_angle": 90.0, "pipe.extensible": False,
+                              "solver.max_strain": 0.1, "solver.contact": "boundaries"})
+    ref = elastica_for(case, T_top=case.lay.top_tension)
+    sm = pf.solve(case).summary
+    assert sm["suspended_length"] > pf.solve(j125.with_changes(
+        {"pipe.extensible": False, "solver.contact": "boundaries"})).summary[
+        "suspended_length"] + 100.0
+    assert abs(sm["tdp_z"] - ref["tdp_z"]) < 5e-3
+    assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-6)

@@ -74,6 +74,7 @@ SINGULAR = 2
 NOT_FINITE = 3
 ACTIVE_SET_CYCLE = 4
 PAST_TIP = 5
+SHORT_LAID = 6
 
 STATUS_TEXT = {
     OK: "converged",
@@ -84,5 +85,7 @@ STATUS_TEXT = {
     PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
                "down, after the switches to bearing on the tip that a solve may make "
                "(solver.contact = \"boundaries\"; \"active_set\" is the other way)"),
+    SHORT_LAID: ("touchdown moves more than half way to the modelled lower end in one "
+                 "Newton step (the solver prepends laid pipe and goes on)"),
 }
 

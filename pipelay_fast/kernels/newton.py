@@ -51,14 +51,28 @@ Their columns dG/ds_b are the elements' analytic dG/dle times the length
 rates (:func:`_boundary_column`) plus the friction springs' anchor derivative
 (anchors belong to material points, :func:`.contact.anchor_at`). All border
 unknowns (bottom tension, tip multiplier of the active set, the boundaries)
-are eliminated by one dense Schur complement (:func:`_solve_dense`). The step
-is the full Newton step within limits: a boundary moves at most
+are eliminated by one dense Schur complement (:func:`_solve_dense`).
+
+The boundaries move only from equilibrium: while the weighted residual of
+the pipe with the boundaries where they are exceeds INNER_RATIO times the
+boundaries' own imbalance (their equations' residuals), an iteration
+holds them (lift-off's node then tangent to the stinger); from a state in
+equilibrium the bordered step is the reduced Newton step of the boundaries'
+own equations. Without this, a step from a state out of balance followed a
+linearisation that could point the wrong way (re-contact above a bearing
+tip, started one flexural length off, ran up the stinger: S67 at a =
+-0.00116 failed, -0.00115 took 150 iterations; with it they take 58 and 44).
+The step is then the full Newton step within limits: a boundary moves at most
 MAX_BOUNDARY_STEP href, no element of a zone shrinks below a tenth, lift-off
-goes at most half way to the tip; the merit may rise up to MERIT_RISE times
-(the weighted residual rises across good steps while the element lengths move
-with the boundaries). When lift-off reaches the tip from above and Newton
-moves it further, the kernel stops with PAST_TIP and the caller switches to
-bearing on the tip (:func:`pipelay_fast.solver.newton_with_fallback`).
+goes at most half way to the tip, the span between re-contact and a bearing
+tip at most halves or doubles (it grows like sqrt(a - a_switch) past the
+change of regime); the merit may rise up to MERIT_RISE times (the weighted
+residual rises across good steps while the element lengths move with the
+boundaries). When lift-off reaches the tip from above and Newton moves it
+further, the kernel stops with PAST_TIP and the caller switches to bearing on
+the tip (:func:`pipelay_fast.solver.newton_with_fallback`); when a step would
+take touchdown more than half way to the modelled lower end, it stops with
+SHORT_LAID and the caller prepends laid pipe (:func:`pipelay_fast.solver._solve_gravity`).
 
 The kernel never raises: it writes a status code (:mod:`.layout`) into ``info``.
 """
@@ -291,6 +305,7 @@ def _weighted_max(nd, g, cmask, fref, href):
 
 
 MERIT_RISE = 1e8  # boundaries mode: the largest rise of the merit a step may bring
+INNER_RATIO = 1.0  # the boundaries move once the pipe's imbalance is below this times theirs
 MAX_BOUNDARY_STEP = 2.0  # largest move of a contact boundary per Newton step, in href
 RELEASE_DELTA = 1e-3  # constraint correction (per href) above which no contact is released
 N_BND = 3  # boundaries that can be unknowns: touchdown (0), lift-off (1), the tip's point (2)
@@ -587,6 +602,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     d_bnd = np.zeros(N_BND)
     bnd_old = np.zeros(N_BND)
     bnd_res = 0.0
+    bf = np.zeros(N_BND, dtype=np.int64)  # the boundaries free in this iteration
     s_nd = np.zeros(nn)  # node arc lengths [m]
     if has_bnd:
         mesh_lengths(s_a, s_b, s_bd, s_el)
@@ -658,6 +674,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             res_b[nb] = g_tip
             kind[nb] = 1
             nb += 1
+        nb_fixed = nb  # the border unknowns other than the boundaries
         for b in range(N_BND):
             if bnodes[b] < 0 or bfree[b] == 0:
                 continue
@@ -771,6 +788,40 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             status = L.OK
             it -= 1
             break
+        # ---- the boundaries move only from equilibrium ------------------
+        # A step of the boundaries from a state out of equilibrium (u not yet
+        # in balance on the present mesh) follows a linearisation that may
+        # point the wrong way (re-contact above a bearing tip ran away from a
+        # guess one flexural length off). Until the pipe is nearer equilibrium,
+        # with the boundaries where they are, than the boundaries are to
+        # theirs (INNER_RATIO), the step holds them;
+        # from equilibrium the bordered step is the reduced Newton step of the
+        # boundaries' own equations.
+        for b in range(N_BND):
+            bf[b] = bfree[b] if bnodes[b] >= 0 else 0
+        if has_lo:
+            # (touchdown alone moves with the pipe: J125 with 20 kN at the
+            # bottom took 16 iterations held so, 12 without)
+            j_lo = bnodes[1] * ndn + nd if bfree[1] != 0 else -1
+            keep = False
+            if j_lo >= 0:
+                keep = cmask[j_lo]
+                cmask[j_lo] = True  # held, lift-off's slope is constrained
+            res_eq, _rs = _weighted_max(nd, g, cmask, fref, href)
+            if j_lo >= 0:
+                cmask[j_lo] = keep
+            # the boundaries' own imbalance: their equations, and the moment
+            # on lift-off's slope that its tangency would hold
+            own = bnd_res
+            if j_lo >= 0:
+                own = max(own, abs(g[j_lo]) / (fref * href))
+            if res_eq > INNER_RATIO * own:
+                nb = nb_fixed
+                for b in range(N_BND):
+                    bf[b] = 0
+                if j_lo >= 0:
+                    cmask[j_lo] = True
+                    delta[j_lo] = -_tangency(nd, u, stinger, 1, bnodes[1], row_t)
         # ---- 3: scale, condense, factor, solve --------------------------
         for j in range(n):
             sj = scale[j % ndn]
@@ -852,7 +903,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         mu_old = tip[1]
         merit0 = res_ssq + top_res * top_res + (g_tip / href) ** 2 * tip_on
         for b in range(N_BND):
-            if bfree[b] != 0:
+            if bf[b] != 0:
                 merit0 += (res_bnd[b] / _bnd_scale(b, fref, href)) ** 2
             bnd_old[b] = s_bd[b]
         alpha = 1.0
@@ -869,7 +920,23 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             # a boundary moves at most MAX_BOUNDARY_STEP reference lengths a step
             if abs(d_bnd[b]) * alpha > MAX_BOUNDARY_STEP * href:
                 alpha = MAX_BOUNDARY_STEP * href / abs(d_bnd[b])
-        if has_lo and bfree[1] != 0:
+        if has_td and bf[0] != 0 and d_bnd[0] < 0.0:
+            # touchdown stays on the modelled laid pipe: a step that takes it
+            # more than half way to the lower end stops, for more laid pipe
+            if -d_bnd[0] * alpha > 0.5 * (s_bd[0] - s_a[0]):
+                status = L.SHORT_LAID
+                break
+        if has_lo and has_tipn and bf[1] != 0:
+            # the span between re-contact and the tip at most halves or doubles
+            # a step: near the regime change it grows like sqrt(a - a_switch),
+            # which a step in its logarithm follows
+            gap_s = s_bd[1] - s_bd[2]
+            d_gap_s = (d_bnd[1] - d_bnd[2] * bf[2]) * alpha
+            if d_gap_s < -0.5 * gap_s:
+                alpha *= 0.5 * gap_s / -d_gap_s
+            elif d_gap_s > gap_s:
+                alpha *= gap_s / d_gap_s
+        if has_lo and bf[1] != 0:
             # lift-off stays above the tip (the curve continued past it is no
             # support): a step goes at most half way there
             base = bnodes[1] * ndn
@@ -899,13 +966,13 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 tr = (_top_te(nd, g_trial, u, top_node) - top_target) / top_target
             tdr = 0.0
             no_row = np.zeros(0)
-            if has_td and bfree[0] != 0:
+            if has_td and bf[0] != 0:
                 v, _d = _free_moment(nd, s_el, u, props, table, torques, bnodes[0], s_b[0],
                                      no_row)
                 tdr += (v / (fref * href)) ** 2
-            if has_lo and bfree[1] != 0:
+            if has_lo and bf[1] != 0:
                 tdr += _tangency(nd, u, stinger, 1, bnodes[1], row_t) ** 2
-            if has_tipn and bfree[2] != 0:
+            if has_tipn and bf[2] != 0:
                 tdr += (_over_tip(nd, u, stinger, bnodes[2], row_t) / href) ** 2
             _rotate_all(nd, dummy_ab, kl, ku, g_trial, phi_r, phi_rp, False)
             _curve_all(nd, dummy_ab, kl, ku, g_trial, u, stinger, st_active, False)
