@@ -1,0 +1,237 @@
+"""Lay code checks of DNV-ST-F101: the ``[checks]`` table and its equations.
+
+The engine's static answer is checked the way a pipelay engineer checks a lay:
+
+* **overbend**, where the pipe conforms to the stinger and its curvature is
+  imposed (a displacement-controlled condition): the extreme-fibre strain
+  |Tw/EA| + (Do/2) kappa over the user's limit ``overbend_strain_limit``;
+* **sagbend**, where the free span carries its moment (a load-controlled
+  condition): the local-buckling check for combined loading of DNVGL-ST-F101
+  (2017) Sec.5 [5.4.6], pipe members under bending moment, effective axial
+  force and external overpressure (valid for D/t2 <= 45, p_i < p_e)::
+
+      {g |M_Sd| / (alpha_c M_p) + (g S_Sd / (alpha_c S_p))^2}^2
+          + (g (p_e - p_min) / p_c)^2 <= 1,          g = gamma_m gamma_SC
+
+  with M_p = f_y (D - t2)^2 t2 and S_p = f_y pi (D - t2) t2 the plastic
+  capacities, alpha_c = (1 - beta) + beta f_u / f_y the flow-stress parameter
+  (beta = 0.5 for D/t2 < 15, (60 - D/t2)/90 up to 60, 0 beyond), p_c the
+  characteristic collapse pressure, the real root of Sec.5 [5.4.4.2]'s cubic
+  (p_c - p_el)(p_c^2 - p_p^2) = p_c p_el p_p f0 D/t2, p_el = 2E (t2/D)^3 /
+  (1 - nu^2), p_p = f_y alpha_fab 2 t2/D. The left-hand side is reported as
+  the utilisation (1 meets the criterion). During installation t2 = t, the
+  nominal wall (Sec.5's characteristic wall thickness prior to operation: no
+  corrosion allowance yet), and p_min, the least internal pressure sustained,
+  is the case's contents pressure (0 for an empty pipe).
+
+Design load effects are M_Sd = gamma_F gamma_c M and S_Sd = gamma_F gamma_c Te
+(Sec.4 [4.4], design load effect of functional loads): the static answer,
+weight, tension and steady current drag together, is factored as a
+functional load effect. Splitting off the current's share to factor it by
+gamma_E needs a second solve without current and is not done.
+
+Characteristic strengths are f_y = SMYS alpha_U and f_u = SMTS alpha_U
+(Sec.5 [5.3.3.2], eq. 5.4 and 5.5) with no temperature derating: a lay is at
+ambient temperature, below the 50 deg C where the derating of C-Mn steel
+starts (Sec.5 [5.3.3.4], Figure 5-2).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pipelay_fast._validate import choice, fail, set_numbers
+
+__all__ = ["Checks", "FABRICATION_FACTORS", "SAFETY_CLASS_FACTORS", "check_inputs",
+           "collapse_pressure", "flow_stress_factor", "lcc_utilisation"]
+
+# DNVGL-ST-F101 (2017) Sec.5 Table 5-2: safety class resistance factor gamma_SC
+# for all checks but pressure containment
+SAFETY_CLASS_FACTORS = {"low": 1.04, "medium": 1.14, "high": 1.26}
+# DNVGL-ST-F101 (2017) Sec.5 Table 5-4: maximum fabrication factor alpha_fab
+FABRICATION_FACTORS = {"seamless": 1.00, "UO": 0.93, "TRB": 0.93, "ERW": 0.93, "HFW": 0.93,
+                       "UOE": 0.85}
+SAFETY_CLASSES = tuple(SAFETY_CLASS_FACTORS)
+MIN_OVALITY = 0.005  # Sec.5 [5.4.4.2], eq. 5.14: f0 not to be taken below 0.5 %
+MAX_LCC_SLENDERNESS = 45.0  # D/t2 up to which the load-controlled criterion applies
+
+
+@dataclass(frozen=True, slots=True)
+class Checks:
+    """Code-check inputs, table ``[checks]`` (DNVGL-ST-F101, 2017 edition).
+
+    Without the table the code-check columns are NaN. With it, the pipe
+    needs ``pipe.smts`` (and uses ``pipe.smys``).
+
+    Attributes
+    ----------
+    overbend_strain_limit : float
+        Largest overbend strain accepted [-], axial plus bending at the
+        extreme fibre; required (the standard's simplified overbend criteria,
+        Sec.13, depend on the grade and the lay: the user's to give).
+    ovality : float
+        Initial out-of-roundness f0 = (Dmax - Dmin)/D [-], required, at least
+        0.005 (Sec.5 [5.4.4.2], eq. 5.14): the linepipe's tolerance is the
+        purchase specification's.
+    alpha_fab : float or None
+        Fabrication factor [-], in (0, 1]; or ``fabrication`` names the
+        process: "seamless" 1.00, "UO", "TRB", "ERW", "HFW" 0.93, "UOE" 0.85
+        (Sec.5 Table 5-4). Exactly one of the two is required.
+    fabrication : str or None
+        See ``alpha_fab``.
+    safety_class : str
+        "low" | "medium" | "high"; default "low", the normal class of the
+        temporary phases, installation among them (Sec.2 Table 2-4).
+    gamma_SC : float or None
+        Safety class resistance factor [-]; default from ``safety_class``:
+        1.04, 1.14, 1.26 (Sec.5 Table 5-2).
+    gamma_m : float
+        Material resistance factor [-]; default 1.15, ULS (Sec.5 Table 5-1).
+    gamma_F : float
+        Functional load effect factor [-]; default 1.1, load combination b,
+        the local check (Sec.4 Table 4-4).
+    gamma_c : float
+        Condition load effect factor [-]; default 1.00, "otherwise": not
+        an uneven seabed, reeling or a pressure test (Sec.4 Table 4-5).
+    alpha_U : float
+        Material strength factor [-]; default 0.96, 1.00 with supplementary
+        requirement U (Sec.5 Table 5-3).
+    """
+
+    overbend_strain_limit: float
+    ovality: float
+    alpha_fab: float | None = None
+    fabrication: str | None = None
+    safety_class: str = "low"
+    gamma_SC: float | None = None
+    gamma_m: float = 1.15
+    gamma_F: float = 1.1
+    gamma_c: float = 1.0
+    alpha_U: float = 0.96
+
+    def __post_init__(self):
+        p = "checks"
+        choice(f"{p}.safety_class", self.safety_class, SAFETY_CLASSES)
+        given = [name for name in ("alpha_fab", "fabrication") if getattr(self, name) is not None]
+        if not given:
+            raise ValueError(f"missing key {p}.alpha_fab (or {p}.fabrication): the fabrication "
+                             "factor of DNVGL-ST-F101 Table 5-4 depends on how the pipe is made")
+        if len(given) == 2:
+            fail(f"{p}.alpha_fab", self.alpha_fab,
+                 f"is given with {p}.fabrication = {self.fabrication!r}: give one of the two")
+        if self.fabrication is not None:
+            choice(f"{p}.fabrication", self.fabrication, tuple(FABRICATION_FACTORS))
+        optional = [name for name in ("alpha_fab", "gamma_SC") if getattr(self, name) is not None]
+        set_numbers(self, p, positive=("overbend_strain_limit", "ovality", "gamma_m", "gamma_F",
+                                       "gamma_c", "alpha_U", *optional))
+        if self.ovality < MIN_OVALITY:
+            fail(f"{p}.ovality", self.ovality, f"is below {MIN_OVALITY}, the least "
+                 "DNVGL-ST-F101 eq. 5.14 allows")
+        for name in ("alpha_fab", "alpha_U"):
+            if getattr(self, name) is not None and getattr(self, name) > 1.0:
+                fail(f"{p}.{name}", getattr(self, name), "must not exceed 1")
+
+    @property
+    def safety_factor(self) -> float:
+        """gamma_SC [-]: as given, else the safety class's (Table 5-2)."""
+        return self.gamma_SC if self.gamma_SC is not None else SAFETY_CLASS_FACTORS[
+            self.safety_class]
+
+    @property
+    def fabrication_factor(self) -> float:
+        """alpha_fab [-]: as given, else the fabrication process's (Table 5-4)."""
+        return self.alpha_fab if self.alpha_fab is not None else FABRICATION_FACTORS[
+            self.fabrication]
+
+    @property
+    def resistance_factor(self) -> float:
+        """gamma_m gamma_SC [-]."""
+        return self.gamma_m * self.safety_factor
+
+    @property
+    def load_factor(self) -> float:
+        """gamma_F gamma_c [-], the factor on every static load effect."""
+        return self.gamma_F * self.gamma_c
+
+
+def check_inputs(pipe, checks: Checks | None) -> None:
+    """Refuse a ``[checks]`` table the pipe cannot be checked with: no
+    ``pipe.smts``, SMTS below SMYS, or D/t beyond the criterion's 45."""
+    if checks is None:
+        return
+    if pipe.smts is None:
+        raise ValueError("missing key pipe.smts: the [checks] need the specified minimum "
+                         "tensile strength SMTS [Pa] (DNVGL-ST-F101 eq. 5.5)")
+    if pipe.smts < pipe.smys:
+        fail("pipe.smts", pipe.smts, f"is below pipe.smys = {pipe.smys!r}")
+    slenderness = pipe.outer_diameter / pipe.wall_thickness
+    if slenderness > MAX_LCC_SLENDERNESS:
+        fail("pipe.inner_diameter", pipe.inner_diameter,
+             f"makes D/t = {slenderness:.4g}, beyond {MAX_LCC_SLENDERNESS:g} where the "
+             "load-controlled check of DNVGL-ST-F101 [5.4.6] applies; remove [checks]")
+
+
+def flow_stress_factor(slenderness: float, fy: float, fu: float) -> float:
+    """alpha_c = (1 - beta) + beta f_u/f_y [-] of D/t2 = ``slenderness``."""
+    if slenderness < 15.0:
+        beta = 0.5
+    elif slenderness <= 60.0:
+        beta = (60.0 - slenderness) / 90.0
+    else:
+        beta = 0.0
+    return (1.0 - beta) + beta * fu / fy
+
+
+def collapse_pressure(pipe, checks: Checks) -> float:
+    """Characteristic collapse pressure p_c [Pa] of ``pipe``.
+
+    The cubic (p_c - p_el)(p_c^2 - p_p^2) = p_c p_el p_p f0 D/t, written
+    p^3 - p_el p^2 - (p_p^2 + p_el p_p f0 D/t) p + p_el p_p^2 = 0, has three
+    real roots; p_c is the one below both p_el and p_p (the cubic is positive
+    at 0 and negative at min(p_el, p_p)), found by bisection then Newton.
+    """
+    d, t = pipe.outer_diameter, pipe.wall_thickness
+    fy = pipe.smys * checks.alpha_U
+    p_el = 2.0 * pipe.youngs_modulus * (t / d) ** 3 / (1.0 - pipe.poisson_ratio**2)
+    p_p = fy * checks.fabrication_factor * 2.0 * t / d
+    c1 = p_p**2 + p_el * p_p * checks.ovality * d / t
+
+    def cubic(p):
+        return ((p - p_el) * p - c1) * p + p_el * p_p**2
+
+    lo, hi = 0.0, min(p_el, p_p)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if cubic(mid) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-14 * hi:
+            break
+    return 0.5 * (lo + hi)
+
+
+def lcc_utilisation(pipe, checks: Checks, moment, effective_tension, external_pressure,
+                    internal_pressure):
+    """Left-hand side of the load-controlled criterion [-] per section.
+
+    ``moment`` |M| [N m], ``effective_tension`` Te [N], pressures [Pa]: arrays
+    of one value per section. NaN where the contents pressure exceeds the
+    external one (the internal-overpressure form, not evaluated).
+    """
+    d, t = pipe.outer_diameter, pipe.wall_thickness
+    fy, fu = pipe.smys * checks.alpha_U, pipe.smts * checks.alpha_U
+    alpha_c = flow_stress_factor(d / t, fy, fu)
+    m_p = fy * (d - t) ** 2 * t
+    s_p = fy * math.pi * (d - t) * t
+    g = checks.resistance_factor
+    load = checks.load_factor
+    m_sd = load * np.abs(np.asarray(moment, dtype=float))
+    s_sd = load * np.asarray(effective_tension, dtype=float)
+    over = np.asarray(external_pressure, dtype=float) - np.asarray(internal_pressure, dtype=float)
+    bending = g * m_sd / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2
+    value = bending**2 + (g * over / collapse_pressure(pipe, checks)) ** 2
+    return np.where(over >= 0.0, value, np.nan)

@@ -1,0 +1,123 @@
+"""Lay design answers of one solved case: the summary columns a lay tool reports.
+
+Layback, tip clearance, departure angle and touchdown tension come from the
+profile; peak strains and utilisations from the profile and the code checks of
+:mod:`pipelay_fast.checks` (NaN without a ``[checks]`` table).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from .checks import lcc_utilisation
+
+__all__ = ["DESIGN_UNITS", "design_columns", "hermite_point", "tip_clearance"]
+
+DESIGN_UNITS = {
+    "layback": "m", "tip_clearance": "m", "departure_angle_deg": "deg", "tdp_tension": "N",
+    "overbend_max_strain": "-", "sagbend_max_strain": "-",
+    "overbend_strain_utilisation": "-", "sagbend_lcc_utilisation": "-", "max_utilisation": "-",
+}
+
+
+def hermite_point(r, rp, s, k, xi: float) -> np.ndarray:
+    """Centreline point [m] at ``xi`` in [0, 1] of element ``k`` (nodes k, k+1;
+    an index array gives one point per element), the cubic Hermite of the
+    nodal positions ``r`` and slopes ``rp`` = dr/ds."""
+    k = np.asarray(k)
+    le = (s[k + 1] - s[k])[..., None]
+    h1 = 1.0 - 3.0 * xi**2 + 2.0 * xi**3
+    h2 = xi - 2.0 * xi**2 + xi**3
+    h3 = 3.0 * xi**2 - 2.0 * xi**3
+    h4 = -(xi**2) + xi**3
+    return h1 * r[k] + le * h2 * rp[k] + h3 * r[k + 1] + le * h4 * rp[k + 1]
+
+
+def tip_clearance(r, rp, s, tip, up) -> float:
+    """Distance [m] from the point ``tip`` to the pipe's centreline, signed by
+    the side of ``up`` (the stinger's outward normal there) it lies on.
+
+    The centreline is each element's cubic Hermite; the closest point is
+    searched on every element at 32 points, then refined on the nearest
+    element and its neighbours by a bounded scalar search, so the vector from
+    the tip to it is normal to the pipe there.
+    """
+    xi = np.linspace(0.0, 1.0, 33)
+    elements = np.arange(s.size - 1)
+    pts = np.stack([hermite_point(r, rp, s, elements, x) for x in xi], axis=1)
+    dist = np.linalg.norm(pts - tip, axis=2)
+    near = int(np.unravel_index(np.argmin(dist), dist.shape)[0])
+    best = (math.inf, None)
+    for k in range(max(near - 1, 0), min(near + 2, s.size - 1)):
+        res = minimize_scalar(lambda x, k=k: float(np.linalg.norm(
+            hermite_point(r, rp, s, k, x) - tip)), bounds=(0.0, 1.0), method="bounded",
+            options={"xatol": 1e-10})
+        if res.fun < best[0]:
+            best = (float(res.fun), hermite_point(r, rp, s, k, float(res.x)))
+    return math.copysign(best[0], float(np.dot(best[1] - tip, up)))
+
+
+def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
+                   bearing: bool, departure_angle: float) -> dict:
+    """The columns of ``DESIGN_UNITS`` of a solved case.
+
+    ``cols``: the profile columns; ``r``, ``rp``: nodal position and slope in
+    the solve's dimension [m, -]; ``overbend``, ``sagbend``: boolean masks of
+    the nodes of each region (``sagbend`` None: the J-lay span behind
+    touchdown, whose peak is its interior maximum); ``bearing``: the pipe
+    bears on the stinger's tip; ``departure_angle``: the angle where the
+    pipe leaves the stinger (S-lay) or the vessel (J-lay) [deg].
+    """
+    from .results import interior_peak
+
+    s = cols["s"]
+    pipe, checks, stinger = case.pipe, case.checks, case.lay.stinger
+    at_tdp = {name: float(np.interp(s_tdp, s, cols[name])) for name in ("y", "z",
+                                                                         "effective_tension")}
+    layback = math.hypot(cols["z"][-1] - at_tdp["z"], cols["y"][-1] - at_tdp["y"])
+    if stinger is None:
+        clearance = math.nan
+    elif bearing:
+        clearance = 0.0
+    else:
+        x_l, z_l = stinger.lower
+        slope = float(stinger.slope(z_l))
+        up2 = np.array([1.0, -slope]) / math.hypot(1.0, slope)  # (x, z) normal, upwards
+        nd = r.shape[1]
+        tip = np.array([x_l, z_l]) if nd == 2 else np.array([x_l, 0.0, z_l])
+        up = up2 if nd == 2 else np.array([up2[0], 0.0, up2[1]])
+        clearance = tip_clearance(r, rp, s, tip, up)
+    axial = np.abs(cols["axial_strain"]) if pipe.extensible else 0.0
+    fibre = axial + cols["curvature"] * (0.5 * pipe.outer_diameter)
+    nan = math.nan
+    behind = s >= s_tdp
+    over_strain = float(fibre[overbend].max()) if overbend is not None and overbend.any() else nan
+    if sagbend is None:
+        sag_strain = interior_peak(fibre[behind])
+    else:
+        sag_strain = float(fibre[sagbend].max()) if sagbend.any() else nan
+    over_u = sag_u = nan
+    if checks is not None:
+        over_u = over_strain / checks.overbend_strain_limit
+        lcc = lcc_utilisation(pipe, checks, cols["moment"], cols["effective_tension"],
+                              case.external_pressure(cols["x"]),
+                              case.internal_pressure(cols["x"]))
+        if sagbend is None:
+            sag_u = interior_peak(np.nan_to_num(lcc[behind], nan=0.0))
+        elif sagbend.any():
+            sag_u = float(np.nanmax(lcc[sagbend], initial=0.0))
+    values = [u for u in (over_u, sag_u) if not math.isnan(u)]
+    return {
+        "layback": float(layback),
+        "tip_clearance": float(clearance),
+        "departure_angle_deg": float(departure_angle),
+        "tdp_tension": at_tdp["effective_tension"],
+        "overbend_max_strain": over_strain,
+        "sagbend_max_strain": sag_strain,
+        "overbend_strain_utilisation": over_u,
+        "sagbend_lcc_utilisation": sag_u,
+        "max_utilisation": max(values) if values else nan,
+    }

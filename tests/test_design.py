@@ -1,0 +1,189 @@
+"""Lay design answers in the summary: layback, touchdown tension, departure
+angle, tip clearance, peak strains and the DNV-ST-F101 utilisations, each
+against numbers obtained independently (the elastica references, the profile's
+nodes with a Hermite interpolation written here, the standard's equations
+evaluated here with the collapse pressure from ``numpy.roots``)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import pipelay_fast as pf
+from tests.helpers import EXAMPLES, elastica_for, slay_elastica_for
+
+CHECKS = {"checks.overbend_strain_limit": 0.0025, "checks.ovality": 0.01,
+          "checks.fabrication": "UOE", "pipe.smts": 531e6}
+DESIGN = ("layback", "tip_clearance", "departure_angle_deg", "tdp_tension",
+          "overbend_max_strain", "sagbend_max_strain", "overbend_strain_utilisation",
+          "sagbend_lcc_utilisation", "max_utilisation")
+
+
+@pytest.fixture(scope="module")
+def s67():
+    """S67 in still water, inextensible (as the planar elastica), no [checks]."""
+    return pf.load_case(EXAMPLES / "s67.toml").with_changes(
+        {"environment.current.speed": 0.0, "pipe.extensible": False, "checks": None})
+
+
+@pytest.fixture(scope="module")
+def j125_stiff():
+    return pf.load_case(EXAMPLES / "j125.toml").with_changes(
+        {"pipe.extensible": False, "checks": None})
+
+
+@pytest.mark.parametrize("a", [-0.0012, -0.0009])
+def test_slay_layback_tension_angle_match_elastica(s67, a):
+    """Lift-off (a = -0.0012) and tip regime (-0.0009): layback to the
+    reference touchdown within 5 cm, touchdown tension (the reference's
+    bottom tension: no axial friction) to 1e-4, departure angle (at lift-off
+    or the tip) within 0.05 deg."""
+    case = s67.with_changes({"lay.stinger.a": a})
+    ref = slay_elastica_for(case)
+    sm = pf.solve(case).summary
+    z_top = case.lay.stinger.upper[1]
+    assert abs(sm["layback"] - (z_top - ref["tdp_z"])) < 0.05
+    assert sm["layback"] == pytest.approx(z_top - sm["tdp_z"], abs=1e-9)
+    assert sm["tdp_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-4)
+    assert abs(sm["departure_angle_deg"] - ref["liftoff_angle_deg"]) < 0.05
+
+
+def test_jlay_layback_tension_angle_match_elastica(j125_stiff):
+    """J125: layback from the hang-off to the reference touchdown within 5 cm,
+    touchdown tension to 1e-4, departure angle (the hang-off's) within 0.05
+    deg; no stinger, so no tip clearance and no overbend."""
+    ref = elastica_for(j125_stiff, T_top=j125_stiff.lay.top_tension)
+    sm = pf.solve(j125_stiff).summary
+    z_top = j125_stiff.lay.top[1]
+    assert abs(sm["layback"] - (z_top - ref["tdp_z"])) < 0.05
+    assert sm["tdp_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-4)
+    assert abs(sm["departure_angle_deg"] - ref["top_angle_deg"]) < 0.05
+    assert math.isnan(sm["tip_clearance"]) and math.isnan(sm["overbend_max_strain"])
+    assert sm["sagbend_max_strain"] > 0.0
+
+
+def test_no_checks_leaves_utilisations_nan(s67):
+    sm = pf.solve(s67).summary
+    for key in ("overbend_strain_utilisation", "sagbend_lcc_utilisation", "max_utilisation"):
+        assert math.isnan(sm[key]), key
+    assert set(DESIGN) <= set(pf.results.SUMMARY_UNITS)
+
+
+def test_tip_clearance_zero_when_bearing(s67):
+    sm = pf.solve(s67.with_changes({"lay.stinger.a": -0.0009})).summary
+    assert sm["tip_reaction"] > 0.0
+    assert sm["tip_clearance"] == 0.0
+
+
+def _hermite(p, k, xi):
+    """Cubic Hermite of the profile's nodes k, k+1 at xi: (point, tangent) in
+    (x, z), the slopes from the nodal angle (|r'| = 1, inextensible)."""
+    s = p["s"].to_numpy()
+    th = np.radians(p["angle_deg"].to_numpy())
+    pos = np.stack([p["x"].to_numpy(), p["z"].to_numpy()], axis=1)
+    slope = np.stack([np.sin(th), np.cos(th)], axis=1)
+    h = s[k + 1] - s[k]
+    n = [2 * xi**3 - 3 * xi**2 + 1, xi**3 - 2 * xi**2 + xi, -2 * xi**3 + 3 * xi**2, xi**3 - xi**2]
+    dn = [6 * xi**2 - 6 * xi, 3 * xi**2 - 4 * xi + 1, -6 * xi**2 + 6 * xi, 3 * xi**2 - 2 * xi]
+    point = n[0] * pos[k] + h * n[1] * slope[k] + n[2] * pos[k + 1] + h * n[3] * slope[k + 1]
+    tangent = (dn[0] * pos[k] + h * dn[1] * slope[k] + dn[2] * pos[k + 1]) / h \
+        + dn[3] * slope[k + 1]
+    return point, tangent
+
+
+def _normal_distance(profile, tip):
+    """Distance from ``tip`` to the centreline at the foot of its normal:
+    the root of (r - tip) . r' = 0 on the element where it changes sign."""
+    best = math.inf
+    for k in range(len(profile) - 1):
+        def foot(xi, k=k):
+            point, tangent = _hermite(profile, k, xi)
+            return float((point - tip) @ tangent)
+        if foot(0.0) * foot(1.0) <= 0.0:
+            xi = brentq(foot, 0.0, 1.0, xtol=1e-14)
+            best = min(best, float(np.linalg.norm(_hermite(profile, k, xi)[0] - tip)))
+    return best
+
+
+@pytest.mark.parametrize("a", [-0.0012, -0.0014, -0.0019])
+def test_tip_clearance_is_normal_distance_to_centreline(s67, a):
+    case = s67.with_changes({"lay.stinger.a": a})
+    result = pf.solve(case)
+    assert result.summary["tip_reaction"] == 0.0
+    expected = _normal_distance(result.profile, np.array(case.lay.stinger.lower))
+    assert result.summary["tip_clearance"] == pytest.approx(expected, rel=1e-6, abs=1e-12)
+
+
+def test_tip_clearance_grows_as_cube_of_liftoff_distance(s67):
+    """The pipe leaves the stinger with its position, slope and curvature,
+    so its gap grows as the cube of the distance from lift-off: the slope
+    of log(clearance) against log(liftoff_z - z_tip) is 3."""
+    a_values = [-0.0012, -0.0013, -0.0014, -0.0016]
+    rows = [pf.solve(s67.with_changes({"lay.stinger.a": a})).summary for a in a_values]
+    dist = np.array([r["liftoff_z"] - s67.lay.stinger.lower[1] for r in rows])
+    clearance = np.array([r["tip_clearance"] for r in rows])
+    slope = np.polyfit(np.log(dist), np.log(clearance), 1)[0]
+    assert slope == pytest.approx(3.0, abs=0.1)
+
+
+def _collapse_by_roots(d, t, e, nu, fy, alpha_fab, f0):
+    """p_c [Pa]: the real root of DNV-ST-F101 eq. 5.11's cubic in (0, p_p)."""
+    p_el = 2 * e * (t / d) ** 3 / (1 - nu**2)
+    p_p = fy * alpha_fab * 2 * t / d
+    roots = np.roots([1.0, -p_el, -(p_p**2 + p_el * p_p * f0 * d / t), p_el * p_p**2])
+    real = roots[np.abs(roots.imag) < 1e-6 * abs(roots).max()].real
+    (p_c,) = real[(real > 0) & (real < min(p_el, p_p))]
+    return p_c
+
+
+def test_strain_and_lcc_utilisation_by_hand():
+    """S67 with its current, lifting off: the overbend strain utilisation and
+    the sagbend LCC utilisation evaluated here, node by node, from the
+    profile and the inputs: DNV-ST-F101 [5.4.6] external-overpressure form,
+    gamma_m = 1.15, gamma_SC = 1.04 (low), gamma_F = 1.1, gamma_c = 1,
+    alpha_U = 0.96, alpha_fab = 0.85 (UOE), f0 = 0.01, t2 = t."""
+    case = pf.load_case(EXAMPLES / "s67.toml").with_changes(CHECKS)
+    result = pf.solve(case)
+    sm, p = result.summary, result.profile
+    d, di = 0.61, 0.58
+    t = (d - di) / 2
+    e, nu = 207e9, 0.3
+    area = math.pi * (d**2 - di**2) / 4
+    s_tdp = np.interp(sm["tdp_z"], p["z"], p["s"])
+    beyond = p["s"].to_numpy() >= s_tdp
+    hog = beyond & (p["moment_y"].to_numpy() < 0)
+    s_lo = np.interp(sm["liftoff_z"], p["z"], p["s"])
+    sag = beyond & ~hog & (p["s"].to_numpy() <= s_lo)
+    strain = np.abs(p["wall_tension"].to_numpy()) / (e * area) \
+        + p["curvature"].to_numpy() * d / 2
+    assert sm["overbend_max_strain"] == pytest.approx(strain[hog].max(), rel=1e-12)
+    assert sm["sagbend_max_strain"] == pytest.approx(strain[sag].max(), rel=1e-12)
+    assert sm["overbend_strain_utilisation"] == pytest.approx(strain[hog].max() / 0.0025,
+                                                              rel=1e-12)
+    fy, fu = 448e6 * 0.96, 531e6 * 0.96
+    beta = (60 - d / t) / 90  # 15 <= D/t = 40.7 <= 60
+    alpha_c = (1 - beta) + beta * fu / fy
+    m_p, s_p = fy * (d - t) ** 2 * t, fy * math.pi * (d - t) * t
+    p_c = _collapse_by_roots(d, t, e, nu, fy, 0.85, 0.01)
+    g, load = 1.15 * 1.04, 1.1 * 1.0
+    p_e = 1025.0 * 9.81 * np.clip(67.0 - p["x"].to_numpy(), 0.0, None)
+    m_sd = load * p["moment"].to_numpy()
+    s_sd = load * p["effective_tension"].to_numpy()
+    lcc = (g * m_sd / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2) ** 2 \
+        + (g * p_e / p_c) ** 2
+    assert sm["sagbend_lcc_utilisation"] == pytest.approx(lcc[sag].max(), rel=1e-9)
+    assert sm["max_utilisation"] == max(sm["overbend_strain_utilisation"],
+                                        sm["sagbend_lcc_utilisation"])
+    assert 0.0 < sm["sagbend_lcc_utilisation"] < 1.0
+
+
+def test_jlay_lcc_is_interior_peak():
+    """J125 with checks: no overbend strain utilisation; the sagbend LCC
+    utilisation is the span's largest, here not at an end."""
+    case = pf.load_case(EXAMPLES / "j125.toml").with_changes(CHECKS)
+    sm = pf.solve(case).summary
+    assert math.isnan(sm["overbend_strain_utilisation"])
+    assert sm["max_utilisation"] == sm["sagbend_lcc_utilisation"] > 0.0
