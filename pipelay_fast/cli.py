@@ -4,6 +4,7 @@
     pipelay-fast example [NAME] [--out FILE] [--force]
     pipelay-fast sweep SWEEP.toml [--out DIR] [--workers N] [--backend loky|dask|ray] ...
     pipelay-fast select RESULTS_DIR [--no-refine]
+    pipelay-fast table RESULTS_DIR
     pipelay-fast --version
 
 Exit codes: 0 success (a sweep whose cases failed has still succeeded: the
@@ -105,6 +106,15 @@ def _parser() -> argparse.ArgumentParser:
     select_cmd.add_argument("--no-refine", action="store_true",
                             help="grid values only (no further solves)")
     select_cmd.set_defaults(run=_select)
+
+    table_cmd = commands.add_parser(
+        "table", help="print the lay table of a sweep's results",
+        description="One row per case, S-lay then J-lay by water depth: top tension, "
+        "layback, touchdown tension, departure angle, tip clearance, peak strains and "
+        "utilisations (kN, deg, per cent), then the targets the cases were solved for.",
+    )
+    table_cmd.add_argument("results", type=Path, metavar="RESULTS_DIR")
+    table_cmd.set_defaults(run=_table)
     return parser
 
 
@@ -225,6 +235,17 @@ def _sweep(args: argparse.Namespace) -> int:
     if not args.quiet:
         print(f"sweep {sweep.name}: {report}")
         print(f"results in {out} (next: pipelay-fast select {out})")
+    return EXIT_OK
+
+
+def _table(args: argparse.Namespace) -> int:
+    from .laytable import format_lay_table, lay_table
+
+    try:
+        table = lay_table(args.results)
+    except ValueError as err:
+        return _error(str(err), EXIT_USAGE)
+    print(format_lay_table(table))
     return EXIT_OK
 
 

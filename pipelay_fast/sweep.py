@@ -70,8 +70,8 @@ import pandas as pd
 
 from ._validate import fail, from_toml, get_path, put_path, reject_unknown
 from .case import Case, load_case
-from .results import SUMMARY_UNITS, case_id
-from .target import target_columns
+from .results import case_id
+from .target import target_columns, unit_text
 
 __all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains", "load_sweep"]
 
@@ -171,9 +171,8 @@ class Scene:
         t = self.target
         if t is None:
             return ""
-        unit = SUMMARY_UNITS[t["column"]]
-        unit = "" if unit == "-" else f" {unit}"
-        return f"{t['column']} = {t['goal']!r}{unit} by {t['vary']} in {list(t['bounds'])}"
+        return (f"{t['column']} = {t['goal']!r}{unit_text(t['column'])} by {t['vary']} in "
+                f"{list(t['bounds'])}")
 
 
 class SweepCase:

@@ -23,7 +23,7 @@ from .case import Case
 from .results import SUMMARY_UNITS, Result
 from .solver import SolveError, solve
 
-__all__ = ["TargetError", "TARGET_RTOL", "solve_for", "target_columns"]
+__all__ = ["TargetError", "TARGET_RTOL", "solve_for", "target_columns", "unit_text"]
 
 TARGET_RTOL = 1e-6  # the target is met to this share of its value (or of the bound values)
 STOP_SHARE = 0.01  # the root find stops at a trial within this share of rtol
@@ -93,14 +93,14 @@ def solve_for(case: Case, target: Mapping[str, float], vary: str,
     if isinstance(current, bool) or not isinstance(current, numbers.Real):
         raise ValueError(f"vary = {vary!r} is not a numeric key the case gives "
                          f"(its value: {current!r})")
-    unit = SUMMARY_UNITS[column]
+    unit = unit_text(column)
     trials = _Trials(case, vary, column, goal)
     f_lo = trials.miss(lo, start=warm)
     f_hi = trials.miss(hi, start=None)
     if f_lo * f_hi > 0.0:
         raise TargetError(
-            f"target {column} = {goal!r} {unit} is not reached for {vary} in [{lo!r}, {hi!r}]: "
-            f"{column} = {f_lo + goal!r} {unit} at {vary} = {lo!r} and {f_hi + goal!r} {unit} "
+            f"target {column} = {goal!r}{unit} is not reached for {vary} in [{lo!r}, {hi!r}]: "
+            f"{column} = {f_lo + goal!r}{unit} at {vary} = {lo!r} and {f_hi + goal!r}{unit} "
             f"at {vary} = {hi!r}")
     scale = abs(goal) if goal != 0.0 else max(abs(f_lo), abs(f_hi))
     tol = STOP_SHARE * rtol * scale
@@ -113,8 +113,8 @@ def solve_for(case: Case, target: Mapping[str, float], vary: str,
     result = trials.cold[root]
     got = result.summary[column]
     if abs(got - goal) > rtol * scale:
-        raise TargetError(f"target {column} = {goal!r} {unit}: the root {vary} = {root!r} "
-                          f"gives {got!r} {unit}, not within rtol = {rtol:g} (the column "
+        raise TargetError(f"target {column} = {goal!r}{unit}: the root {vary} = {root!r} "
+                          f"gives {got!r}{unit}, not within rtol = {rtol:g} (the column "
                           "jumps there: a change of regime?)")
     result.target = {"column": column, "goal": goal, "vary": vary, "value": root,
                      "solves": trials.count}
@@ -207,6 +207,12 @@ def _polish(trials: _Trials, near: float, lo: float, hi: float, tol: float) -> f
         step *= 2.0
     raise TargetError(f"target {trials.column}: no root of the cold solves found next to "
                       f"{trials.vary} = {near!r} (the column jumps there: a change of regime?)")
+
+
+def unit_text(column: str) -> str:
+    """The unit of a summary column as a message suffix (" m"); "" if dimensionless."""
+    unit = SUMMARY_UNITS[column]
+    return "" if unit in ("", "-") else f" {unit}"
 
 
 def _target(target) -> tuple[str, float]:
