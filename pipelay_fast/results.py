@@ -82,6 +82,14 @@ class Result:
             self._profile = pd.DataFrame(self.columns)
         return self._profile
 
+    def plot(self, path=None):
+        """The lay's figure (:func:`pipelay_fast.plot.plot_result`): elevation,
+        plan in 3D, moment, von Mises and utilisation along the pipe; written
+        to ``path`` (PNG, or SVG/PDF by the suffix) when given."""
+        from .plot import plot_result
+
+        return plot_result(self, path)
+
     def __repr__(self):
         sm = self.summary
         return (f"Result({self.case.name!r}, {sm['dimension']}, tdp_z={sm['tdp_z']:.3f} m, "
