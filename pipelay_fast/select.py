@@ -156,7 +156,8 @@ def _gap(summary: dict) -> float:
 
 class _Evaluator:
     """Summary of the group's case at a given ``a``, solved warm from the nearest
-    ``a`` solved so far (the first from cold); repeated ``a`` values are cached."""
+    ``a`` solved so far (the first from cold), for the scene's target when it
+    has one; repeated ``a`` values are cached."""
 
     def __init__(self, scene: Scene, values: dict, group: pd.DataFrame):
         self.scene = scene
@@ -175,7 +176,7 @@ class _Evaluator:
         warm = None
         if self.results:
             warm = self.results[min(self.results, key=lambda b: abs(b - a))]
-        result = solve_case(case, warm)
+        result = solve_case(case, warm, self.scene.target)
         self.solves += 1
         self.results[a] = result
         return result.summary
