@@ -8,7 +8,7 @@ The engine's static answer is checked the way a pipelay engineer checks a lay:
 * **sagbend**, where the free span carries its moment (a load-controlled
   condition): the local-buckling check for combined loading of DNVGL-ST-F101
   (2017) Sec.5 [5.4.6], pipe members under bending moment, effective axial
-  force and external overpressure (valid for D/t2 <= 45, p_i < p_e)::
+  force and external overpressure (stated for 15 <= D/t2 <= 45, p_i < p_e)::
 
       {g |M_Sd| / (alpha_c M_p) + (g S_Sd / (alpha_c S_p))^2}^2
           + (g (p_e - p_min) / p_c)^2 <= 1,          g = gamma_m gamma_SC
@@ -56,7 +56,7 @@ FABRICATION_FACTORS = {"seamless": 1.00, "UO": 0.93, "TRB": 0.93, "ERW": 0.93, "
                        "UOE": 0.85}
 SAFETY_CLASSES = tuple(SAFETY_CLASS_FACTORS)
 MIN_OVALITY = 0.005  # Sec.5 [5.4.4.2], eq. 5.14: f0 not to be taken below 0.5 %
-MAX_LCC_SLENDERNESS = 45.0  # D/t2 up to which the load-controlled criterion applies
+LCC_SLENDERNESS = (15.0, 45.0)  # the D/t2 range the load-controlled criterion is stated for
 
 
 @dataclass(frozen=True, slots=True)
@@ -159,7 +159,7 @@ class Checks:
 
 def check_inputs(pipe, checks: Checks | None) -> None:
     """Refuse a ``[checks]`` table the pipe cannot be checked with: no
-    ``pipe.smts``, SMTS below SMYS, or D/t beyond the criterion's 45."""
+    ``pipe.smts``, SMTS below SMYS, or D/t outside the criterion's 15 to 45."""
     if checks is None:
         return
     if pipe.smts is None:
@@ -168,10 +168,11 @@ def check_inputs(pipe, checks: Checks | None) -> None:
     if pipe.smts < pipe.smys:
         fail("pipe.smts", pipe.smts, f"is below pipe.smys = {pipe.smys!r}")
     slenderness = pipe.outer_diameter / pipe.wall_thickness
-    if slenderness > MAX_LCC_SLENDERNESS:
+    lo, hi = LCC_SLENDERNESS
+    if not lo <= slenderness <= hi:
         fail("pipe.inner_diameter", pipe.inner_diameter,
-             f"makes D/t = {slenderness:.4g}, beyond {MAX_LCC_SLENDERNESS:g} where the "
-             "load-controlled check of DNVGL-ST-F101 [5.4.6] applies; remove [checks]")
+             f"makes D/t = {slenderness:.4g}, outside {lo:g} to {hi:g} where the "
+             "load-controlled check of DNVGL-ST-F101 [5.4.6] is stated; remove [checks]")
 
 
 def flow_stress_factor(slenderness: float, fy: float, fu: float) -> float:

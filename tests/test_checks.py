@@ -61,7 +61,8 @@ def test_changing_the_class_rederives_its_factor(tables):
      "unknown key checks.ovallity (did you mean checks.ovality?)"),
     (REQUIRED, {"smts": None}, "missing key pipe.smts"),
     (REQUIRED, {"smts": 400e6}, "pipe.smts = 400000000.0 is below pipe.smys"),
-    (REQUIRED, {"inner_diameter": 0.59}, "D/t = 61, beyond 45"),
+    (REQUIRED, {"inner_diameter": 0.59}, "D/t = 61, outside 15 to 45"),
+    (REQUIRED, {"inner_diameter": 0.52}, "D/t = 13.56, outside 15 to 45"),
 ])
 def test_bad_checks_are_refused_naming_the_key(tables, checks, pipe, message):
     new = _with(tables, checks, **pipe)
