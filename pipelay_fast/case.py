@@ -634,11 +634,11 @@ class Case:
             instance(part, getattr(self, part), cls)
         if self.checks is not None:
             instance("checks", self.checks, Checks)
-        check_inputs(self.pipe, self.checks)
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
-        check_case(self)
+        check_case(self)  # the model's limits first, then what the code checks need
+        check_inputs(self.pipe, self.checks)
 
     @property
     def weight_dry(self) -> float:
