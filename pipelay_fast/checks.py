@@ -24,11 +24,15 @@ The engine's static answer is checked the way a pipelay engineer checks a lay:
   corrosion allowance yet), and p_min, the least internal pressure sustained,
   is the case's contents pressure (0 for an empty pipe).
 
-Design load effects are M_Sd = gamma_F gamma_c M and S_Sd = gamma_F gamma_c Te
-(Sec.4 [4.4], design load effect of functional loads): the static answer,
-weight, tension and steady current drag together, is factored as a
-functional load effect. Splitting off the current's share to factor it by
-gamma_E needs a second solve without current and is not done.
+Design load effects (Sec.4 [4.4], the design load effect of functional and
+environmental loads) are M_Sd = gamma_F gamma_c M_F + gamma_E M_E and
+likewise S_Sd: the functional part M_F is the answer of the same case without
+current (weight and tension), the environmental part M_E = M - M_F the
+current's share (current is an environmental load, Sec.4 [4.3]), vectors of
+the moment added before the magnitude is taken. That costs a second solve of
+a case with a current; ``current_load = "functional"`` factors the whole
+static answer by gamma_F gamma_c instead, with one solve. The overbend strain
+is compared with its limit as computed (the limit is the project's).
 
 Characteristic strengths are f_y = SMYS alpha_U and f_u = SMTS alpha_U
 (Sec.5 [5.3.3.2], eq. 5.4 and 5.5) with no temperature derating: a lay is at
@@ -45,8 +49,9 @@ import numpy as np
 
 from pipelay_fast._validate import choice, fail, set_numbers
 
-__all__ = ["Checks", "FABRICATION_FACTORS", "SAFETY_CLASS_FACTORS", "check_inputs",
-           "collapse_pressure", "flow_stress_factor", "lcc_utilisation"]
+__all__ = ["CURRENT_LOADS", "Checks", "FABRICATION_FACTORS", "SAFETY_CLASS_FACTORS",
+           "check_inputs", "collapse_pressure", "design_load_effects", "flow_stress_factor",
+           "lcc_utilisation"]
 
 # DNVGL-ST-F101 (2017) Sec.5 Table 5-2: safety class resistance factor gamma_SC
 # for all checks but pressure containment
@@ -55,6 +60,7 @@ SAFETY_CLASS_FACTORS = {"low": 1.04, "medium": 1.14, "high": 1.26}
 FABRICATION_FACTORS = {"seamless": 1.00, "UO": 0.93, "TRB": 0.93, "ERW": 0.93, "HFW": 0.93,
                        "UOE": 0.85}
 SAFETY_CLASSES = tuple(SAFETY_CLASS_FACTORS)
+CURRENT_LOADS = ("environmental", "functional")  # how the current's load effects are factored
 MIN_OVALITY = 0.005  # Sec.5 [5.4.4.2], eq. 5.14: f0 not to be taken below 0.5 %
 LCC_SLENDERNESS = (15.0, 45.0)  # the D/t2 range the load-controlled criterion is stated for
 
@@ -93,9 +99,17 @@ class Checks:
     gamma_F : float
         Functional load effect factor [-]; default 1.1, load combination b,
         the local check (Sec.4 Table 4-4).
+    gamma_E : float
+        Environmental load effect factor [-]; default 1.3, load combination
+        b (Sec.4 Table 4-4).
     gamma_c : float
         Condition load effect factor [-]; default 1.00, "otherwise": not
         an uneven seabed, reeling or a pressure test (Sec.4 Table 4-5).
+    current_load : str
+        "environmental" (the default: the current is an environmental load,
+        Sec.4 [4.3]; its share of the load effects, found by solving the case
+        a second time without current, is factored by gamma_E) or
+        "functional" (the whole static answer by gamma_F gamma_c; one solve).
     alpha_U : float
         Material strength factor [-]; default 0.96, 1.00 with supplementary
         requirement U (Sec.5 Table 5-3).
@@ -109,12 +123,15 @@ class Checks:
     gamma_SC: float | None = None
     gamma_m: float = 1.15
     gamma_F: float = 1.1
+    gamma_E: float = 1.3
     gamma_c: float = 1.0
+    current_load: str = "environmental"
     alpha_U: float = 0.96
 
     def __post_init__(self):
         p = "checks"
         choice(f"{p}.safety_class", self.safety_class, SAFETY_CLASSES)
+        choice(f"{p}.current_load", self.current_load, CURRENT_LOADS)
         given = [name for name in ("alpha_fab", "fabrication") if getattr(self, name) is not None]
         if not given:
             raise ValueError(f"missing key {p}.alpha_fab (or {p}.fabrication): the fabrication "
@@ -126,7 +143,7 @@ class Checks:
             choice(f"{p}.fabrication", self.fabrication, tuple(FABRICATION_FACTORS))
         optional = [name for name in ("alpha_fab", "gamma_SC") if getattr(self, name) is not None]
         set_numbers(self, p, positive=("overbend_strain_limit", "ovality", "gamma_m", "gamma_F",
-                                       "gamma_c", "alpha_U", *optional))
+                                       "gamma_E", "gamma_c", "alpha_U", *optional))
         if self.ovality < MIN_OVALITY:
             fail(f"{p}.ovality", self.ovality, f"is below {MIN_OVALITY}, the least "
                  "DNVGL-ST-F101 eq. 5.14 allows")
@@ -153,8 +170,13 @@ class Checks:
 
     @property
     def load_factor(self) -> float:
-        """gamma_F gamma_c [-], the factor on every static load effect."""
+        """gamma_F gamma_c [-], the factor on functional load effects."""
         return self.gamma_F * self.gamma_c
+
+    def splits_current(self, case) -> bool:
+        """Whether ``case``'s current is factored apart (it has one, and
+        ``current_load`` is "environmental")."""
+        return self.current_load == "environmental" and case.environment.current.speed > 0.0
 
 
 def check_inputs(pipe, checks: Checks | None) -> None:
@@ -192,7 +214,7 @@ def collapse_pressure(pipe, checks: Checks) -> float:
     The cubic (p_c - p_el)(p_c^2 - p_p^2) = p_c p_el p_p f0 D/t, written
     p^3 - p_el p^2 - (p_p^2 + p_el p_p f0 D/t) p + p_el p_p^2 = 0, has three
     real roots; p_c is the one below both p_el and p_p (the cubic is positive
-    at 0 and negative at min(p_el, p_p)), found by bisection then Newton.
+    at 0 and negative at min(p_el, p_p)), found by bisection to 1e-14.
     """
     d, t = pipe.outer_diameter, pipe.wall_thickness
     fy = pipe.smys * checks.alpha_U
@@ -215,11 +237,28 @@ def collapse_pressure(pipe, checks: Checks) -> float:
     return 0.5 * (lo + hi)
 
 
-def lcc_utilisation(pipe, checks: Checks, moment, effective_tension, external_pressure,
+def design_load_effects(checks: Checks, moment, tension, functional=None):
+    """(|M_Sd| [N m], S_Sd [N]) per section from the moment vectors ``moment``
+    (shape (n, 3)) and effective tensions ``tension``; ``functional``: the
+    same of the functional load case (weight and tension alone), whose
+    difference from the total is the environmental share. None: all
+    functional."""
+    moment = np.asarray(moment, dtype=float)
+    tension = np.asarray(tension, dtype=float)
+    if functional is None:
+        return checks.load_factor * np.linalg.norm(moment, axis=1), checks.load_factor * tension
+    m_f, t_f = (np.asarray(v, dtype=float) for v in functional)
+    m_sd = checks.load_factor * m_f + checks.gamma_E * (moment - m_f)
+    s_sd = checks.load_factor * t_f + checks.gamma_E * (tension - t_f)
+    return np.linalg.norm(m_sd, axis=1), s_sd
+
+
+def lcc_utilisation(pipe, checks: Checks, design_moment, design_tension, external_pressure,
                     internal_pressure):
     """Left-hand side of the load-controlled criterion [-] per section.
 
-    ``moment`` |M| [N m], ``effective_tension`` Te [N], pressures [Pa]: arrays
+    ``design_moment`` |M_Sd| [N m] and ``design_tension`` S_Sd [N] (the
+    factored effects, :func:`design_load_effects`), pressures [Pa]: arrays
     of one value per section. NaN where the contents pressure exceeds the
     external one (the internal-overpressure form, not evaluated).
     """
@@ -229,9 +268,8 @@ def lcc_utilisation(pipe, checks: Checks, moment, effective_tension, external_pr
     m_p = fy * (d - t) ** 2 * t
     s_p = fy * math.pi * (d - t) * t
     g = checks.resistance_factor
-    load = checks.load_factor
-    m_sd = load * np.abs(np.asarray(moment, dtype=float))
-    s_sd = load * np.asarray(effective_tension, dtype=float)
+    m_sd = np.abs(np.asarray(design_moment, dtype=float))
+    s_sd = np.asarray(design_tension, dtype=float)
     over = np.asarray(external_pressure, dtype=float) - np.asarray(internal_pressure, dtype=float)
     bending = g * m_sd / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2
     value = bending**2 + (g * over / collapse_pressure(pipe, checks)) ** 2

@@ -11,9 +11,10 @@ import math
 
 import numpy as np
 
-from .checks import lcc_utilisation
+from .checks import design_load_effects, lcc_utilisation
 
-__all__ = ["DESIGN_UNITS", "design_columns", "hermite_point", "tip_clearance"]
+__all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "hermite_point",
+           "lcc_profile", "tip_clearance"]
 
 DESIGN_UNITS = {
     "layback": "m", "tip_clearance": "m", "departure_angle_deg": "deg", "tdp_tension": "N",
@@ -77,6 +78,53 @@ def tip_clearance(r, rp, s, tip, up) -> float:
     return math.copysign(float(np.linalg.norm(point - tip)), float(np.dot(point - tip, up)))
 
 
+def _moment_vectors(cols: dict) -> np.ndarray:
+    """The moment vectors of a profile (with a torque, it is in them: its
+    check is then on the moment's magnitude with the torque, conservative)."""
+    return np.stack([cols["moment_x"], cols["moment_y"], cols["moment_z"]], axis=1)
+
+
+def functional_effects(case, cols: dict):
+    """(moment vectors [N m], effective tensions [N]) of ``case`` without its
+    current (weight and tension: the functional load case), at the sections
+    of the profile ``cols``, matched by unstretched length from the top (the
+    top is the same point in both). Solves that case (the plain
+    :func:`pipelay_fast.solve`, from its own guess).
+
+    Raises
+    ------
+    SolveError
+        When the case without current does not solve.
+    """
+    from .solver import SolveError, solve
+
+    try:
+        still = solve(case.with_changes({"environment.current": None})).columns
+    except SolveError as err:
+        raise SolveError(f"case {case.name!r}: its functional load case (no current, for "
+                         f"checks.current_load = 'environmental') did not solve: {err}") from err
+    down, still_down = cols["s"][-1] - cols["s"], still["s"][-1] - still["s"]
+    order = np.argsort(still_down)
+    moment = np.stack([np.interp(down, still_down[order], m[order])
+                       for m in _moment_vectors(still).T], axis=1)
+    tension = np.interp(down, still_down[order], still["effective_tension"][order])
+    return moment, tension
+
+
+def lcc_profile(case, cols: dict) -> np.ndarray:
+    """The load-controlled utilisation [-] of every section of the profile
+    ``cols`` (:func:`pipelay_fast.checks.lcc_utilisation` of the design load
+    effects); NaN without ``[checks]``."""
+    checks = case.checks
+    if checks is None:
+        return np.full(cols["s"].size, math.nan)
+    functional = functional_effects(case, cols) if checks.splits_current(case) else None
+    m_sd, s_sd = design_load_effects(checks, _moment_vectors(cols), cols["effective_tension"],
+                                     functional)
+    return lcc_utilisation(case.pipe, checks, m_sd, s_sd, case.external_pressure(cols["x"]),
+                           case.internal_pressure(cols["x"]))
+
+
 def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
                    bearing: bool, departure_angle: float) -> dict:
     """The columns of ``DESIGN_UNITS`` of a solved case.
@@ -119,9 +167,7 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
     over_u = sag_u = nan
     if checks is not None:
         over_u = over_strain / checks.overbend_strain_limit
-        lcc = lcc_utilisation(pipe, checks, cols["moment"], cols["effective_tension"],
-                              case.external_pressure(cols["x"]),
-                              case.internal_pressure(cols["x"]))
+        lcc = lcc_profile(case, cols)
         if sagbend is None:
             sag_u = interior_peak(np.nan_to_num(lcc[behind], nan=0.0))
         elif sagbend.any():

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .checks import lcc_utilisation
+from .design import lcc_profile
 
 __all__ = ["plot_result", "plot_sweep", "save"]
 
@@ -105,10 +105,8 @@ def _utilisation_panel(ax, case, cols):
         ax.plot(s, 100.0 * fibre, color="C4")
         ax.set(xlabel="s [m]", ylabel="strain [%]", title="extreme-fibre strain")
         return
-    lcc = lcc_utilisation(case.pipe, checks, cols["moment"], cols["effective_tension"],
-                          case.external_pressure(cols["x"]), case.internal_pressure(cols["x"]))
     ax.plot(s, fibre / checks.overbend_strain_limit, color="C4", label="strain / limit")
-    ax.plot(s, lcc, color="C5", label="load-controlled (DNVGL-ST-F101)")
+    ax.plot(s, lcc_profile(case, cols), color="C5", label="load-controlled (DNVGL-ST-F101)")
     ax.axhline(1.0, color="C3", lw=1.0, ls="--")
     ax.set(xlabel="s [m]", ylabel="utilisation [-]")
     ax.legend(loc="upper left", fontsize="small")

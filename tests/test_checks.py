@@ -31,8 +31,9 @@ def _with(tables, checks=None, **pipe):
 def test_defaults_name_their_tables(tables):
     checks = pf.load_case(_with(tables, REQUIRED)).checks
     assert (checks.safety_class, checks.safety_factor, checks.gamma_m, checks.gamma_F,
-            checks.gamma_c, checks.alpha_U, checks.fabrication_factor) == (
-        "low", 1.04, 1.15, 1.1, 1.0, 0.96, 0.85)
+            checks.gamma_E, checks.gamma_c, checks.alpha_U, checks.fabrication_factor,
+            checks.current_load) == ("low", 1.04, 1.15, 1.1, 1.3, 1.0, 0.96, 0.85,
+                                     "environmental")
     high = pf.load_case(_with(tables, {**REQUIRED, "safety_class": "high"})).checks
     assert high.safety_factor == 1.26
     assert Checks(**{**REQUIRED, "gamma_SC": 1.2}).resistance_factor == pytest.approx(1.15 * 1.2)
@@ -56,6 +57,8 @@ def test_changing_the_class_rederives_its_factor(tables):
     ({**REQUIRED, "fabrication": "spiral"}, {}, "checks.fabrication = 'spiral' must be one of"),
     ({**REQUIRED, "safety_class": "normal"}, {}, "checks.safety_class = 'normal' must be one of"),
     ({**REQUIRED, "alpha_U": 1.1}, {}, "checks.alpha_U = 1.1 must not exceed 1"),
+    ({**REQUIRED, "current_load": "steady"}, {},
+     "checks.current_load = 'steady' must be one of 'environmental', 'functional'"),
     ({**REQUIRED, "gamma_m": -1.0}, {}, "checks.gamma_m = -1.0 must be positive"),
     ({**REQUIRED, "ovallity": 0.01}, {},
      "unknown key checks.ovallity (did you mean checks.ovality?)"),
@@ -108,10 +111,11 @@ def test_flow_stress_factor_branches():
 
 
 def test_lcc_pure_bending_and_pure_pressure():
-    """Each term alone: M_Sd = M_p alpha_c / g gives 1; p_e = p_c / g gives 1;
+    """Each term alone (design effects given): M_Sd = M_p alpha_c / g gives
+    1; p_e = p_c / g gives 1;
     contents pressure above the external one gives NaN (not this form)."""
     pipe = pf.case.Pipe(outer_diameter=0.61, inner_diameter=0.58, smts=531e6)
-    checks = Checks(**{**REQUIRED, "gamma_F": 1.0})
+    checks = Checks(**REQUIRED)
     d, t = 0.61, 0.015
     fy, fu = 448e6 * 0.96, 531e6 * 0.96
     alpha_c = flow_stress_factor(d / t, fy, fu)
