@@ -11,15 +11,16 @@ import math
 
 import numpy as np
 
-from .checks import design_load_effects, lcc_utilisation
+from .checks import design_load_effects, lcc_axial_ratio, lcc_utilisation
 
 __all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "hermite_point",
-           "lcc_profile", "tip_clearance"]
+           "lcc_profile", "lcc_sections", "tip_clearance"]
 
 DESIGN_UNITS = {
     "layback": "m", "tip_clearance": "m", "departure_angle_deg": "deg", "tdp_tension": "N",
     "overbend_max_strain": "-", "sagbend_max_strain": "-",
-    "overbend_strain_utilisation": "-", "sagbend_lcc_utilisation": "-", "max_utilisation": "-",
+    "overbend_strain_utilisation": "-", "sagbend_lcc_utilisation": "-",
+    "sagbend_lcc_axial_ratio": "-", "max_utilisation": "-",
 }
 
 
@@ -111,18 +112,36 @@ def functional_effects(case, cols: dict):
     return moment, tension
 
 
-def lcc_profile(case, cols: dict) -> np.ndarray:
-    """The load-controlled utilisation [-] of every section of the profile
-    ``cols`` (:func:`pipelay_fast.checks.lcc_utilisation` of the design load
-    effects); NaN without ``[checks]``."""
+def lcc_sections(case, cols: dict):
+    """(utilisation [-], |S_Sd|/S_p [-]) of every section of the profile
+    ``cols``: the load-controlled criterion
+    (:func:`pipelay_fast.checks.lcc_utilisation`) of the design load effects
+    under the load effect factor combination giving the larger utilisation
+    there (:attr:`pipelay_fast.checks.Checks.load_combinations`), and that
+    combination's axial ratio (:func:`pipelay_fast.checks.lcc_axial_ratio`);
+    NaN without ``[checks]``."""
     checks = case.checks
     if checks is None:
-        return np.full(cols["s"].size, math.nan)
+        nan = np.full(cols["s"].size, math.nan)
+        return nan, nan.copy()
     functional = functional_effects(case, cols) if checks.splits_current(case) else None
-    m_sd, s_sd = design_load_effects(checks, _moment_vectors(cols), cols["effective_tension"],
-                                     functional)
-    return lcc_utilisation(case.pipe, checks, m_sd, s_sd, case.external_pressure(cols["x"]),
-                           case.internal_pressure(cols["x"]))
+    moments, tension = _moment_vectors(cols), cols["effective_tension"]
+    p_e, p_i = case.external_pressure(cols["x"]), case.internal_pressure(cols["x"])
+    utilisation, ratio = [], []
+    for combination in checks.load_combinations:
+        m_sd, s_sd = design_load_effects(checks, combination, moments, tension, functional)
+        utilisation.append(lcc_utilisation(case.pipe, checks, m_sd, s_sd, p_e, p_i))
+        ratio.append(lcc_axial_ratio(case.pipe, checks, s_sd))
+    utilisation, ratio = np.array(utilisation), np.array(ratio)
+    governing = np.argmax(np.nan_to_num(utilisation, nan=-np.inf), axis=0)
+    at = np.arange(cols["s"].size)
+    return utilisation[governing, at], ratio[governing, at]
+
+
+def lcc_profile(case, cols: dict) -> np.ndarray:
+    """The load-controlled utilisation [-] of every section of the profile
+    ``cols``, the first of :func:`lcc_sections`; NaN without ``[checks]``."""
+    return lcc_sections(case, cols)[0]
 
 
 def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
@@ -164,14 +183,18 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
         sag_strain = interior_peak(fibre[behind])
     else:
         sag_strain = float(fibre[sagbend].max()) if sagbend.any() else nan
-    over_u = sag_u = nan
+    over_u = sag_u = sag_axial = nan
     if checks is not None:
         over_u = over_strain / checks.overbend_strain_limit
-        lcc = lcc_profile(case, cols)
+        lcc, lcc_axial = lcc_sections(case, cols)
+        region = behind if sagbend is None else sagbend
+        checked = np.nan_to_num(lcc[region], nan=0.0)
         if sagbend is None:
-            sag_u = interior_peak(np.nan_to_num(lcc[behind], nan=0.0))
+            sag_u = interior_peak(checked)
         elif sagbend.any():
-            sag_u = float(np.nanmax(lcc[sagbend], initial=0.0))
+            sag_u = float(checked.max(initial=0.0))
+        if region.any() and sag_u > 0.0:
+            sag_axial = float(lcc_axial[region][np.argmax(checked == sag_u)])
     values = [u for u in (over_u, sag_u) if not math.isnan(u)]
     return {
         "layback": float(layback),
@@ -182,5 +205,6 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
         "sagbend_max_strain": sag_strain,
         "overbend_strain_utilisation": over_u,
         "sagbend_lcc_utilisation": sag_u,
+        "sagbend_lcc_axial_ratio": sag_axial,
         "max_utilisation": max(values) if values else nan,
     }

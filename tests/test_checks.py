@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.checks import Checks, collapse_pressure, flow_stress_factor, lcc_utilisation
+from pipelay_fast.checks import (Checks, collapse_pressure, flow_stress_factor, lcc_axial_ratio,
+                                 lcc_utilisation)
 from tests.helpers import EXAMPLES
 
 REQUIRED = {"overbend_strain_limit": 0.0025, "ovality": 0.01, "fabrication": "UOE"}
@@ -32,8 +33,12 @@ def test_defaults_name_their_tables(tables):
     checks = pf.load_case(_with(tables, REQUIRED)).checks
     assert (checks.safety_class, checks.safety_factor, checks.gamma_m, checks.gamma_F,
             checks.gamma_E, checks.gamma_c, checks.alpha_U, checks.fabrication_factor,
-            checks.current_load) == ("low", 1.04, 1.15, 1.1, 1.3, 1.0, 0.96, 0.85,
+            checks.current_load) == ("low", 1.04, 1.15, None, None, 1.0, 0.96, 0.85,
                                      "environmental")
+    # DNVGL-ST-F101 Table 4-4, ULS: a) 1.2, 0.7 (system check), b) 1.1, 1.3 (local check)
+    assert checks.load_combinations == ((1.2, 0.7), (1.1, 1.3))
+    pair = Checks(**{**REQUIRED, "gamma_F": 1.1, "gamma_E": 1.3})
+    assert pair.load_combinations == ((1.1, 1.3),)
     high = pf.load_case(_with(tables, {**REQUIRED, "safety_class": "high"})).checks
     assert high.safety_factor == 1.26
     assert Checks(**{**REQUIRED, "gamma_SC": 1.2}).resistance_factor == pytest.approx(1.15 * 1.2)
@@ -60,6 +65,9 @@ def test_changing_the_class_rederives_its_factor(tables):
     ({**REQUIRED, "current_load": "steady"}, {},
      "checks.current_load = 'steady' must be one of 'environmental', 'functional'"),
     ({**REQUIRED, "gamma_m": -1.0}, {}, "checks.gamma_m = -1.0 must be positive"),
+    ({**REQUIRED, "gamma_F": 1.1}, {}, "missing key checks.gamma_E"),
+    ({**REQUIRED, "gamma_E": 1.3}, {}, "missing key checks.gamma_F"),
+    ({**REQUIRED, "gamma_F": 1.1, "gamma_E": 0.0}, {}, "checks.gamma_E = 0.0 must be positive"),
     ({**REQUIRED, "ovallity": 0.01}, {},
      "unknown key checks.ovallity (did you mean checks.ovality?)"),
     (REQUIRED, {"smts": None}, "missing key pipe.smts"),
@@ -112,8 +120,10 @@ def test_flow_stress_factor_branches():
 
 def test_lcc_pure_bending_and_pure_pressure():
     """Each term alone (design effects given): M_Sd = M_p alpha_c / g gives
-    1; p_e = p_c / g gives 1;
-    contents pressure above the external one gives NaN (not this form)."""
+    1; p_e = p_c / g gives 1; S_Sd just below 0.4 S_p gives
+    (g 0.4 / alpha_c)^4; just above 0.4 S_p (either sign) the criterion is
+    not stated and gives +inf; contents pressure above the external one gives
+    NaN (not this form)."""
     pipe = pf.case.Pipe(outer_diameter=0.61, inner_diameter=0.58, smts=531e6)
     checks = Checks(**REQUIRED)
     d, t = 0.61, 0.015
@@ -122,7 +132,12 @@ def test_lcc_pure_bending_and_pure_pressure():
     g = 1.15 * 1.04
     m = fy * (d - t) ** 2 * t * alpha_c / g
     p_c = collapse_pressure(pipe, checks)
-    u = lcc_utilisation(pipe, checks, [m, 0.0, 0.0], [0.0, 0.0, 0.0],
-                        [0.0, p_c / g, 1e5], [0.0, 0.0, 2e5])
+    s_p = fy * np.pi * (d - t) * t
+    s_sd = [0.0, 0.0, 0.0, 0.4 * s_p, -0.4 * s_p]
+    u = lcc_utilisation(pipe, checks, [m, 0.0, 0.0, 0.0, 0.0], s_sd,
+                        [0.0, p_c / g, 1e5, 0.0, 0.0], [0.0, 0.0, 2e5, 0.0, 0.0])
     assert u[:2] == pytest.approx([1.0, 1.0], rel=1e-12)
     assert np.isnan(u[2])
+    assert u[3:] == pytest.approx([(g * 0.4 / alpha_c) ** 4] * 2, rel=1e-12)
+    ratio = lcc_axial_ratio(pipe, checks, s_sd)
+    assert ratio == pytest.approx([0.0, 0.0, 0.0, 0.4, 0.4], rel=1e-12)

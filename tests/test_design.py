@@ -19,7 +19,7 @@ CHECKS = {"checks.overbend_strain_limit": 0.0025, "checks.ovality": 0.01,
           "checks.fabrication": "UOE", "checks.current_load": "functional", "pipe.smts": 531e6}
 DESIGN = ("layback", "tip_clearance", "departure_angle_deg", "tdp_tension",
           "overbend_max_strain", "sagbend_max_strain", "overbend_strain_utilisation",
-          "sagbend_lcc_utilisation", "max_utilisation")
+          "sagbend_lcc_utilisation", "sagbend_lcc_axial_ratio", "max_utilisation")
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +67,8 @@ def test_jlay_layback_tension_angle_match_elastica(j125_stiff):
 
 def test_no_checks_leaves_utilisations_nan(s67):
     sm = pf.solve(s67).summary
-    for key in ("overbend_strain_utilisation", "sagbend_lcc_utilisation", "max_utilisation"):
+    for key in ("overbend_strain_utilisation", "sagbend_lcc_utilisation",
+                "sagbend_lcc_axial_ratio", "max_utilisation"):
         assert math.isnan(sm[key]), key
     assert set(DESIGN) <= set(pf.results.SUMMARY_UNITS)
 
@@ -163,12 +164,18 @@ def _sagbend(sm, p):
     return beyond & ~hog & (s <= np.interp(sm["liftoff_z"], p["z"], p["s"]))
 
 
+# DNVGL-ST-F101 Table 4-4, ULS load effect factor combinations (gamma_F, gamma_E)
+COMBINATIONS = ((1.2, 0.7), (1.1, 1.3))
+
+
 def test_current_factored_as_environmental_by_hand():
     """The default current_load: the functional effects are those of the
     case without current (solved here), matched by length from the top; the
-    design moment 1.1 M_F + 1.3 (M - M_F) (gamma_F gamma_c, gamma_E) and the
-    same for the effective force. The current raises the utilisation more
-    than factoring it as functional does."""
+    design moment gamma_F gamma_c M_F + gamma_E (M - M_F) and the same for
+    the effective force, for combinations a (1.2, 0.7) and b (1.1, 1.3),
+    node by node the larger. Under combination b alone the current raises
+    the utilisation more than factoring it as functional does (gamma_E 1.3
+    above gamma_F 1.1)."""
     case = pf.load_case(EXAMPLES / "s67.toml").with_changes(
         {**CHECKS, "checks.current_load": None})
     assert case.checks.current_load == "environmental"
@@ -179,19 +186,24 @@ def test_current_factored_as_environmental_by_hand():
     t_f = np.interp(from_top, still_from_top[::-1], still["effective_tension"][::-1])
     m = p["moment_y"].to_numpy()
     te = p["effective_tension"].to_numpy()
-    lcc = _lcc_by_hand(p, 1.1 * m_f + 1.3 * (m - m_f), 1.1 * t_f + 1.3 * (te - t_f))
+    lcc = np.max([_lcc_by_hand(p, g_f * m_f + g_e * (m - m_f), g_f * t_f + g_e * (te - t_f))
+                  for g_f, g_e in COMBINATIONS], axis=0)
     sag = _sagbend(sm, p)
     assert sm["sagbend_lcc_utilisation"] == pytest.approx(lcc[sag].max(), rel=1e-9)
-    functional = pf.solve(case.with_changes({"checks.current_load": "functional"})).summary
-    assert sm["sagbend_lcc_utilisation"] > functional["sagbend_lcc_utilisation"]
+    only_b = case.with_changes({"checks.gamma_F": 1.1, "checks.gamma_E": 1.3})
+    environmental = pf.solve(only_b).summary
+    functional = pf.solve(only_b.with_changes({"checks.current_load": "functional"})).summary
+    assert environmental["sagbend_lcc_utilisation"] > functional["sagbend_lcc_utilisation"]
 
 
 def test_strain_and_lcc_utilisation_by_hand():
     """S67 with its current, lifting off: the overbend strain utilisation and
     the sagbend LCC utilisation evaluated here, node by node, from the
     profile and the inputs: DNV-ST-F101 [5.4.6] external-overpressure form,
-    gamma_m = 1.15, gamma_SC = 1.04 (low), gamma_F = 1.1, gamma_c = 1,
-    alpha_U = 0.96, alpha_fab = 0.85 (UOE), f0 = 0.01, t2 = t."""
+    gamma_m = 1.15, gamma_SC = 1.04 (low), gamma_c = 1, alpha_U = 0.96,
+    alpha_fab = 0.85 (UOE), f0 = 0.01, t2 = t; everything functional, so of
+    combinations a (gamma_F = 1.2) and b (1.1) a governs; given the pair
+    (1.1, 1.3), b alone is checked."""
     case = pf.load_case(EXAMPLES / "s67.toml").with_changes(CHECKS)
     result = pf.solve(case)
     sm, p = result.summary, result.profile
@@ -210,10 +222,21 @@ def test_strain_and_lcc_utilisation_by_hand():
     assert sm["sagbend_max_strain"] == pytest.approx(strain[sag].max(), rel=1e-12)
     assert sm["overbend_strain_utilisation"] == pytest.approx(strain[hog].max() / 0.0025,
                                                               rel=1e-12)
-    load = 1.1 * 1.0
-    lcc = _lcc_by_hand(p, load * p["moment"].to_numpy(),
-                       load * p["effective_tension"].to_numpy())
+    by_factor = {g_f: _lcc_by_hand(p, g_f * 1.0 * p["moment"].to_numpy(),
+                                   g_f * 1.0 * p["effective_tension"].to_numpy())
+                 for g_f, _ in COMBINATIONS}
+    lcc = np.maximum(by_factor[1.2], by_factor[1.1])
     assert sm["sagbend_lcc_utilisation"] == pytest.approx(lcc[sag].max(), rel=1e-9)
+    assert sm["sagbend_lcc_utilisation"] == pytest.approx(by_factor[1.2][sag].max(), rel=1e-9)
+    # |S_Sd|/S_p at the peak, S_p = f_y pi (D - t) t: well inside the stated 0.4
+    peak = np.flatnonzero(sag)[np.argmax(lcc[sag])]
+    s_p = 448e6 * 0.96 * math.pi * (d - t) * t
+    axial = 1.2 * abs(p["effective_tension"].to_numpy()[peak]) / s_p
+    assert sm["sagbend_lcc_axial_ratio"] == pytest.approx(axial, rel=1e-9)
+    assert 0.0 < sm["sagbend_lcc_axial_ratio"] < 0.4
+    only_b = pf.solve(case.with_changes({"checks.gamma_F": 1.1, "checks.gamma_E": 1.3})).summary
+    assert only_b["sagbend_lcc_utilisation"] == pytest.approx(by_factor[1.1][sag].max(),
+                                                              rel=1e-9)
     assert sm["max_utilisation"] == max(sm["overbend_strain_utilisation"],
                                         sm["sagbend_lcc_utilisation"])
     assert 0.0 < sm["sagbend_lcc_utilisation"] < 1.0
