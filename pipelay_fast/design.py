@@ -47,36 +47,52 @@ def hermite_point(r, rp, s, k, xi: float, derivative: int = 0) -> np.ndarray:
 NEWTON_STEPS = 20  # for the foot of the normal; it converges in 3 to 5
 
 
+def _hermite_power(r, rp, s, k):
+    """Power-basis coefficients (c0, c1, c2, c3), each shape (len(k), dim),
+    of the cubic Hermite of elements ``k`` in xi in [0, 1]: the centreline
+    [m] is c0 + c1 xi + c2 xi^2 + c3 xi^3 (nodal slopes scaled by the element
+    length)."""
+    le = (s[k + 1] - s[k])[:, None]
+    p0, p1, m0, m1 = r[k], r[k + 1], le * rp[k], le * rp[k + 1]
+    return p0, m0, 3.0 * (p1 - p0) - 2.0 * m0 - m1, 2.0 * (p0 - p1) + m0 + m1
+
+
 def tip_clearance(r, rp, s, tip, up) -> float:
     """Distance [m] from the point ``tip`` to the pipe's centreline, signed by
     the side of ``up`` (the stinger's outward normal there) it lies on.
 
     The centreline is each element's cubic Hermite. The nearest point is
-    sought on the four elements around the node nearest the tip: sampled at
-    33 points each, then refined by Newton on the foot-of-normal condition
-    (r - tip) . r' = 0, so the distance is normal to the pipe.
+    sought on the four elements around the node nearest the tip, all at
+    once: each sampled at 33 points, then refined from its nearest sample by
+    Newton on the foot-of-normal condition (r - tip) . dr/dxi = 0 (xi kept
+    in [0, 1]), so the distance is normal to the pipe; the nearest of the
+    refined points is the answer.
     """
     near = int(np.argmin(np.linalg.norm(r - tip, axis=1)))
     elements = np.arange(max(near - 2, 0), min(near + 2, s.size - 1))
-    xi = np.linspace(0.0, 1.0, 33)
-    pts = hermite_point(r, rp, s, elements[:, None], xi[None, :])
-    dist = np.linalg.norm(pts - tip, axis=2)
-    i, j = np.unravel_index(np.argmin(dist), dist.shape)
-    k, x = int(elements[i]), float(xi[j])
-    le = s[k + 1] - s[k]
+    c0, c1, c2, c3 = (c[:, None, :] for c in _hermite_power(r, rp, s, elements))
+    xi = np.linspace(0.0, 1.0, 33)[None, :, None]
+    gaps = ((c3 * xi + c2) * xi + c1) * xi + c0 - tip
+    x = xi[0, np.argmin((gaps * gaps).sum(axis=2), axis=1), 0]  # each element's nearest sample
+    c0, c1, c2, c3 = (c[:, 0, :] for c in (c0, c1, c2, c3))
+    moving = np.ones(x.size, dtype=bool)
     for _ in range(NEWTON_STEPS):
-        gap = hermite_point(r, rp, s, k, x) - tip
-        slope = hermite_point(r, rp, s, k, x, 1)
-        foot = float(gap @ slope)
-        rate = float(slope @ slope + gap @ hermite_point(r, rp, s, k, x, 2)) * le
-        if rate <= 0.0:
+        xs = x[:, None]
+        gap = ((c3 * xs + c2) * xs + c1) * xs + c0 - tip
+        slope = (3.0 * c3 * xs + 2.0 * c2) * xs + c1
+        rate = (slope * slope + gap * (6.0 * c3 * xs + 2.0 * c2)).sum(axis=1)
+        moving &= rate > 0.0
+        step = (gap * slope).sum(axis=1) / np.where(moving, rate, 1.0)
+        new = np.where(moving, np.minimum(np.maximum(x - step, 0.0), 1.0), x)
+        moving &= np.abs(new - x) >= 1e-13
+        x = new
+        if not moving.any():
             break
-        step = foot / rate
-        x = min(max(x - step, 0.0), 1.0)
-        if abs(step) < 1e-13:
-            break
-    point = hermite_point(r, rp, s, k, x)
-    return math.copysign(float(np.linalg.norm(point - tip)), float(np.dot(point - tip, up)))
+    xs = x[:, None]
+    gaps = ((c3 * xs + c2) * xs + c1) * xs + c0 - tip
+    lengths = np.linalg.norm(gaps, axis=1)
+    best = int(np.argmin(lengths))
+    return math.copysign(float(lengths[best]), float(gaps[best] @ up))
 
 
 def _moment_vectors(cols: dict) -> np.ndarray:

@@ -249,3 +249,26 @@ def test_jlay_lcc_is_interior_peak():
     sm = pf.solve(case).summary
     assert math.isnan(sm["overbend_strain_utilisation"])
     assert sm["max_utilisation"] == sm["sagbend_lcc_utilisation"] > 0.0
+
+
+def test_power_basis_is_the_hermite(s67):
+    """tip_clearance's power-basis coefficients give the same centreline as
+    the Hermite basis of hermite_point, its slope and its curvature too."""
+    from pipelay_fast.design import _hermite_power, hermite_point
+
+    p = pf.solve(s67.with_changes({"lay.stinger.a": -0.0014})).profile
+    s = p["s"].to_numpy()
+    th = np.radians(p["angle_deg"].to_numpy())
+    r = np.stack([p["x"].to_numpy(), p["z"].to_numpy()], axis=1)
+    rp = np.stack([np.sin(th), np.cos(th)], axis=1)
+    k = np.arange(s.size - 1)
+    c0, c1, c2, c3 = _hermite_power(r, rp, s, k)
+    le = (s[1:] - s[:-1])[:, None]
+    for xi in (0.0, 0.3, 0.77, 1.0):
+        scale = max(np.abs(r).max(), 1.0)
+        np.testing.assert_allclose(((c3 * xi + c2) * xi + c1) * xi + c0,
+                                   hermite_point(r, rp, s, k, xi), rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(((3 * c3 * xi + 2 * c2) * xi + c1) / le,
+                                   hermite_point(r, rp, s, k, xi, 1), rtol=0, atol=1e-12)
+        np.testing.assert_allclose((6 * c3 * xi + 2 * c2) / le**2,
+                                   hermite_point(r, rp, s, k, xi, 2), rtol=0, atol=1e-12)
