@@ -33,12 +33,13 @@ The engine's static answer is checked the way a pipelay engineer checks a lay:
   the system-collapse check alone t1), and p_min, the least internal pressure
   sustained, is the case's contents pressure (0 for an empty pipe).
 
-Design load effects (Sec.4 [4.4], eq. 4.5) are L_Sd = gamma_F gamma_c L_F +
-gamma_E L_E for the moment M and the effective axial force S: the functional
-part L_F is the answer of the same case without current (weight and
-tension), the environmental part L_E = L - L_F the current's share (current
-is an environmental load, Sec.4 [4.3]; OrcaFlex's F101 check likewise takes
-the functional load case as the static state without drag from current),
+Design load effects (Sec.4, the design load effect of the load effect
+factor combinations) are L_Sd = gamma_F gamma_c L_F + gamma_E L_E for the
+moment M and the effective axial force S: the functional part L_F is the
+answer of the same case without current (weight and tension), the
+environmental part L_E = L - L_F the current's share (current is among
+Sec.4's environmental loads; OrcaFlex's F101 code check likewise takes the
+functional load case as a static state without drag from current),
 vectors of the moment added before the magnitude is taken. That costs a
 second solve of a case with a current; ``current_load = "functional"``
 factors the whole static answer by gamma_F gamma_c instead, with one solve.
@@ -58,13 +59,13 @@ numbers of Sec.5 (Tables 5-1 to 5-4, eq. 5.4, 5.5, 5.11 to 5.14) as cited by
 PDover2t (github.com/qwilka/PDover2t, pdover2t/dnvgl_st_f101/factor.py,
 material.py, pipe_collapse.py: gamma_m 1.15 ULS, gamma_SC 1.04/1.14/1.26,
 alpha_U 0.96/1.00, alpha_fab 1.00/0.93/0.85, the collapse cubic, f0 >=
-0.005); the two ULS combinations (1.2, 0.7) and (1.1, 1.3) as OrcaFlex users
-loop them for the "DNV OS F101 Load Controlled" result; Flexcom's code-check
-defaults gamma_F 1.1, gamma_E 1.3 (flexcom.fea.solutions,
-kwd_codechecking_loadfactor.html); the functional load case without current
+0.005); Flexcom's code-check defaults gamma_F 1.1, gamma_E 1.3, combination
+b (flexcom.fea.solutions/kwd_codechecking_loadfactor.html); the functional
+load case without current
 (orcina.com/webhelp/OrcaFlex/Content/html/Codechecks,DNVfunctionalload.htm).
-The criterion's form, its validity range and Tables 4-4, 4-5 and 2-4 were
-checked against the 2017 edition's text as remembered, not a stored copy.
+The criterion's form and validity range, combination a of Table 4-4 and
+Tables 4-5 and 2-4 were checked against the 2017 edition's text as
+remembered: no stored copy of the standard was found to confirm them.
 """
 
 from __future__ import annotations
@@ -77,8 +78,8 @@ import numpy as np
 from pipelay_fast._validate import choice, fail, set_numbers
 
 __all__ = ["CURRENT_LOADS", "Checks", "FABRICATION_FACTORS", "LCC_AXIAL_LIMIT",
-           "LOAD_COMBINATIONS", "SAFETY_CLASS_FACTORS", "check_inputs", "collapse_pressure", "design_load_effects", "flow_stress_factor",
-           "lcc_axial_ratio", "lcc_utilisation"]
+           "LOAD_COMBINATIONS", "SAFETY_CLASS_FACTORS", "check_inputs", "collapse_pressure",
+           "design_load_effects", "flow_stress_factor", "lcc_axial_ratio", "lcc_utilisation"]
 
 # DNVGL-ST-F101 (2017) Sec.5 Table 5-2: safety class resistance factor gamma_SC
 # for all checks but pressure containment
@@ -138,7 +139,7 @@ class Checks:
         on and J-tube pull-in, 0.93 the system pressure test).
     current_load : str
         "environmental" (the default: the current is an environmental load,
-        Sec.4 [4.3]; its share of the load effects, found by solving the case
+        Sec.4; its share of the load effects, found by solving the case
         a second time without current, is factored by gamma_E) or
         "functional" (the whole static answer by gamma_F gamma_c; one solve).
     alpha_U : float
@@ -279,8 +280,8 @@ def collapse_pressure(pipe, checks: Checks) -> float:
 
 
 def design_load_effects(checks: Checks, combination, moment, tension, functional=None):
-    """(|M_Sd| [N m], S_Sd [N]) per section, Sec.4 eq. 4.5 with the load
-    effect factors ``combination`` = (gamma_F, gamma_E), from the moment
+    """(|M_Sd| [N m], S_Sd [N]) per section, Sec.4's design load effect with
+    the load effect factors ``combination`` = (gamma_F, gamma_E), from the moment
     vectors ``moment`` (shape (n, 3)) and effective tensions ``tension``;
     ``functional``: the same of the functional load case (weight and tension
     alone), whose difference from the total is the environmental share. None:
