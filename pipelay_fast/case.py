@@ -2,7 +2,8 @@
 
 A case is read by :func:`load_case` from a TOML file (or a dict with the same
 tables: ``pipe``, ``environment`` (+ ``current``), ``seabed``, ``lay``
-(+ ``stinger``), ``solver``). Every value is in SI units; coordinates follow the
+(+ ``stinger``), ``solver``, and optionally ``checks``, the code-check inputs of
+:class:`pipelay_fast.checks.Checks`). Every value is in SI units; coordinates follow the
 paper: ``x`` is the height above the seabed, ``y`` lateral, ``z`` along the lay.
 
 Every dataclass checks itself on construction, so a case built in Python, loaded
@@ -43,6 +44,7 @@ from pipelay_fast._validate import (
     vector,
     vectorised,
 )
+from pipelay_fast.checks import Checks, check_inputs
 from pipelay_fast.limits import check_case
 
 __all__ = [
@@ -88,6 +90,9 @@ class Pipe:
         nu [-], in (-1, 0.5); default 0.3.
     smys : float
         Specified minimum yield strength [Pa]; default 448e6.
+    smts : float or None
+        Specified minimum tensile strength [Pa]; needed by the ``[checks]``
+        (:mod:`pipelay_fast.checks`), none by default.
     contents_density : float
         rho_i [kg/m^3]; default 0 (empty).
     contents_level : float
@@ -108,6 +113,7 @@ class Pipe:
     youngs_modulus: float = 207e9
     poisson_ratio: float = 0.3
     smys: float = 448e6
+    smts: float | None = None
     contents_density: float = 0.0
     contents_level: float = 0.0
     drag_coefficient: float = 1.0
@@ -126,6 +132,8 @@ class Pipe:
         if self.coating_outer_diameter is None:
             assign(self, "coating_outer_diameter", self.outer_diameter)
         set_numbers(self, "pipe", positive=("coating_outer_diameter",))
+        if self.smts is not None:
+            set_numbers(self, "pipe", positive=("smts",))
         if self.hydrodynamic_diameter is None:
             assign(self, "hydrodynamic_diameter", self.coating_outer_diameter)
         set_numbers(self, "pipe", positive=("hydrodynamic_diameter",))
@@ -606,6 +614,9 @@ class Case:
         Case name (file stem by default).
     pipe, environment, seabed, lay, solver
         The tables.
+    checks : Checks or None
+        Table ``[checks]``, the code-check inputs; None: no code checks (their
+        summary columns are NaN).
     """
 
     name: str
@@ -614,16 +625,20 @@ class Case:
     seabed: Seabed
     lay: Lay
     solver: Solver
+    checks: Checks | None = None
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
             fail("name", self.name, "must be a non-empty string")
         for part, cls in _TABLES.items():
             instance(part, getattr(self, part), cls)
+        if self.checks is not None:
+            instance("checks", self.checks, Checks)
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
-        check_case(self)
+        check_case(self)  # the model's limits first, then what the code checks need
+        check_inputs(self.pipe, self.checks)
 
     @property
     def weight_dry(self) -> float:
@@ -716,6 +731,8 @@ class Case:
         """Nested dict of TOML-able values; ``load_case(case.to_dict()) == case``."""
         tables = {"name": self.name} | {part: plain(getattr(self, part)) for part in _TABLES}
         tables["seabed"].setdefault("stiffness", "rigid")
+        if self.checks is not None:
+            tables["checks"] = plain(self.checks)
         return tables
 
     def with_changes(self, changes: Mapping[str, object] | None = None, /, **dotted) -> Case:
@@ -745,6 +762,7 @@ class Case:
 
 _TABLES = {"pipe": Pipe, "environment": Environment, "seabed": Seabed, "lay": Lay,
            "solver": Solver}
+_OPTIONAL_TABLES = {"checks": Checks}  # absent: None
 _SUBTABLES = {"current": Current, "stinger": Stinger}
 _FOLLOWERS = (
     ("pipe.coating_outer_diameter", "pipe.outer_diameter"),
@@ -791,6 +809,8 @@ def load_case(source: str | os.PathLike | Mapping) -> Case:
 
 
 def _case_from_tables(tables: Mapping, default_name: str) -> Case:
-    reject_unknown(tables, ["name", *_TABLES], "")
+    reject_unknown(tables, ["name", *_TABLES, *_OPTIONAL_TABLES], "")
     parts = {part: _build(cls, tables.get(part, {}), part) for part, cls in _TABLES.items()}
+    parts |= {part: _build(cls, tables[part], part)
+              for part, cls in _OPTIONAL_TABLES.items() if part in tables}
     return Case(name=tables.get("name", default_name), **parts)

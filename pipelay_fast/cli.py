@@ -4,6 +4,8 @@
     pipelay-fast example [NAME] [--out FILE] [--force]
     pipelay-fast sweep SWEEP.toml [--out DIR] [--workers N] [--backend loky|dask|ray] ...
     pipelay-fast select RESULTS_DIR [--no-refine]
+    pipelay-fast table RESULTS_DIR
+    pipelay-fast plot CASE.toml | RESULTS_DIR [--out FILE]
     pipelay-fast --version
 
 Exit codes: 0 success (a sweep whose cases failed has still succeeded: the
@@ -105,6 +107,28 @@ def _parser() -> argparse.ArgumentParser:
     select_cmd.add_argument("--no-refine", action="store_true",
                             help="grid values only (no further solves)")
     select_cmd.set_defaults(run=_select)
+
+    table_cmd = commands.add_parser(
+        "table", help="print the lay table of a sweep's results",
+        description="One row per case, S-lay then J-lay by water depth: top tension, "
+        "layback, touchdown tension, departure angle, tip clearance, peak strains and "
+        "utilisations (kN, deg, per cent), then the targets the cases were solved for.",
+    )
+    table_cmd.add_argument("results", type=Path, metavar="RESULTS_DIR")
+    table_cmd.set_defaults(run=_table)
+
+    plot_cmd = commands.add_parser(
+        "plot", help="draw a case's lay or a sweep's results (needs matplotlib)",
+        description="CASE.toml: solve it and draw the elevation (seabed, water line, "
+        "stinger), the plan in 3D, and moment, von Mises and utilisation along the pipe. "
+        "RESULTS_DIR: the overbend and sagbend peaks against a per S-lay scene and current "
+        "(select's a marked) and the lay table against depth. PNG unless --out ends in "
+        ".svg or .pdf.",
+    )
+    plot_cmd.add_argument("source", type=Path, metavar="CASE.toml|RESULTS_DIR")
+    plot_cmd.add_argument("--out", type=Path, metavar="FILE",
+                          help="figure file (default: CASE.png here, RESULTS_DIR/sweep.png)")
+    plot_cmd.set_defaults(run=_plot)
     return parser
 
 
@@ -225,6 +249,41 @@ def _sweep(args: argparse.Namespace) -> int:
     if not args.quiet:
         print(f"sweep {sweep.name}: {report}")
         print(f"results in {out} (next: pipelay-fast select {out})")
+    return EXIT_OK
+
+
+def _table(args: argparse.Namespace) -> int:
+    from .laytable import format_lay_table, lay_table
+
+    try:
+        table = lay_table(args.results)
+    except ValueError as err:
+        return _error(str(err), EXIT_USAGE)
+    print(format_lay_table(table))
+    return EXIT_OK
+
+
+def _plot(args: argparse.Namespace) -> int:
+    try:
+        from .plot import plot_result, plot_sweep
+    except ImportError as err:  # pragma: no cover - the plot extra is missing
+        return _error(str(err), EXIT_USAGE)
+    source = args.source
+    try:
+        if source.is_dir():
+            out = args.out or source / "sweep.png"
+            plot_sweep(source, out)
+        else:
+            out = args.out or Path(f"{source.stem}.png")
+            plot_result(solve(load_case(source)), out)
+    except OSError as err:
+        return _error(f"cannot read {source} or write {args.out}: {err.strerror or err}",
+                      EXIT_FAILED)
+    except ValueError as err:
+        return _error(str(err), EXIT_USAGE)
+    except (SolveError, NotImplementedError) as err:
+        return _error(str(err), EXIT_FAILED)
+    print(f"wrote {out if out.suffix else out.with_suffix('.png')}")
     return EXIT_OK
 
 

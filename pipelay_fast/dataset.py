@@ -34,7 +34,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from .results import PROFILE_UNITS, SUMMARY_UNITS
-from .sweep import INPUT_UNITS, Sweep
+from .sweep import INPUT_UNITS, TARGET_UNITS, Sweep
 
 __all__ = ["Chunk", "Dataset", "PROFILE_COLUMNS", "SUMMARY_COLUMNS", "encode_chunk",
            "read_profiles", "read_summary"]
@@ -42,7 +42,7 @@ __all__ = ["Chunk", "Dataset", "PROFILE_COLUMNS", "SUMMARY_COLUMNS", "encode_chu
 # bookkeeping columns of the summary: the chain and place of a case, whether
 # it was given the previous solution of its chain to start from
 RUN_UNITS = {"chain": "", "chain_position": "", "warm_started": ""}
-SUMMARY_COLUMNS = {**SUMMARY_UNITS, **INPUT_UNITS, **RUN_UNITS}
+SUMMARY_COLUMNS = {**SUMMARY_UNITS, **INPUT_UNITS, **TARGET_UNITS, **RUN_UNITS}
 PROFILE_COLUMNS = {"case_id": "", "node": "", **PROFILE_UNITS}
 _INTEGER = ("n_elements", "n_iterations", "chain_position")
 _BOOLEAN = ("warm_started",)

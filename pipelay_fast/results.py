@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from .case import Case
+from .design import DESIGN_UNITS, design_columns
 from .kernels import layout as L
 from .kernels.contact import ST_ON, lateral_hold, tip_geometry
 
@@ -35,8 +36,8 @@ SUMMARY_UNITS = {
     "liftoff_angle_deg": "deg", "top_angle_deg": "deg", "suspended_length": "m",
     "max_von_mises": "Pa", "overbend_max_von_mises": "Pa", "sagbend_max_von_mises": "Pa",
     "overbend_max_moment": "N m", "sagbend_max_moment": "N m", "max_strain": "-",
-    "max_lateral_deflection": "m", "tip_reaction": "N", "n_elements": "", "n_iterations": "",
-    "solve_seconds": "s",
+    "max_lateral_deflection": "m", "tip_reaction": "N", **DESIGN_UNITS,
+    "n_elements": "", "n_iterations": "", "solve_seconds": "s",
 }
 
 
@@ -62,6 +63,9 @@ class Result:
         from ``columns``, the same data as numpy arrays.
     state : object
         The solved problem (mesh, unknowns, constraints) for warm starts.
+    target : dict or None
+        Of a target solve (:func:`pipelay_fast.solve_for`): the column, its
+        goal, the varied key, its value and the number of solves.
     """
 
     def __init__(self, case: Case, summary: dict, columns: dict, state=None):
@@ -69,6 +73,7 @@ class Result:
         self.summary = summary
         self.columns = columns
         self.state = state
+        self.target = None
         self._profile = None
 
     @property
@@ -76,6 +81,14 @@ class Result:
         if self._profile is None:
             self._profile = pd.DataFrame(self.columns)
         return self._profile
+
+    def plot(self, path=None):
+        """The lay's figure (:func:`pipelay_fast.plot.plot_result`): elevation,
+        plan in 3D, moment, von Mises and utilisation along the pipe; written
+        to ``path`` (PNG, or SVG/PDF by the suffix) when given."""
+        from .plot import plot_result
+
+        return plot_result(self, path)
 
     def __repr__(self):
         sm = self.summary
@@ -301,7 +314,9 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
 
     Overbend and sagbend are told apart by the sign of the in-plane bending
     moment (moment_y): hogging over the stinger, sagging in the free span
-    behind touchdown. J-lay has no overbend (NaN).
+    behind touchdown. J-lay has no overbend (NaN). The lay design answers
+    (layback, tip clearance, strains, utilisations) are
+    :func:`pipelay_fast.design.design_columns`'.
     """
     cur = case.environment.current
     s = cols["s"]
@@ -312,6 +327,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
     te = cols["effective_tension"]
     nan = math.nan
     vm, mom = cols["von_mises"], cols["moment"]
+    hog = sag = None
     if stinger is not None:
         hog = beyond & (cols["moment_y"] < 0.0)
         sag = beyond & ~hog & (s <= (s_liftoff if s_liftoff is not None else s[-1]))
@@ -330,6 +346,9 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         suspended = float(s[-1] - s_tdp)
     bearing = tip_force(pb)
     tip = 0.0 if bearing is None else float(bearing[2])
+    r, rp, _ = nodal_fields(pb.nd, s, pb.u)
+    departure = liftoff_angle if stinger is not None else float(cols["angle_deg"][-1])
+    design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure)
     return {
         "case_id": case_id(case),
         "method": case.lay.method,
@@ -355,6 +374,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "max_strain": float(fibre.max()),
         "max_lateral_deflection": float(np.abs(cols["y"]).max()),
         "tip_reaction": tip,
+        **design,
         "n_elements": int(s.size - 1),
         "n_iterations": int(stats["iterations"]),
         "solve_seconds": float(stats["seconds"]),

@@ -28,6 +28,7 @@ from .dataset import Dataset, encode_chunk
 from .results import SUMMARY_UNITS
 from .solver import SolveError, solve
 from .sweep import INPUT_UNITS, Sweep, SweepCase, chains
+from .target import solve_for
 
 __all__ = ["BACKENDS", "SweepReport", "run_sweep", "solve_case", "solve_chain"]
 
@@ -198,19 +199,22 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
 
     Each case is warm-started from the last successful solution of the chain
     when it has the same lay method and dimension (``warm_started`` in its
-    row); a case that fails (invalid inputs, SolveError, a gated case) becomes
-    a row with status "failed" and the reason in ``message``.
+    row); a case that fails (invalid inputs, SolveError, a gated case, a
+    target out of reach) becomes a row with status "failed" and the reason in
+    ``message``. A scene with a target solves each case for it
+    (:func:`pipelay_fast.solve_for`, its first trial warm from the chain).
     """
     previous = None
     for sc in chain:
-        base = {"case_id": sc.case_id, "chain": sc.chain, "chain_position": sc.position}
+        base = {"case_id": sc.case_id, "chain": sc.chain, "chain_position": sc.position,
+                "target": sc.source.target_text}
         if sc.case is None:
             yield sc, _failed_row(sc, base, f"invalid case: {sc.error}"), None, 0.0, 0.0
             continue
         warm = previous if warm_start and _compatible(previous, sc) else None
         t0, c0 = time.perf_counter(), time.process_time()
         try:
-            result = solve_case(sc.case, warm)
+            result = solve_case(sc.case, warm, sc.source.target)
         except CASE_ERRORS as err:
             dt, cpu = time.perf_counter() - t0, time.process_time() - c0
             yield sc, _failed_row(sc, base, f"{type(err).__name__}: {err}"), None, dt, cpu
@@ -218,16 +222,23 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
         dt, cpu = time.perf_counter() - t0, time.process_time() - c0
         previous = result
         row = {**result.summary, **_given(sc), **base, "warm_started": warm is not None}
+        if result.target is not None:
+            row["target_value"] = result.target["value"]
         yield sc, row, result, dt, cpu
 
 
-def solve_case(case, warm=None):
-    """``pf.solve`` of ``case`` started from the Result ``warm`` (None: cold).
+def solve_case(case, warm=None, target=None):
+    """``pf.solve`` of ``case`` started from the Result ``warm`` (None: cold);
+    with ``target`` (a scene's, see :class:`pipelay_fast.sweep.Scene`) the
+    target solve :func:`pipelay_fast.solve_for`.
 
     The solver itself falls back to its own first guess when the warm start
     fails, so the answer does not depend on the start beyond its tolerance.
     """
-    return solve(case, warm=warm)
+    if target is None:
+        return solve(case, warm=warm)
+    return solve_for(case, {target["column"]: target["goal"]}, target["vary"],
+                     target["bounds"], warm=warm)
 
 
 def _compatible(previous, sc: SweepCase) -> bool:

@@ -12,6 +12,10 @@ and heading, tension) two choices are made from the grid of ``a`` values:
   by :func:`scipy.optimize.brentq` between the two grid points that bracket
   it (the bracket of lowest stress when there are several), warm-started too.
 
+At the equal-peaks ``a`` the selection also gives the lay's answers there:
+``equal_peaks_max_utilisation`` (the DNVGL-ST-F101 checks, NaN without a
+``[checks]`` table) and ``equal_peaks_tip_clearance`` [m].
+
 Refinement needs the scenes' base cases, which the sweep stores in
 ``sweep.json``; ``refine=False`` reports the grid values only.
 """
@@ -41,11 +45,15 @@ SELECTION_UNITS = {
     "n_grid": "", "a_grid_min": "1/m", "a_grid_max": "1/m",
     "a_min_stress": "1/m", "min_max_von_mises": "Pa",
     "a_equal_peaks": "1/m", "equal_peaks_von_mises": "Pa",
+    "equal_peaks_max_utilisation": "-", "equal_peaks_tip_clearance": "m",
     "reference_a": "1/m", "n_solves": "", "note": "",
 }
 # the inputs that, with the scene, make one selection group
 GROUP_COLUMNS = ("current_speed", "current_heading_deg", "given_top_tension",
                  "given_bottom_tension", "given_pipe_length")
+# summary column -> selection column, reported at the equal-peaks a
+EQUAL_PEAKS_ANSWERS = {"max_utilisation": "equal_peaks_max_utilisation",
+                       "tip_clearance": "equal_peaks_tip_clearance"}
 XTOL_FRACTION = 1e-4  # search tolerance as a share of the grid spacing of a
 FLAT_SHARE = 0.005  # grid points this close to the minimum stress make it "flat"
 
@@ -108,6 +116,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
             notes.append(f"minimum not refined: {evaluate.failure(err)}")
 
     row["a_equal_peaks"] = row["equal_peaks_von_mises"] = math.nan
+    row.update(dict.fromkeys(EQUAL_PEAKS_ANSWERS.values(), math.nan))
     finite = np.isfinite(gap)
     brackets = [j for j in range(len(a) - 1) if finite[j] and finite[j + 1]
                 and np.sign(gap[j]) != np.sign(gap[j + 1])]
@@ -117,6 +126,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
         j = min(brackets, key=lambda j: max(vm[j], vm[j + 1]))
         k = j if abs(gap[j]) <= abs(gap[j + 1]) else j + 1  # grid estimate
         row["a_equal_peaks"], row["equal_peaks_von_mises"] = float(a[k]), float(vm[k])
+        row.update(_answers(group.iloc[k]))
         if gap[j] == 0.0 or gap[j + 1] == 0.0:
             pass
         elif evaluate is not None:
@@ -125,6 +135,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
                               xtol=XTOL_FRACTION * (a[j + 1] - a[j]))
                 row["a_equal_peaks"] = float(root)
                 row["equal_peaks_von_mises"] = evaluate(root)["max_von_mises"]
+                row.update(_answers(evaluate(root)))
             except CASE_ERRORS as err:
                 notes.append(f"equal peaks not refined: {evaluate.failure(err)}")
         else:
@@ -134,13 +145,19 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
     return row
 
 
+def _answers(summary) -> dict:
+    """The lay's answers of a summary row (dict or Series) under the selection's names."""
+    return {name: float(summary[column]) for column, name in EQUAL_PEAKS_ANSWERS.items()}
+
+
 def _gap(summary: dict) -> float:
     return summary["overbend_max_von_mises"] - summary["sagbend_max_von_mises"]
 
 
 class _Evaluator:
     """Summary of the group's case at a given ``a``, solved warm from the nearest
-    ``a`` solved so far (the first from cold); repeated ``a`` values are cached."""
+    ``a`` solved so far (the first from cold), for the scene's target when it
+    has one; repeated ``a`` values are cached."""
 
     def __init__(self, scene: Scene, values: dict, group: pd.DataFrame):
         self.scene = scene
@@ -159,7 +176,7 @@ class _Evaluator:
         warm = None
         if self.results:
             warm = self.results[min(self.results, key=lambda b: abs(b - a))]
-        result = solve_case(case, warm)
+        result = solve_case(case, warm, self.scene.target)
         self.solves += 1
         self.results[a] = result
         return result.summary
@@ -172,18 +189,24 @@ class _Evaluator:
 def format_selection(table: pd.DataFrame) -> str:
     """The selection as a plain-text table: a in 1/m, stresses in MPa."""
     lines = [f"{'scene':<10} {'dim':<3} {'current':>10} {'a_min_stress':>13} {'max VM':>8} "
-             f"{'a_equal_peaks':>13} {'peak VM':>8} {'reference_a':>11}  note"]
+             f"{'a_equal_peaks':>13} {'peak VM':>8} {'max util':>8} {'tip m':>6} "
+             f"{'reference_a':>11}  note"]
     for _, r in table.iterrows():
         current = f"{r['current_speed']:.2g}@{r['current_heading_deg']:.0f}°"
         lines.append(
             f"{r['scene']:<10} {r['dimension']:<3} {current:>10} {_a(r['a_min_stress']):>13} "
             f"{_mpa(r['min_max_von_mises']):>8} {_a(r['a_equal_peaks']):>13} "
-            f"{_mpa(r['equal_peaks_von_mises']):>8} {_a(r['reference_a']):>11}  {r['note']}")
+            f"{_mpa(r['equal_peaks_von_mises']):>8} {_num(r['equal_peaks_max_utilisation']):>8} "
+            f"{_num(r['equal_peaks_tip_clearance']):>6} {_a(r['reference_a']):>11}  {r['note']}")
     return "\n".join(lines)
 
 
 def _a(value: float) -> str:
     return "n/a" if not math.isfinite(value) else f"{value:.6f}"
+
+
+def _num(value: float) -> str:
+    return "n/a" if not math.isfinite(value) else f"{value:.3f}"
 
 
 def _mpa(value: float) -> str:

@@ -37,6 +37,17 @@ naming the key. A combination of axis values that makes an invalid case (a
 negative tension, a stinger dipping below the seabed) is kept as a case with
 its error message: the sweep records it as a failed row.
 
+A ``[target]`` table (or a scene's ``target``, which replaces it) makes every
+case of the scenes a target solve (:func:`pipelay_fast.solve_for`)::
+
+    [target]
+    tip_clearance = 0.3              # one summary column and its goal (SI)
+    vary = "lay.top_tension"         # the case key solved for
+    bounds = [400e3, 1500e3]         # its bracket
+
+The key solved for must not be one that an axis varies; its value is the
+summary's ``target_value`` and the target itself its ``target`` (text).
+
 Cases that differ only in the chain axis (``a``; for J-lay the first varied of
 current speed, tension, heading) form a chain, solved in order with warm starts.
 """
@@ -57,9 +68,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from ._validate import fail, from_toml, put_path, reject_unknown
+from ._validate import fail, from_toml, get_path, put_path, reject_unknown
 from .case import Case, load_case
 from .results import case_id
+from .target import target_columns, unit_text
 
 __all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains", "load_sweep"]
 
@@ -81,6 +93,8 @@ CHAIN_ORDER = ("a", "current_speed", "top_tension", "bottom_tension", "pipe_leng
 MAX_CHAIN_LENGTH = 64
 # the given tension's columns of the summary table (whichever the case gives), with units
 INPUT_UNITS = {AXES[name][1]: AXES[name][2] for name in TENSION_AXES}
+# a target solve's columns: the target as text, the value found for its key
+TARGET_UNITS = {"target": "", "target_value": "SI"}
 
 _SCENE_GEOMETRY = {  # scene key -> case key
     "water_depth": "environment.water_depth",
@@ -89,8 +103,9 @@ _SCENE_GEOMETRY = {  # scene key -> case key
     "top": "lay.top",
     "top_angle": "lay.top_angle",
 }
-_SCENE_KEYS = ("name", "case", "method", *_SCENE_GEOMETRY, "reference_a", "set", "vary")
-_FILE_KEYS = ("name", "description", "case", "set", "vary", "scenes")
+_SCENE_KEYS = ("name", "case", "method", *_SCENE_GEOMETRY, "reference_a", "set", "vary",
+               "target")
+_FILE_KEYS = ("name", "description", "case", "set", "vary", "target", "scenes")
 _NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
@@ -111,12 +126,16 @@ class Scene:
         Axis name -> tuple of values (SI, see :data:`AXES`), in sweep order.
     reference_a : float
         A published stinger curvature [1/m] to print beside the chosen one; NaN if none.
+    target : dict or None
+        The target solve of every case: "column", "goal" (SI), "vary" (a case
+        key), "bounds" (lo, hi); None: plain solves.
     """
 
     name: str
     case: Case
     axes: dict
     reference_a: float = math.nan
+    target: dict | None = None
     _tables: dict = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -142,7 +161,18 @@ class Scene:
         """JSON-able description, read back by :meth:`Sweep.from_spec`."""
         return {"name": self.name, "case": self.case.to_dict(),
                 "axes": {k: list(v) for k, v in self.axes.items()},
-                "reference_a": None if math.isnan(self.reference_a) else self.reference_a}
+                "reference_a": None if math.isnan(self.reference_a) else self.reference_a,
+                "target": None if self.target is None else {**self.target,
+                                                            "bounds": list(self.target["bounds"])}}
+
+    @property
+    def target_text(self) -> str:
+        """The target as the summary's ``target`` column writes it ("" without one)."""
+        t = self.target
+        if t is None:
+            return ""
+        return (f"{t['column']} = {t['goal']!r}{unit_text(t['column'])} by {t['vary']} in "
+                f"{list(t['bounds'])}")
 
 
 class SweepCase:
@@ -179,9 +209,10 @@ class SweepCase:
         if self._built is None:
             try:
                 case = self.source.case_for(self.values)
-                self._built = (case, "", case_id(case))
+                self._built = (case, "", _with_target(case_id(case), self.source))
             except ValueError as err:
-                self._built = (None, str(err), _raw_id(self.source, self.values))
+                self._built = (None, str(err),
+                               _with_target(_raw_id(self.source, self.values), self.source))
         return self._built
 
     @property
@@ -246,7 +277,8 @@ class Sweep:
         scenes = tuple(
             Scene(s["name"], load_case(s["case"]),
                   {k: tuple(v) for k, v in s["axes"].items()},
-                  math.nan if s.get("reference_a") is None else float(s["reference_a"]))
+                  math.nan if s.get("reference_a") is None else float(s["reference_a"]),
+                  _spec_target(s.get("target")))
             for s in spec["scenes"])
         return cls(spec["name"], scenes, spec.get("description", ""))
 
@@ -283,9 +315,11 @@ def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -
         scene_tables = [{"name": _scene_name(tables["case"])}]
     if not isinstance(scene_tables, list) or not scene_tables:
         fail("scenes", scene_tables, "must be a non-empty array of tables [[scenes]]")
+    target = _target("target", tables["target"]) if "target" in tables else None
     scenes = []
     for i, table in enumerate(scene_tables):
-        scenes.append(_scene(f"scenes[{i}]", table, tables.get("case"), folder, common, axes))
+        scenes.append(_scene(f"scenes[{i}]", table, tables.get("case"), folder, common, axes,
+                             target))
     names = [s.name for s in scenes]
     bases = [{**s.case.to_dict(), "name": ""} for s in scenes]
     for i, scene_name in enumerate(names):
@@ -297,7 +331,7 @@ def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -
     return Sweep(name, tuple(scenes), description, source)
 
 
-def _scene(path, table, default_case, folder, common, axes) -> Scene:
+def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
     if not isinstance(table, Mapping):
         fail(path, table, "must be a table")
     reject_unknown(table, _SCENE_KEYS, f"{path}.")
@@ -339,7 +373,62 @@ def _scene(path, table, default_case, folder, common, axes) -> Scene:
         case = base.with_changes(changes)
     except ValueError as err:
         raise ValueError(f"{path} ({name}): {err}") from None
-    return Scene(name, case, scene_axes, float(reference))
+    target_path = f"{path}.target" if "target" in table else "target"
+    if "target" in table:
+        target = _target(target_path, table["target"])
+    if target is not None:
+        _check_target(target_path, target, case, scene_axes)
+    return Scene(name, case, scene_axes, float(reference), target)
+
+
+def _target(path, table) -> dict:
+    """A target table: one summary column with its goal, ``vary`` and ``bounds``."""
+    if not isinstance(table, Mapping):
+        fail(path, table, "must be a table {<column> = goal, vary = key, bounds = [lo, hi]}")
+    for key in ("vary", "bounds"):
+        if key not in table:
+            raise ValueError(f"missing key {path}.{key}")
+    goals = [k for k in table if k not in ("vary", "bounds")]
+    if len(goals) != 1:
+        fail(path, dict(table), "must name exactly one summary column and its goal, e.g. "
+             "tip_clearance = 0.3")
+    reject_unknown({goals[0]: None}, list(target_columns()), f"{path}.")
+    vary = table["vary"]
+    if not isinstance(vary, str) or not vary:
+        fail(f"{path}.vary", vary, "must be a dotted case key, e.g. \"lay.top_tension\"")
+    bounds = table["bounds"]
+    if not isinstance(bounds, list) or len(bounds) != 2:
+        fail(f"{path}.bounds", bounds, "must be a list [lo, hi]")
+    lo, hi = (_number(f"{path}.bounds[{i}]", b) for i, b in enumerate(bounds))
+    if lo >= hi:
+        fail(f"{path}.bounds", bounds, "must have lo < hi")
+    return {"column": goals[0], "goal": _number(f"{path}.{goals[0]}", table[goals[0]]),
+            "vary": vary, "bounds": (lo, hi)}
+
+
+def _check_target(path, target, case, axes):
+    """Refuse a target whose key an axis varies or the scene's case does not give."""
+    for name in axes:
+        keys = [f"lay.{t}" for t in TENSION_AXES] if name in TENSION_AXES else [AXES[name][0]]
+        if target["vary"] in keys:
+            fail(f"{path}.vary", target["vary"],
+                 f"is varied by the axis {name!r}: a target solves for a key no axis sets")
+    value = get_path(case.to_dict(), target["vary"])
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        fail(f"{path}.vary", target["vary"], f"is not a numeric key that scene {case.name!r}'s "
+             f"case gives (its value: {value!r})")
+
+
+def _spec_target(spec) -> dict | None:
+    return None if spec is None else {**spec, "bounds": tuple(spec["bounds"])}
+
+
+def _with_target(identity: str, scene: Scene) -> str:
+    """A case id that tells target solves apart from plain ones (and from each other)."""
+    if scene.target is None:
+        return identity
+    text = identity + json.dumps(scene.to_spec()["target"], sort_keys=True)
+    return hashlib.sha1(text.encode()).hexdigest()[:16]
 
 
 def _base_case(path, source, folder) -> Case:

@@ -254,7 +254,9 @@ def test_values_are_normalised_to_float_and_tuples():
 def test_example_files_load_and_round_trip(name):
     case = load_case(EXAMPLES / f"{name}.toml")
     assert case.name == name
-    assert case.pipe == Pipe(DO, DI, DC, RHO_STEEL, RHO_COATING, hydrodynamic_diameter=DC)
+    assert case.pipe == Pipe(DO, DI, DC, RHO_STEEL, RHO_COATING, hydrodynamic_diameter=DC,
+                             smts=531e6)
+    assert case.checks.overbend_strain_limit == 0.0025
     assert case.lay.top_tension == 580e3
     assert case.solver.element_length == 4.0
     assert case.is_planar

@@ -64,7 +64,9 @@ def refused(base, changes):
 def test_top_tension_beyond_the_strain_line_is_refused(j125, changes, top_pressure):
     """Wall strain at the top Tw/EA, Tw = T_top - pe Ae (empty pipe)."""
     message = refused(j125, changes)
-    case = j125.with_changes({**changes, "solver.max_strain": 0.1, "pipe.extensible": False})
+    # (without the example's [checks]: a 1 um pipe is outside their D/t range)
+    case = j125.with_changes({**changes, "solver.max_strain": 0.1, "pipe.extensible": False,
+                              "checks": None})
     outer = math.pi * case.pipe.outer_diameter**2 / 4.0
     strain = (case.lay.top_tension - top_pressure * outer) / axial_stiffness(case)
     assert abs(strain) > 0.1

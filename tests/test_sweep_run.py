@@ -317,6 +317,11 @@ def test_select_finds_the_equal_peaks_and_the_stress_minimum(one_worker, capsys)
     peak = at_root["sagbend_max_von_mises"]
     assert abs(at_root["overbend_max_von_mises"] - peak) < 1e-4 * peak
     assert math.isclose(row.equal_peaks_von_mises, at_root["max_von_mises"], rel_tol=1e-6)
+    # the lay's answers there (the example's [checks])
+    assert math.isclose(row.equal_peaks_max_utilisation, at_root["max_utilisation"], rel_tol=1e-6)
+    # (a 0.3 mm clearance, a cubic of the distance to lift-off: the warm and
+    # cold solves of the refinement differ by under a micrometre)
+    assert math.isclose(row.equal_peaks_tip_clearance, at_root["tip_clearance"], abs_tol=1e-5)
     # the refined stress minimum is no worse than the best grid point
     assert row.min_max_von_mises <= grid["max_von_mises"].min()
     assert grid["a"].min() <= row.a_min_stress <= grid["a"].max()

@@ -1,0 +1,332 @@
+"""Lay code checks of DNV-ST-F101: the ``[checks]`` table and its equations.
+
+The engine's static answer is checked the way a pipelay engineer checks a lay:
+
+* **overbend**, where the pipe conforms to the stinger and its curvature is
+  imposed (a displacement-controlled condition): the extreme-fibre strain
+  |Tw/EA| + (Do/2) kappa over the user's limit ``overbend_strain_limit``;
+* **sagbend**, where the free span carries its moment (a load-controlled
+  condition): the local-buckling check for combined loading of DNVGL-ST-F101
+  (2017) Sec.5 [5.4.6], pipe members under bending moment, effective axial
+  force and external overpressure, stated for 15 <= D/t2 <= 45, p_i < p_e
+  and |S_Sd|/S_p < 0.4::
+
+      {g |M_Sd| / (alpha_c M_p) + (g S_Sd / (alpha_c S_p))^2}^2
+          + (g (p_e - p_min) / p_c)^2 <= 1,          g = gamma_m gamma_SC
+
+  with M_p = f_y (D - t2)^2 t2 and S_p = f_y pi (D - t2) t2 the plastic
+  capacities, alpha_c = (1 - beta) + beta f_u / f_y the flow-stress parameter
+  (beta = 0.5 for D/t2 < 15, (60 - D/t2)/90 up to 60, 0 beyond), p_c the
+  characteristic collapse pressure, the real root of Sec.5 [5.4.4.2]'s cubic
+  (eq. 5.11) (p_c - p_el)(p_c^2 - p_p^2) = p_c p_el p_p f0 D/t2, p_el =
+  2E (t2/D)^3 / (1 - nu^2) (eq. 5.12), p_p = f_y alpha_fab 2 t2/D (eq. 5.13),
+  f0 >= 0.005 (eq. 5.14). The left-hand side is reported as the utilisation
+  (1 meets the criterion). It is evaluated at every section, also where
+  |S_Sd|/S_p >= 0.4, outside the range the criterion is stated for: the
+  summary reports |S_Sd|/S_p at the section of the peak utilisation
+  (``sagbend_lcc_axial_ratio``, :func:`lcc_axial_ratio`), so that a peak
+  outside the range is seen (deep J-lay near the hang-off goes there: its
+  utilisation is then not the standard's). During
+  installation t2 = t, the nominal wall (Sec.5's table of characteristic wall
+  thicknesses: prior to operation t1 = t - t_fab and t2 = t, no corrosion
+  allowance yet; the load-controlled criterion, its M_p, S_p and p_c use t2,
+  the system-collapse check alone t1), and p_min, the least internal pressure
+  sustained, is the case's contents pressure (0 for an empty pipe).
+
+Design load effects (Sec.4, the design load effect of the load effect
+factor combinations) are L_Sd = gamma_F gamma_c L_F + gamma_E L_E for the
+moment M and the effective axial force S: the functional part L_F is the
+answer of the same case without current (weight and tension), the
+environmental part L_E = L - L_F the current's share (current is among
+Sec.4's environmental loads; OrcaFlex's F101 code check likewise takes the
+functional load case as a static state without drag from current),
+vectors of the moment added before the magnitude is taken. That costs a
+second solve of a case with a current; ``current_load = "functional"``
+factors the whole static answer by gamma_F gamma_c instead, with one solve.
+The ULS load effect factors come in two combinations (Sec.4 Table 4-4):
+a) gamma_F = 1.2, gamma_E = 0.7 (the system check) and b) gamma_F = 1.1,
+gamma_E = 1.3 (the local check); both are evaluated and the larger
+utilisation reported, unless the user gives one pair. The overbend strain
+is compared with its limit as computed (the limit is the project's).
+
+Characteristic strengths are f_y = SMYS alpha_U and f_u = SMTS alpha_U
+(Sec.5 [5.3.3.2], eq. 5.4 and 5.5) with no temperature derating: a lay is at
+ambient temperature, below the 50 deg C where the derating of C-Mn steel
+starts (Sec.5 [5.3.3.4], Figure 5-2).
+
+Sources checked (facts and figures only): the clause, table and equation
+numbers of Sec.5 (Tables 5-1 to 5-4, eq. 5.4, 5.5, 5.11 to 5.14) as cited by
+PDover2t (github.com/qwilka/PDover2t, pdover2t/dnvgl_st_f101/factor.py,
+material.py, pipe_collapse.py: gamma_m 1.15 ULS, gamma_SC 1.04/1.14/1.26,
+alpha_U 0.96/1.00, alpha_fab 1.00/0.93/0.85, the collapse cubic, f0 >=
+0.005); Flexcom's code-check defaults gamma_F 1.1, gamma_E 1.3, combination
+b (flexcom.fea.solutions/kwd_codechecking_loadfactor.html); the functional
+load case without current
+(orcina.com/webhelp/OrcaFlex/Content/html/Codechecks,DNVfunctionalload.htm).
+The criterion's form and validity range, combination a of Table 4-4 and
+Tables 4-5 and 2-4 were checked against the 2017 edition's text as
+remembered: no stored copy of the standard was found to confirm them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pipelay_fast._validate import choice, fail, set_numbers
+
+__all__ = ["CURRENT_LOADS", "Checks", "FABRICATION_FACTORS", "LCC_AXIAL_LIMIT",
+           "LOAD_COMBINATIONS", "SAFETY_CLASS_FACTORS", "check_inputs", "collapse_pressure",
+           "design_load_effects", "flow_stress_factor", "lcc_axial_ratio", "lcc_utilisation"]
+
+# DNVGL-ST-F101 (2017) Sec.5 Table 5-2: safety class resistance factor gamma_SC
+# for all checks but pressure containment
+SAFETY_CLASS_FACTORS = {"low": 1.04, "medium": 1.14, "high": 1.26}
+# DNVGL-ST-F101 (2017) Sec.5 Table 5-4: maximum fabrication factor alpha_fab
+FABRICATION_FACTORS = {"seamless": 1.00, "UO": 0.93, "TRB": 0.93, "ERW": 0.93, "HFW": 0.93,
+                       "UOE": 0.85}
+# DNVGL-ST-F101 (2017) Sec.4 Table 4-4, ULS: load effect factor combinations
+# (gamma_F, gamma_E), a) the system check, b) the local check
+LOAD_COMBINATIONS = {"a": (1.2, 0.7), "b": (1.1, 1.3)}
+SAFETY_CLASSES = tuple(SAFETY_CLASS_FACTORS)
+CURRENT_LOADS = ("environmental", "functional")  # how the current's load effects are factored
+MIN_OVALITY = 0.005  # Sec.5 [5.4.4.2], eq. 5.14: f0 not to be taken below 0.5 %
+LCC_SLENDERNESS = (15.0, 45.0)  # the D/t2 range the load-controlled criterion is stated for
+LCC_AXIAL_LIMIT = 0.4  # |S_Sd|/S_p below which the load-controlled criterion is stated
+
+
+@dataclass(frozen=True, slots=True)
+class Checks:
+    """Code-check inputs, table ``[checks]`` (DNVGL-ST-F101, 2017 edition).
+
+    Without the table the code-check columns are NaN. With it, the pipe
+    needs ``pipe.smts`` (and uses ``pipe.smys``).
+
+    Attributes
+    ----------
+    overbend_strain_limit : float
+        Largest overbend strain accepted [-], axial plus bending at the
+        extreme fibre; required (the standard's simplified overbend criteria,
+        Sec.13, depend on the grade and the lay: the user's to give).
+    ovality : float
+        Initial out-of-roundness f0 = (Dmax - Dmin)/D [-], required, at least
+        0.005 (Sec.5 [5.4.4.2], eq. 5.14): the linepipe's tolerance is the
+        purchase specification's.
+    alpha_fab : float or None
+        Fabrication factor [-], in (0, 1]; or ``fabrication`` names the
+        process: "seamless" 1.00, "UO", "TRB", "ERW", "HFW" 0.93, "UOE" 0.85
+        (Sec.5 Table 5-4). Exactly one of the two is required.
+    fabrication : str or None
+        See ``alpha_fab``.
+    safety_class : str
+        "low" | "medium" | "high"; default "low", the normal class of the
+        temporary phases, installation among them (Sec.2 Table 2-4).
+    gamma_SC : float or None
+        Safety class resistance factor [-]; default from ``safety_class``:
+        1.04, 1.14, 1.26 (Sec.5 Table 5-2).
+    gamma_m : float
+        Material resistance factor [-]; default 1.15, ULS (Sec.5 Table 5-1).
+    gamma_F, gamma_E : float or None
+        Functional and environmental load effect factors [-], given as a
+        pair or not at all. Not given: both ULS combinations of Sec.4
+        Table 4-4, a) 1.2 and 0.7, b) 1.1 and 1.3, are checked and the larger
+        utilisation is reported (:attr:`load_combinations`).
+    gamma_c : float
+        Condition load effect factor [-]; default 1.00, the table's
+        "otherwise" (Sec.4 Table 4-5: 1.07 on an uneven seabed, 0.82 reeling
+        on and J-tube pull-in, 0.93 the system pressure test).
+    current_load : str
+        "environmental" (the default: the current is an environmental load,
+        Sec.4; its share of the load effects, found by solving the case
+        a second time without current, is factored by gamma_E) or
+        "functional" (the whole static answer by gamma_F gamma_c; one solve).
+    alpha_U : float
+        Material strength factor [-]; default 0.96, 1.00 with supplementary
+        requirement U (Sec.5 Table 5-3).
+    """
+
+    overbend_strain_limit: float
+    ovality: float
+    alpha_fab: float | None = None
+    fabrication: str | None = None
+    safety_class: str = "low"
+    gamma_SC: float | None = None
+    gamma_m: float = 1.15
+    gamma_F: float | None = None
+    gamma_E: float | None = None
+    gamma_c: float = 1.0
+    current_load: str = "environmental"
+    alpha_U: float = 0.96
+
+    def __post_init__(self):
+        p = "checks"
+        choice(f"{p}.safety_class", self.safety_class, SAFETY_CLASSES)
+        choice(f"{p}.current_load", self.current_load, CURRENT_LOADS)
+        given = [name for name in ("alpha_fab", "fabrication") if getattr(self, name) is not None]
+        if not given:
+            raise ValueError(f"missing key {p}.alpha_fab (or {p}.fabrication): the fabrication "
+                             "factor of DNVGL-ST-F101 Table 5-4 depends on how the pipe is made")
+        if len(given) == 2:
+            fail(f"{p}.alpha_fab", self.alpha_fab,
+                 f"is given with {p}.fabrication = {self.fabrication!r}: give one of the two")
+        if self.fabrication is not None:
+            choice(f"{p}.fabrication", self.fabrication, tuple(FABRICATION_FACTORS))
+        factors = [name for name in ("gamma_F", "gamma_E") if getattr(self, name) is not None]
+        if len(factors) == 1:
+            other = "gamma_E" if factors == ["gamma_F"] else "gamma_F"
+            raise ValueError(f"missing key {p}.{other}: {p}.{factors[0]} is given, and the load "
+                             "effect factors go as a pair (DNVGL-ST-F101 Table 4-4); give both "
+                             "or neither (neither: combinations a and b)")
+        optional = [name for name in ("alpha_fab", "gamma_SC", *factors)
+                    if getattr(self, name) is not None]
+        set_numbers(self, p, positive=("overbend_strain_limit", "ovality", "gamma_m", "gamma_c",
+                                       "alpha_U", *optional))
+        if self.ovality < MIN_OVALITY:
+            fail(f"{p}.ovality", self.ovality, f"is below {MIN_OVALITY}, the least "
+                 "DNVGL-ST-F101 eq. 5.14 allows")
+        for name in ("alpha_fab", "alpha_U"):
+            if getattr(self, name) is not None and getattr(self, name) > 1.0:
+                fail(f"{p}.{name}", getattr(self, name), "must not exceed 1")
+
+    @property
+    def safety_factor(self) -> float:
+        """gamma_SC [-]: as given, else the safety class's (Table 5-2)."""
+        return self.gamma_SC if self.gamma_SC is not None else SAFETY_CLASS_FACTORS[
+            self.safety_class]
+
+    @property
+    def fabrication_factor(self) -> float:
+        """alpha_fab [-]: as given, else the fabrication process's (Table 5-4)."""
+        return self.alpha_fab if self.alpha_fab is not None else FABRICATION_FACTORS[
+            self.fabrication]
+
+    @property
+    def resistance_factor(self) -> float:
+        """gamma_m gamma_SC [-]."""
+        return self.gamma_m * self.safety_factor
+
+    @property
+    def load_combinations(self) -> tuple[tuple[float, float], ...]:
+        """The (gamma_F, gamma_E) pairs [-] checked: the one given, else
+        Table 4-4's combinations a and b."""
+        if self.gamma_F is not None:
+            return ((self.gamma_F, self.gamma_E),)
+        return tuple(LOAD_COMBINATIONS.values())
+
+    def splits_current(self, case) -> bool:
+        """Whether ``case``'s current is factored apart (it has one, and
+        ``current_load`` is "environmental")."""
+        return self.current_load == "environmental" and case.environment.current.speed > 0.0
+
+
+def check_inputs(pipe, checks: Checks | None) -> None:
+    """Refuse a ``[checks]`` table the pipe cannot be checked with: no
+    ``pipe.smts``, SMTS below SMYS, or D/t outside the criterion's 15 to 45."""
+    if checks is None:
+        return
+    if pipe.smts is None:
+        raise ValueError("missing key pipe.smts: the [checks] need the specified minimum "
+                         "tensile strength SMTS [Pa] (DNVGL-ST-F101 eq. 5.5)")
+    if pipe.smts < pipe.smys:
+        fail("pipe.smts", pipe.smts, f"is below pipe.smys = {pipe.smys!r}")
+    slenderness = pipe.outer_diameter / pipe.wall_thickness
+    lo, hi = LCC_SLENDERNESS
+    if not lo <= slenderness <= hi:
+        fail("pipe.inner_diameter", pipe.inner_diameter,
+             f"makes D/t = {slenderness:.4g}, outside {lo:g} to {hi:g} where the "
+             "load-controlled check of DNVGL-ST-F101 [5.4.6] is stated; remove [checks]")
+
+
+def flow_stress_factor(slenderness: float, fy: float, fu: float) -> float:
+    """alpha_c = (1 - beta) + beta f_u/f_y [-] of D/t2 = ``slenderness``."""
+    if slenderness < 15.0:
+        beta = 0.5
+    elif slenderness <= 60.0:
+        beta = (60.0 - slenderness) / 90.0
+    else:
+        beta = 0.0
+    return (1.0 - beta) + beta * fu / fy
+
+
+def collapse_pressure(pipe, checks: Checks) -> float:
+    """Characteristic collapse pressure p_c [Pa] of ``pipe``.
+
+    The cubic (p_c - p_el)(p_c^2 - p_p^2) = p_c p_el p_p f0 D/t, written
+    p^3 - p_el p^2 - (p_p^2 + p_el p_p f0 D/t) p + p_el p_p^2 = 0, has three
+    real roots; p_c is the one below both p_el and p_p (the cubic is positive
+    at 0 and negative at min(p_el, p_p)), found by bisection to 1e-14.
+    """
+    d, t = pipe.outer_diameter, pipe.wall_thickness
+    fy = pipe.smys * checks.alpha_U
+    p_el = 2.0 * pipe.youngs_modulus * (t / d) ** 3 / (1.0 - pipe.poisson_ratio**2)
+    p_p = fy * checks.fabrication_factor * 2.0 * t / d
+    c1 = p_p**2 + p_el * p_p * checks.ovality * d / t
+
+    def cubic(p):
+        return ((p - p_el) * p - c1) * p + p_el * p_p**2
+
+    lo, hi = 0.0, min(p_el, p_p)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if cubic(mid) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-14 * hi:
+            break
+    return 0.5 * (lo + hi)
+
+
+def design_load_effects(checks: Checks, combination, moment, tension, functional=None):
+    """(|M_Sd| [N m], S_Sd [N]) per section, Sec.4's design load effect with
+    the load effect factors ``combination`` = (gamma_F, gamma_E), from the moment
+    vectors ``moment`` (shape (n, 3)) and effective tensions ``tension``;
+    ``functional``: the same of the functional load case (weight and tension
+    alone), whose difference from the total is the environmental share. None:
+    all functional (factored by gamma_F gamma_c)."""
+    gamma_f, gamma_e = combination
+    on_functional = gamma_f * checks.gamma_c
+    moment = np.asarray(moment, dtype=float)
+    tension = np.asarray(tension, dtype=float)
+    if functional is None:
+        return on_functional * np.linalg.norm(moment, axis=1), on_functional * tension
+    m_f, t_f = (np.asarray(v, dtype=float) for v in functional)
+    m_sd = on_functional * m_f + gamma_e * (moment - m_f)
+    s_sd = on_functional * t_f + gamma_e * (tension - t_f)
+    return np.linalg.norm(m_sd, axis=1), s_sd
+
+
+def lcc_axial_ratio(pipe, checks: Checks, design_tension):
+    """|S_Sd|/S_p [-] per section, S_p = f_y pi (D - t2) t2: the
+    load-controlled criterion is stated for values below ``LCC_AXIAL_LIMIT``
+    = 0.4 (Sec.5 [5.4.6])."""
+    d, t = pipe.outer_diameter, pipe.wall_thickness
+    s_p = pipe.smys * checks.alpha_U * math.pi * (d - t) * t
+    return np.abs(np.asarray(design_tension, dtype=float)) / s_p
+
+
+def lcc_utilisation(pipe, checks: Checks, design_moment, design_tension, external_pressure,
+                    internal_pressure):
+    """Left-hand side of the load-controlled criterion [-] per section.
+
+    ``design_moment`` |M_Sd| [N m] and ``design_tension`` S_Sd [N] (the
+    factored effects, :func:`design_load_effects`), pressures [Pa]: arrays
+    of one value per section. NaN where the contents pressure exceeds the
+    external one (the internal-overpressure form, not evaluated). Where
+    |S_Sd|/S_p >= 0.4 (:func:`lcc_axial_ratio`) the value is outside the
+    range the criterion is stated for.
+    """
+    d, t = pipe.outer_diameter, pipe.wall_thickness
+    fy, fu = pipe.smys * checks.alpha_U, pipe.smts * checks.alpha_U
+    alpha_c = flow_stress_factor(d / t, fy, fu)
+    m_p = fy * (d - t) ** 2 * t
+    s_p = fy * math.pi * (d - t) * t
+    g = checks.resistance_factor
+    m_sd = np.abs(np.asarray(design_moment, dtype=float))
+    s_sd = np.asarray(design_tension, dtype=float)
+    over = np.asarray(external_pressure, dtype=float) - np.asarray(internal_pressure, dtype=float)
+    bending = g * m_sd / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2
+    value = bending**2 + (g * over / collapse_pressure(pipe, checks)) ** 2
+    return np.where(over >= 0.0, value, np.nan)

@@ -1,0 +1,226 @@
+"""Lay design answers of one solved case: the summary columns a lay tool reports.
+
+Layback, tip clearance, departure angle and touchdown tension come from the
+profile; peak strains and utilisations from the profile and the code checks of
+:mod:`pipelay_fast.checks` (NaN without a ``[checks]`` table).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .checks import design_load_effects, lcc_axial_ratio, lcc_utilisation
+
+__all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "hermite_point",
+           "lcc_profile", "lcc_sections", "tip_clearance"]
+
+DESIGN_UNITS = {
+    "layback": "m", "tip_clearance": "m", "departure_angle_deg": "deg", "tdp_tension": "N",
+    "overbend_max_strain": "-", "sagbend_max_strain": "-",
+    "overbend_strain_utilisation": "-", "sagbend_lcc_utilisation": "-",
+    "sagbend_lcc_axial_ratio": "-", "max_utilisation": "-",
+}
+
+
+def hermite_point(r, rp, s, k, xi: float, derivative: int = 0) -> np.ndarray:
+    """Centreline point [m] (or its ``derivative``-th arc-length derivative,
+    1 or 2) at ``xi`` in [0, 1] of element ``k`` (nodes k, k+1): the cubic
+    Hermite of the nodal positions ``r`` and slopes ``rp`` = dr/ds. Index
+    and ``xi`` arrays broadcast (the dimension is the result's last axis)."""
+    k = np.asarray(k)
+    xi = np.asarray(xi, dtype=float)[..., None]
+    le = (s[k + 1] - s[k])[..., None]
+    if derivative == 0:
+        h = (1.0 - 3.0 * xi**2 + 2.0 * xi**3, xi - 2.0 * xi**2 + xi**3,
+             3.0 * xi**2 - 2.0 * xi**3, -(xi**2) + xi**3)
+    elif derivative == 1:
+        h = (6.0 * (xi**2 - xi), 1.0 - 4.0 * xi + 3.0 * xi**2, 6.0 * (xi - xi**2),
+             3.0 * xi**2 - 2.0 * xi)
+    else:
+        h = (12.0 * xi - 6.0, 6.0 * xi - 4.0, 6.0 - 12.0 * xi, 6.0 * xi - 2.0)
+    scale = le ** (-derivative)
+    return scale * (h[0] * r[k] + le * h[1] * rp[k] + h[2] * r[k + 1] + le * h[3] * rp[k + 1])
+
+
+NEWTON_STEPS = 20  # for the foot of the normal; it converges in 3 to 5
+
+
+def _hermite_power(r, rp, s, k):
+    """Power-basis coefficients (c0, c1, c2, c3), each shape (len(k), dim),
+    of the cubic Hermite of elements ``k`` in xi in [0, 1]: the centreline
+    [m] is c0 + c1 xi + c2 xi^2 + c3 xi^3 (nodal slopes scaled by the element
+    length)."""
+    le = (s[k + 1] - s[k])[:, None]
+    p0, p1, m0, m1 = r[k], r[k + 1], le * rp[k], le * rp[k + 1]
+    return p0, m0, 3.0 * (p1 - p0) - 2.0 * m0 - m1, 2.0 * (p0 - p1) + m0 + m1
+
+
+def tip_clearance(r, rp, s, tip, up) -> float:
+    """Distance [m] from the point ``tip`` to the pipe's centreline, signed by
+    the side of ``up`` (the stinger's outward normal there) it lies on.
+
+    The centreline is each element's cubic Hermite. The nearest point is
+    sought on the four elements around the node nearest the tip, all at
+    once: each sampled at 33 points, then refined from its nearest sample by
+    Newton on the foot-of-normal condition (r - tip) . dr/dxi = 0 (xi kept
+    in [0, 1]), so the distance is normal to the pipe; the nearest of the
+    refined points is the answer.
+    """
+    near = int(np.argmin(np.linalg.norm(r - tip, axis=1)))
+    elements = np.arange(max(near - 2, 0), min(near + 2, s.size - 1))
+    c0, c1, c2, c3 = (c[:, None, :] for c in _hermite_power(r, rp, s, elements))
+    xi = np.linspace(0.0, 1.0, 33)[None, :, None]
+    gaps = ((c3 * xi + c2) * xi + c1) * xi + c0 - tip
+    x = xi[0, np.argmin((gaps * gaps).sum(axis=2), axis=1), 0]  # each element's nearest sample
+    c0, c1, c2, c3 = (c[:, 0, :] for c in (c0, c1, c2, c3))
+    moving = np.ones(x.size, dtype=bool)
+    for _ in range(NEWTON_STEPS):
+        xs = x[:, None]
+        gap = ((c3 * xs + c2) * xs + c1) * xs + c0 - tip
+        slope = (3.0 * c3 * xs + 2.0 * c2) * xs + c1
+        rate = (slope * slope + gap * (6.0 * c3 * xs + 2.0 * c2)).sum(axis=1)
+        moving &= rate > 0.0
+        step = (gap * slope).sum(axis=1) / np.where(moving, rate, 1.0)
+        new = np.where(moving, np.minimum(np.maximum(x - step, 0.0), 1.0), x)
+        moving &= np.abs(new - x) >= 1e-13
+        x = new
+        if not moving.any():
+            break
+    xs = x[:, None]
+    gaps = ((c3 * xs + c2) * xs + c1) * xs + c0 - tip
+    lengths = np.linalg.norm(gaps, axis=1)
+    best = int(np.argmin(lengths))
+    return math.copysign(float(lengths[best]), float(gaps[best] @ up))
+
+
+def _moment_vectors(cols: dict) -> np.ndarray:
+    """The moment vectors of a profile (with a torque, it is in them: its
+    check is then on the moment's magnitude with the torque, conservative)."""
+    return np.stack([cols["moment_x"], cols["moment_y"], cols["moment_z"]], axis=1)
+
+
+def functional_effects(case, cols: dict):
+    """(moment vectors [N m], effective tensions [N]) of ``case`` without its
+    current (weight and tension: the functional load case), at the sections
+    of the profile ``cols``, matched by unstretched length from the top (the
+    top is the same point in both). Solves that case (the plain
+    :func:`pipelay_fast.solve`, from its own guess).
+
+    Raises
+    ------
+    SolveError
+        When the case without current does not solve.
+    """
+    from .solver import SolveError, solve
+
+    try:
+        still = solve(case.with_changes({"environment.current": None})).columns
+    except SolveError as err:
+        raise SolveError(f"case {case.name!r}: its functional load case (no current, for "
+                         f"checks.current_load = 'environmental') did not solve: {err}") from err
+    down, still_down = cols["s"][-1] - cols["s"], still["s"][-1] - still["s"]
+    order = np.argsort(still_down)
+    moment = np.stack([np.interp(down, still_down[order], m[order])
+                       for m in _moment_vectors(still).T], axis=1)
+    tension = np.interp(down, still_down[order], still["effective_tension"][order])
+    return moment, tension
+
+
+def lcc_sections(case, cols: dict):
+    """(utilisation [-], |S_Sd|/S_p [-]) of every section of the profile
+    ``cols``: the load-controlled criterion
+    (:func:`pipelay_fast.checks.lcc_utilisation`) of the design load effects
+    under the load effect factor combination giving the larger utilisation
+    there (:attr:`pipelay_fast.checks.Checks.load_combinations`), and that
+    combination's axial ratio (:func:`pipelay_fast.checks.lcc_axial_ratio`);
+    NaN without ``[checks]``."""
+    checks = case.checks
+    if checks is None:
+        nan = np.full(cols["s"].size, math.nan)
+        return nan, nan.copy()
+    functional = functional_effects(case, cols) if checks.splits_current(case) else None
+    moments, tension = _moment_vectors(cols), cols["effective_tension"]
+    p_e, p_i = case.external_pressure(cols["x"]), case.internal_pressure(cols["x"])
+    utilisation, ratio = [], []
+    for combination in checks.load_combinations:
+        m_sd, s_sd = design_load_effects(checks, combination, moments, tension, functional)
+        utilisation.append(lcc_utilisation(case.pipe, checks, m_sd, s_sd, p_e, p_i))
+        ratio.append(lcc_axial_ratio(case.pipe, checks, s_sd))
+    utilisation, ratio = np.array(utilisation), np.array(ratio)
+    governing = np.argmax(np.nan_to_num(utilisation, nan=-np.inf), axis=0)
+    at = np.arange(cols["s"].size)
+    return utilisation[governing, at], ratio[governing, at]
+
+
+def lcc_profile(case, cols: dict) -> np.ndarray:
+    """The load-controlled utilisation [-] of every section of the profile
+    ``cols``, the first of :func:`lcc_sections`; NaN without ``[checks]``."""
+    return lcc_sections(case, cols)[0]
+
+
+def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
+                   bearing: bool, departure_angle: float) -> dict:
+    """The columns of ``DESIGN_UNITS`` of a solved case.
+
+    ``cols``: the profile columns; ``r``, ``rp``: nodal position and slope in
+    the solve's dimension [m, -]; ``overbend``, ``sagbend``: boolean masks of
+    the nodes of each region (``sagbend`` None: the J-lay span behind
+    touchdown, whose peak is its interior maximum); ``bearing``: the pipe
+    bears on the stinger's tip; ``departure_angle``: the angle where the
+    pipe leaves the stinger (S-lay) or the vessel (J-lay) [deg].
+    """
+    from .results import interior_peak
+
+    s = cols["s"]
+    pipe, checks, stinger = case.pipe, case.checks, case.lay.stinger
+    at_tdp = {name: float(np.interp(s_tdp, s, cols[name])) for name in ("y", "z",
+                                                                         "effective_tension")}
+    layback = math.hypot(cols["z"][-1] - at_tdp["z"], cols["y"][-1] - at_tdp["y"])
+    if stinger is None:
+        clearance = math.nan
+    elif bearing:
+        clearance = 0.0
+    else:
+        x_l, z_l = stinger.lower
+        slope = float(stinger.slope(z_l))
+        up2 = np.array([1.0, -slope]) / math.hypot(1.0, slope)  # (x, z) normal, upwards
+        nd = r.shape[1]
+        tip = np.array([x_l, z_l]) if nd == 2 else np.array([x_l, 0.0, z_l])
+        up = up2 if nd == 2 else np.array([up2[0], 0.0, up2[1]])
+        clearance = tip_clearance(r, rp, s, tip, up)
+    axial = np.abs(cols["axial_strain"]) if pipe.extensible else 0.0
+    fibre = axial + cols["curvature"] * (0.5 * pipe.outer_diameter)
+    nan = math.nan
+    behind = s >= s_tdp
+    over_strain = float(fibre[overbend].max()) if overbend is not None and overbend.any() else nan
+    if sagbend is None:
+        sag_strain = interior_peak(fibre[behind])
+    else:
+        sag_strain = float(fibre[sagbend].max()) if sagbend.any() else nan
+    over_u = sag_u = sag_axial = nan
+    if checks is not None:
+        over_u = over_strain / checks.overbend_strain_limit
+        lcc, lcc_axial = lcc_sections(case, cols)
+        region = behind if sagbend is None else sagbend
+        checked = np.nan_to_num(lcc[region], nan=0.0)
+        if sagbend is None:
+            sag_u = interior_peak(checked)
+        elif sagbend.any():
+            sag_u = float(checked.max(initial=0.0))
+        if region.any() and sag_u > 0.0:
+            sag_axial = float(lcc_axial[region][np.argmax(checked == sag_u)])
+    values = [u for u in (over_u, sag_u) if not math.isnan(u)]
+    return {
+        "layback": float(layback),
+        "tip_clearance": float(clearance),
+        "departure_angle_deg": float(departure_angle),
+        "tdp_tension": at_tdp["effective_tension"],
+        "overbend_max_strain": over_strain,
+        "sagbend_max_strain": sag_strain,
+        "overbend_strain_utilisation": over_u,
+        "sagbend_lcc_utilisation": sag_u,
+        "sagbend_lcc_axial_ratio": sag_axial,
+        "max_utilisation": max(values) if values else nan,
+    }

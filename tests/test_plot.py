@@ -1,0 +1,140 @@
+"""Figures: Result.plot / pipelay-fast plot CASE.toml, and a sweep's figure.
+
+Each test renders into a temporary folder and checks the file (written, its
+format, its pixel size), and that the curves are drawn from the data: line
+counts, the plotted values, axis limits that hold the data."""
+
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+import pytest
+
+import pipelay_fast as pf
+from pipelay_fast.cli import main
+from pipelay_fast.dataset import read_summary
+from pipelay_fast.plot import DPI, PANEL_SIZE, plot_sweep
+from pipelay_fast.runner import run_sweep
+from pipelay_fast.select import select
+from pipelay_fast.sweep import load_sweep
+from tests.helpers import EXAMPLES
+
+pytest.importorskip("matplotlib")
+
+
+def png_size(path) -> tuple[int, int]:
+    """(width, height) in pixels from the PNG's IHDR chunk."""
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    return struct.unpack(">II", data[16:24])
+
+
+def _holds(limits, values):
+    lo, hi = sorted(limits)
+    return lo <= np.nanmin(values) and np.nanmax(values) <= hi
+
+
+@pytest.fixture(scope="module")
+def s67():
+    return pf.solve(pf.load_case(EXAMPLES / "s67.toml"))
+
+
+def test_result_plot_draws_the_lay(s67, tmp_path):
+    path = tmp_path / "lay.png"
+    fig = s67.plot(path)
+    assert png_size(path) == (round(PANEL_SIZE[0] * DPI), round(4 * PANEL_SIZE[1] * DPI))
+    assert path.stat().st_size > 20_000
+    elevation, moment, vm, util = fig.axes  # 2D: no plan
+    cols, case = s67.columns, s67.case
+    # pipe, seabed, water line, stinger, touchdown
+    assert len(elevation.lines) == 5
+    pipe = elevation.lines[0]
+    np.testing.assert_array_equal(pipe.get_xdata(), cols["z"])
+    np.testing.assert_array_equal(pipe.get_ydata(), cols["x"])
+    assert _holds(elevation.get_xlim(), cols["z"])
+    assert _holds(elevation.get_ylim(), [0.0, case.environment.water_depth, cols["x"].max()])
+    stinger = elevation.lines[3]
+    assert stinger.get_xdata()[[0, -1]].tolist() == [265.0, 400.0]
+    assert elevation.lines[4].get_xdata()[0] == s67.summary["tdp_z"]
+    np.testing.assert_allclose(moment.lines[0].get_ydata(), cols["moment"] / 1e3)
+    assert _holds(moment.get_ylim(), cols["moment"] / 1e3)
+    assert len(vm.lines) == 2 and vm.lines[1].get_ydata()[0] == case.pipe.smys / 1e6
+    assert _holds(vm.get_ylim(), cols["von_mises"] / 1e6)
+    # strain over its limit, the load-controlled check, the line at 1
+    assert len(util.lines) == 3
+    ratio = util.lines[0].get_ydata()
+    assert ratio.max() == pytest.approx(s67.summary["overbend_strain_utilisation"], rel=1e-12)
+    assert _holds(util.get_ylim(), util.lines[1].get_ydata())
+
+
+def test_3d_lay_has_a_plan_and_no_checks_shows_strain(tmp_path):
+    case = pf.load_case(EXAMPLES / "s67_3d.toml").with_changes({"checks": None})
+    result = pf.solve(case)
+    path = tmp_path / "lay3d.png"
+    fig = result.plot(path)
+    assert png_size(path) == (round(PANEL_SIZE[0] * DPI), round(5 * PANEL_SIZE[1] * DPI))
+    plan, util = fig.axes[1], fig.axes[4]
+    np.testing.assert_array_equal(plan.lines[0].get_ydata(), result.columns["y"])
+    assert _holds(plan.get_ylim(), result.columns["y"])
+    assert util.get_ylabel() == "strain [%]" and len(util.lines) == 1
+
+
+@pytest.mark.parametrize(("suffix", "magic"), [(".svg", b"<?xml"), (".pdf", b"%PDF")])
+def test_cli_plot_case_format_by_suffix(tmp_path, capsys, suffix, magic):
+    out = tmp_path / f"j125{suffix}"
+    assert main(["plot", str(EXAMPLES / "j125.toml"), "--out", str(out)]) == 0
+    assert out.read_bytes()[:len(magic)] == magic
+    assert f"wrote {out}" in capsys.readouterr().out
+
+
+A_SWEEP = {"name": "a_sweep", "set": {"solver.element_length": 8.0},
+           "scenes": [{"name": "S67", "case": "s67", "reference_a": -0.0012,
+                       "vary": {"a": [-0.0010, -0.0012, -0.0014]}}]}
+
+
+def test_sweep_plot_marks_the_chosen_a(tmp_path):
+    root = tmp_path / "a"
+    run_sweep(load_sweep(A_SWEEP), root, workers=1, progress=False)
+    chosen = select(root)["a_equal_peaks"].iloc[0]
+    path = tmp_path / "a.png"
+    fig = plot_sweep(root, path)
+    assert png_size(path) == (round(PANEL_SIZE[0] * DPI), round(PANEL_SIZE[1] * DPI))
+    (ax,) = fig.axes
+    summary = read_summary(root).sort_values("a")
+    over, sag, mark = ax.lines
+    np.testing.assert_array_equal(over.get_xdata(), summary["a"])
+    np.testing.assert_allclose(over.get_ydata(), summary["overbend_max_von_mises"] / 1e6)
+    np.testing.assert_allclose(sag.get_ydata(), summary["sagbend_max_von_mises"] / 1e6)
+    assert np.isfinite(chosen) and mark.get_xdata()[0] == chosen
+    assert _holds(ax.get_xlim(), summary["a"])
+    assert _holds(ax.get_ylim(), summary[["overbend_max_von_mises",
+                                          "sagbend_max_von_mises"]].to_numpy() / 1e6)
+
+
+DEPTH_SWEEP = {"name": "depths", "set": {"solver.element_length": 8.0}, "scenes": [
+    {"name": f"S{d}", "case": "s67", "water_depth": float(d),
+     "stinger_lower": [d - 25.5, 265.0], "stinger_upper": [d + 5.0, 400.0]}
+    for d in (67, 80, 95)]}
+
+
+def test_sweep_plot_draws_the_lay_table_against_depth(tmp_path, capsys):
+    root = tmp_path / "d"
+    run_sweep(load_sweep(DEPTH_SWEEP), root, workers=1, progress=False)
+    assert main(["plot", str(root)]) == 0
+    path = root / "sweep.png"
+    assert png_size(path) == (round(2 * PANEL_SIZE[0] * DPI), round(PANEL_SIZE[1] * DPI))
+    fig = plot_sweep(root)
+    tension, util = fig.axes
+    summary = read_summary(root).sort_values("water_depth")
+    np.testing.assert_array_equal(tension.lines[0].get_xdata(), [67.0, 80.0, 95.0])
+    np.testing.assert_allclose(tension.lines[0].get_ydata(), summary["top_tension"] / 1e3)
+    np.testing.assert_allclose(util.lines[0].get_ydata(), summary["max_utilisation"])
+    assert len(util.lines) == 2  # the utilisations and the line at 1
+    assert _holds(util.get_ylim(), summary["max_utilisation"])
+
+
+def test_sweep_plot_of_nothing_is_refused(tmp_path):
+    with pytest.raises(ValueError, match="no solved case to plot"):
+        plot_sweep(tmp_path)
+    assert main(["plot", str(tmp_path)]) == 2
