@@ -13,8 +13,8 @@ import numpy as np
 
 from .checks import design_load_effects, lcc_axial_ratio, lcc_utilisation
 
-__all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "hermite_point",
-           "lcc_profile", "lcc_sections", "tip_clearance"]
+__all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "lcc_profile",
+           "lcc_sections", "tip_clearance"]
 
 DESIGN_UNITS = {
     "layback": "m", "tip_clearance": "m", "departure_angle_deg": "deg", "tdp_tension": "N",
@@ -22,26 +22,6 @@ DESIGN_UNITS = {
     "overbend_strain_utilisation": "-", "sagbend_lcc_utilisation": "-",
     "sagbend_lcc_axial_ratio": "-", "max_utilisation": "-",
 }
-
-
-def hermite_point(r, rp, s, k, xi: float, derivative: int = 0) -> np.ndarray:
-    """Centreline point [m] (or its ``derivative``-th arc-length derivative,
-    1 or 2) at ``xi`` in [0, 1] of element ``k`` (nodes k, k+1): the cubic
-    Hermite of the nodal positions ``r`` and slopes ``rp`` = dr/ds. Index
-    and ``xi`` arrays broadcast (the dimension is the result's last axis)."""
-    k = np.asarray(k)
-    xi = np.asarray(xi, dtype=float)[..., None]
-    le = (s[k + 1] - s[k])[..., None]
-    if derivative == 0:
-        h = (1.0 - 3.0 * xi**2 + 2.0 * xi**3, xi - 2.0 * xi**2 + xi**3,
-             3.0 * xi**2 - 2.0 * xi**3, -(xi**2) + xi**3)
-    elif derivative == 1:
-        h = (6.0 * (xi**2 - xi), 1.0 - 4.0 * xi + 3.0 * xi**2, 6.0 * (xi - xi**2),
-             3.0 * xi**2 - 2.0 * xi)
-    else:
-        h = (12.0 * xi - 6.0, 6.0 * xi - 4.0, 6.0 - 12.0 * xi, 6.0 * xi - 2.0)
-    scale = le ** (-derivative)
-    return scale * (h[0] * r[k] + le * h[1] * rp[k] + h[2] * r[k + 1] + le * h[3] * rp[k + 1])
 
 
 NEWTON_STEPS = 20  # for the foot of the normal; it converges in 3 to 5

@@ -99,8 +99,6 @@ class Problem:
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
     s_bd: np.ndarray = field(default_factory=lambda: np.zeros(N_BND))
-    # 1 where a followed boundary's arc length is an unknown, 0 where it is held
-    bfree: np.ndarray = field(default_factory=lambda: np.ones(N_BND, dtype=np.int64))
 
     @property
     def td_node(self) -> int:
@@ -378,7 +376,7 @@ def _run_newton(pb: Problem, g_off, tol, maxit):
                     pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.stinger, pb.st_active,
                     pb.tip, pb.fric, pb.f_node, g_off,
                     pb.slide_dof, pb.tb, pb.top_node, pb.top_target, tol, pb.fref, pb.href,
-                    maxit, react, info, pb.bnodes, pb.bfree, s_a, s_b, pb.s_bd)
+                    maxit, react, info, pb.bnodes, s_a, s_b, pb.s_bd)
     pb.update_nodes()
     return status, react, info
 
@@ -480,34 +478,23 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     """
     budget = budget or IterationBudget(case.solver.max_iterations_total)
     zero = np.zeros_like(pb.u)
-    held = 0
-    if pb.lo_node >= 0:
-        # S-lay: the boundaries held where the guess put them first, for the
-        # pipe's shape in equilibrium between them, from which Newton moves
-        # them (the guess kinks at lift-off; from it, the first steps with the
-        # boundaries free run touchdown into the lower end on S67; a J-lay
-        # guess needs no such start, it would add 2 to 40 iterations there)
-        for switches in range(MAX_TIP_SWITCHES + 1):
-            pb.bfree[:] = 0
-            status, _react, info = _budgeted_newton(
-                case, pb, zero, budget, "the solve with the contact boundaries held")
-            pb.bfree[:] = 1
-            held += int(info[I_ITER])
-            start = _snapshot(pb)
-            status, react, info = _budgeted_newton(case, pb, zero, budget,
-                                                  "the first Newton solve on a mesh",
-                                                  switch=switches < MAX_TIP_SWITCHES)
-            if status == L.OK and _passes_below_tip(pb) and switches < MAX_TIP_SWITCHES:
-                status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
-            if status != L.PAST_TIP:
-                break
-            held += int(info[I_ITER])
-            _bear_on_tip(case, pb)
-    else:
+    spent = 0  # iterations of the calls that ended in a switch to bearing on the tip
+    for switches in range(MAX_TIP_SWITCHES + 1):
+        # (the boundaries start where the guess puts them; the kernel holds
+        # them until the pipe is in equilibrium there: an explicit solve with
+        # them held first cost S67 2 to 5 more iterations)
         start = _snapshot(pb)
+        can_switch = pb.lo_node >= 0 and switches < MAX_TIP_SWITCHES
         status, react, info = _budgeted_newton(case, pb, zero, budget,
-                                              "the first Newton solve on a mesh")
-    iters = int(info[I_ITER]) + held
+                                              "the first Newton solve on a mesh",
+                                              switch=can_switch)
+        if status == L.OK and can_switch and _passes_below_tip(pb):
+            status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
+        if status != L.PAST_TIP:
+            break
+        spent += int(info[I_ITER])
+        _bear_on_tip(case, pb)
+    iters = int(info[I_ITER]) + spent
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
     # homotopy: G(u) - (1 - alpha) G(u0) = 0, alpha from 0 to 1
@@ -616,9 +603,11 @@ def liftoff_position(case: Case, pb: Problem):
 
 
 def _stinger_foci(case: Case, pb: Problem):
-    """Arc lengths [m] the mesh should hold as nodes on the stinger side."""
-    out = [x for x in (tip_position(pb), conform_end(case, pb)) if x is not None]
-    return out
+    """Arc lengths [m] the mesh should hold as nodes on the stinger side (a
+    mesh that follows the boundaries: lift-off's and the tip's nodes)."""
+    if _follows_all(case, pb):
+        return [float(pb.s[k]) for k in (pb.lo_node, pb.tip_node) if k >= 0]
+    return [x for x in (tip_position(pb), conform_end(case, pb)) if x is not None]
 
 
 MAX_LAID_DOUBLINGS = 6
@@ -695,7 +684,6 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
             # moved too far, or when laid pipe is short
             if not (_distorted(pb) or short_laid):
                 break
-            foci = [pb.s[k] for k in (pb.lo_node, pb.tip_node) if k >= 0]
         else:
             near = 0.02 * pb.stats["h_min"]
             held = pb.stats.get("stinger_foci", [])
@@ -719,28 +707,23 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb.props[L.FRICTION_ON] = 1.0
         try:
             react, more = apply_current(case, pb, budget)
-        except _ShortLaid:
-            # touchdown ran toward the lower end under the current: more laid
-            # pipe, and the path again from the pipe under gravity alone
-            _restore(pb, pb.before_current)
-            pb = _with_more_laid(case, pb)
-            pb.props[L.CURRENT_FACTOR] = 0.0
-            pb.props[L.FRICTION_ON] = 0.0
-            pb, react, more = _solve_gravity(case, pb, budget)
+            short = False
+        except _ShortLaid:  # touchdown ran toward the lower end under the current
+            short = True
+        if not short:
             stats = {key: stats[key] + more[key] for key in stats}
-            continue
-        stats = {key: stats[key] + more[key] for key in stats}
-        s_t = touchdown_position(case, pb)
-        foci = _stinger_foci(case, pb)
-        near = 0.02 * pb.stats["h_min"]
-        current_passes += 1
-        if (not case.solver.grading or current_passes > MAX_MESH_PASSES
-                or _follows_all(case, pb) or abs(s_t - pb.stats["focus"]) <= near):
-            break
-        # the current moved touchdown off the fine mesh: mesh again around where
-        # it ends, from the pipe under gravity alone, and follow the path again
+            s_t = touchdown_position(case, pb)
+            foci = _stinger_foci(case, pb)
+            near = 0.02 * pb.stats["h_min"]
+            current_passes += 1
+            if (not case.solver.grading or current_passes > MAX_MESH_PASSES
+                    or _follows_all(case, pb) or abs(s_t - pb.stats["focus"]) <= near):
+                break
+        # mesh again (more laid pipe, or around where the current moved
+        # touchdown off the fine mesh), from the pipe under gravity alone, and
+        # follow the path again
         _restore(pb, pb.before_current)
-        pb = remesh(case, pb, s_t, foci)
+        pb = _with_more_laid(case, pb) if short else remesh(case, pb, s_t, foci)
         pb.props[L.CURRENT_FACTOR] = 0.0
         pb.props[L.FRICTION_ON] = 0.0
         pb, react, more = _solve_gravity(case, pb, budget)
@@ -781,8 +764,7 @@ def _with_more_laid(case: Case, pb: Problem) -> Problem:
                          f"lay.pipe_length = {case.lay.pipe_length!r} m (the pipe is too "
                          "short to reach the seabed and lie on it)")
     lam = pb.stats["flexural_length"]
-    foci = [pb.s[k] for k in (pb.lo_node, pb.tip_node) if k >= 0]
-    return remesh(case, pb, s_t, foci, laid=max(2.0 * lam, 2.0 * s_t))
+    return remesh(case, pb, s_t, _stinger_foci(case, pb), laid=max(2.0 * lam, 2.0 * s_t))
 
 
 def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None,

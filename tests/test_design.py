@@ -253,8 +253,10 @@ def test_jlay_lcc_is_interior_peak():
 
 def test_power_basis_is_the_hermite(s67):
     """tip_clearance's power-basis coefficients give the same centreline as
-    the Hermite basis of hermite_point, its slope and its curvature too."""
-    from pipelay_fast.design import _hermite_power, hermite_point
+    the elements' Hermite shape functions (:func:`.kernels.element.hermite`),
+    its slope and its curvature too."""
+    from pipelay_fast.design import _hermite_power
+    from pipelay_fast.kernels.element import hermite
 
     p = pf.solve(s67.with_changes({"lay.stinger.a": -0.0014})).profile
     s = p["s"].to_numpy()
@@ -264,11 +266,23 @@ def test_power_basis_is_the_hermite(s67):
     k = np.arange(s.size - 1)
     c0, c1, c2, c3 = _hermite_power(r, rp, s, k)
     le = (s[1:] - s[:-1])[:, None]
+
+    def shape(xi):  # position, slope and curvature of every element at xi
+        n, dn, ddn = np.empty(4), np.empty(4), np.empty(4)
+        out = np.empty((3, k.size, 2))
+        for e in k:
+            hermite(xi, s[e + 1] - s[e], n, dn, ddn)
+            nodal = (r[e], rp[e], r[e + 1], rp[e + 1])
+            for row, f in enumerate((n, dn, ddn)):
+                out[row, e] = sum(f[j] * nodal[j] for j in range(4))
+        return out
+
     for xi in (0.0, 0.3, 0.77, 1.0):
         scale = max(np.abs(r).max(), 1.0)
+        point, slope, curvature = shape(xi)
         np.testing.assert_allclose(((c3 * xi + c2) * xi + c1) * xi + c0,
-                                   hermite_point(r, rp, s, k, xi), rtol=0, atol=1e-12 * scale)
+                                   point, rtol=0, atol=1e-12 * scale)
         np.testing.assert_allclose(((3 * c3 * xi + 2 * c2) * xi + c1) / le,
-                                   hermite_point(r, rp, s, k, xi, 1), rtol=0, atol=1e-12)
+                                   slope, rtol=0, atol=1e-12)
         np.testing.assert_allclose((6 * c3 * xi + 2 * c2) / le**2,
-                                   hermite_point(r, rp, s, k, xi, 2), rtol=0, atol=1e-12)
+                                   curvature, rtol=0, atol=1e-12)

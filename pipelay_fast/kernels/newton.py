@@ -508,7 +508,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, tip
 @jit
 def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
            stinger, st_active, tip, fric, f_node, g_off, slide_dof, tb, top_node, top_target,
-           tol, fref, href, maxit, react, info, bnodes, bfree, s_a, s_b, s_bd):
+           tol, fref, href, maxit, react, info, bnodes, s_a, s_b, s_bd):
     """Solve G(u) = reactions for one load level; see the module docstring.
 
     Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
@@ -602,7 +602,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     d_bnd = np.zeros(N_BND)
     bnd_old = np.zeros(N_BND)
     bnd_res = 0.0
-    bf = np.zeros(N_BND, dtype=np.int64)  # the boundaries free in this iteration
     s_nd = np.zeros(nn)  # node arc lengths [m]
     if has_bnd:
         mesh_lengths(s_a, s_b, s_bd, s_el)
@@ -647,7 +646,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         if solve_tb:
             te_top = _top_tension_row(nd, ab, kl, ku, g, u, top_node, d)
         for b in range(N_BND):
-            if bnodes[b] >= 0 and bfree[b] != 0:
+            if bnodes[b] >= 0:
                 _boundary_column(nd, s_el, u, props, table, torques, s_b[b],
                                  bcols[b], bed_active, fric, s_nd)
                 d_top[b] = _top_te(nd, bcols[b], u, top_node)
@@ -676,7 +675,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             nb += 1
         nb_fixed = nb  # the border unknowns other than the boundaries
         for b in range(N_BND):
-            if bnodes[b] < 0 or bfree[b] == 0:
+            if bnodes[b] < 0:
                 continue
             col_t[:] = bcols[b]
             d_own = 0.0
@@ -750,12 +749,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             j = bnodes[2] * ndn
             cmask[j] = True
             delta[j] = -_tip_gap_normal(nd, u, stinger, bnodes[2], phi_r[bnodes[2]])
-        for b in range(N_BND):
-            if b == 1 and bnodes[b] >= 0 and bfree[b] == 0:
-                # a boundary held where it is: its node tangent to the support
-                j = bnodes[b] * ndn + nd
-                cmask[j] = True
-                delta[j] = -_tangency(nd, u, stinger, b, bnodes[b], row_t)
         for i in range(n):
             slot = i % ndn
             lim = href if slot < nd else 1.0
@@ -770,7 +763,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             max_delta = max(max_delta, abs(g_tip) / href)
         bnd_res = 0.0
         for b in range(N_BND):
-            if bnodes[b] >= 0 and bfree[b] != 0:
+            if bnodes[b] >= 0:
                 bnd_res = max(bnd_res, abs(res_bnd[b]) / _bnd_scale(b, fref, href))
         if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
             status = L.NOT_FINITE
@@ -797,31 +790,23 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         # theirs (INNER_RATIO), the step holds them;
         # from equilibrium the bordered step is the reduced Newton step of the
         # boundaries' own equations.
-        for b in range(N_BND):
-            bf[b] = bfree[b] if bnodes[b] >= 0 else 0
+        hold = False
         if has_lo:
             # (touchdown alone moves with the pipe: J125 with 20 kN at the
             # bottom took 16 iterations held so, 12 without)
-            j_lo = bnodes[1] * ndn + nd if bfree[1] != 0 else -1
-            keep = False
-            if j_lo >= 0:
-                keep = cmask[j_lo]
-                cmask[j_lo] = True  # held, lift-off's slope is constrained
-            res_eq, _rs = _weighted_max(nd, g, cmask, fref, href)
-            if j_lo >= 0:
-                cmask[j_lo] = keep
+            j_lo = bnodes[1] * ndn + nd  # lift-off's slope
             # the boundaries' own imbalance: their equations, and the moment
             # on lift-off's slope that its tangency would hold
-            own = bnd_res
-            if j_lo >= 0:
-                own = max(own, abs(g[j_lo]) / (fref * href))
-            if res_eq > INNER_RATIO * own:
+            own = max(bnd_res, abs(g[j_lo]) / (fref * href))
+            keep = cmask[j_lo]
+            cmask[j_lo] = True  # as held: lift-off's slope constrained
+            res_eq, _rs = _weighted_max(nd, g, cmask, fref, href)
+            hold = res_eq > INNER_RATIO * own
+            if hold:
                 nb = nb_fixed
-                for b in range(N_BND):
-                    bf[b] = 0
-                if j_lo >= 0:
-                    cmask[j_lo] = True
-                    delta[j_lo] = -_tangency(nd, u, stinger, 1, bnodes[1], row_t)
+                delta[j_lo] = -_tangency(nd, u, stinger, 1, bnodes[1], row_t)
+            else:
+                cmask[j_lo] = keep
         # ---- 3: scale, condense, factor, solve --------------------------
         for j in range(n):
             sj = scale[j % ndn]
@@ -903,7 +888,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         mu_old = tip[1]
         merit0 = res_ssq + top_res * top_res + (g_tip / href) ** 2 * tip_on
         for b in range(N_BND):
-            if bf[b] != 0:
+            if bnodes[b] >= 0 and not hold:
                 merit0 += (res_bnd[b] / _bnd_scale(b, fref, href)) ** 2
             bnd_old[b] = s_bd[b]
         alpha = 1.0
@@ -920,23 +905,23 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             # a boundary moves at most MAX_BOUNDARY_STEP reference lengths a step
             if abs(d_bnd[b]) * alpha > MAX_BOUNDARY_STEP * href:
                 alpha = MAX_BOUNDARY_STEP * href / abs(d_bnd[b])
-        if has_td and bf[0] != 0 and d_bnd[0] < 0.0:
+        if has_td and not hold and d_bnd[0] < 0.0:
             # touchdown stays on the modelled laid pipe: a step that takes it
             # more than half way to the lower end stops, for more laid pipe
             if -d_bnd[0] * alpha > 0.5 * (s_bd[0] - s_a[0]):
                 status = L.SHORT_LAID
                 break
-        if has_lo and has_tipn and bf[1] != 0:
+        if has_lo and has_tipn and not hold:
             # the span between re-contact and the tip at most halves or doubles
             # a step: near the regime change it grows like sqrt(a - a_switch),
             # which a step in its logarithm follows
             gap_s = s_bd[1] - s_bd[2]
-            d_gap_s = (d_bnd[1] - d_bnd[2] * bf[2]) * alpha
+            d_gap_s = (d_bnd[1] - d_bnd[2]) * alpha
             if d_gap_s < -0.5 * gap_s:
                 alpha *= 0.5 * gap_s / -d_gap_s
             elif d_gap_s > gap_s:
                 alpha *= gap_s / d_gap_s
-        if has_lo and bf[1] != 0:
+        if has_lo and not hold:
             # lift-off stays above the tip (the curve continued past it is no
             # support): a step goes at most half way there
             base = bnodes[1] * ndn
@@ -966,13 +951,13 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 tr = (_top_te(nd, g_trial, u, top_node) - top_target) / top_target
             tdr = 0.0
             no_row = np.zeros(0)
-            if has_td and bf[0] != 0:
+            if has_td and not hold:
                 v, _d = _free_moment(nd, s_el, u, props, table, torques, bnodes[0], s_b[0],
                                      no_row)
                 tdr += (v / (fref * href)) ** 2
-            if has_lo and bf[1] != 0:
+            if has_lo and not hold:
                 tdr += _tangency(nd, u, stinger, 1, bnodes[1], row_t) ** 2
-            if has_tipn and bf[2] != 0:
+            if has_tipn and not hold:
                 tdr += (_over_tip(nd, u, stinger, bnodes[2], row_t) / href) ** 2
             _rotate_all(nd, dummy_ab, kl, ku, g_trial, phi_r, phi_rp, False)
             _curve_all(nd, dummy_ab, kl, ku, g_trial, u, stinger, st_active, False)
