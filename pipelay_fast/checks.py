@@ -102,7 +102,8 @@ class Checks:
     """Code-check inputs, table ``[checks]`` (DNVGL-ST-F101, 2017 edition).
 
     Without the table the code-check columns are NaN. With it, the pipe
-    needs ``pipe.smts`` (and uses ``pipe.smys``).
+    needs ``pipe.smts`` (and uses ``pipe.smys``): from ``pipe.grade`` or
+    given.
 
     Attributes
     ----------
@@ -223,14 +224,14 @@ class Checks:
 
 def check_inputs(pipe, checks: Checks | None) -> None:
     """Refuse a ``[checks]`` table the pipe cannot be checked with: no
-    ``pipe.smts``, SMTS below SMYS, or D/t outside the criterion's 15 to 45."""
+    ``pipe.smts`` (SMYS given without it), or D/t outside the criterion's 15
+    to 45. (:class:`pipelay_fast.case.Pipe` refuses SMTS below SMYS.)"""
     if checks is None:
         return
     if pipe.smts is None:
         raise ValueError("missing key pipe.smts: the [checks] need the specified minimum "
-                         "tensile strength SMTS [Pa] (DNVGL-ST-F101 eq. 5.5)")
-    if pipe.smts < pipe.smys:
-        fail("pipe.smts", pipe.smts, f"is below pipe.smys = {pipe.smys!r}")
+                         "tensile strength SMTS [Pa] (DNVGL-ST-F101 eq. 5.5); give "
+                         "pipe.smts with pipe.smys, or pipe.grade instead of both")
     slenderness = pipe.outer_diameter / pipe.wall_thickness
     lo, hi = LCC_SLENDERNESS
     if not lo <= slenderness <= hi:
