@@ -17,11 +17,13 @@ Sources checked (figures only):
   Properties-Tensile-Yield-Strength-Elongation.htm), the same first rows
   and L360/X52 360 and 460, L390/X56 390 and 490, L415/X60 415 and 520,
   L450/X65 450 and 535, L485/X70 485 and 570, L555/X80 555 and 625 MPa;
-* testcert.co/standards/api-5l, the same SMYS and SMTS for B to X80.
+* testcert.co/standards/api-5l, the same SMYS and SMTS for B to X80;
+* benranderson/wallthick (input_data_files/db_materials.py, at
+  52aa5ec), SMYS alone: X52 360, X60 415, X65 450, X70 485 MPa.
 
-The 2018 excerpt stops at X46, so the rows from X52 up are the two
-secondary sources' (which agree with each other and, on the rows the
-excerpt has, with it). Higher grades (X90 and up) were not cross-checked and
+The 2018 excerpt stops at X46, so the rows from X52 up are the secondary
+sources' (which agree with each other and, on the rows the excerpt has,
+with it). Higher grades (X90 and up) were not cross-checked and
 are not offered.
 
 The default is X65 (L450), the grade of the paper's scenes: their SMYS of
