@@ -39,8 +39,9 @@ The engine's static answer is checked the way a pipelay engineer checks a lay:
   Table 5-5: t2 carries no fabrication tolerance, and no corrosion allowance
   before operation).
 
-The criterion is stated for a range: 15 <= D/t2 <= 45 (a ``[checks]`` table
-on a pipe outside it is refused) and |S_Sd|/S_p < 0.4. The utilisation is
+The criterion is stated for a range (as remembered: see "Not confirmed"
+below): 15 <= D/t2 <= 45 (a ``[checks]`` table on a pipe outside it is
+refused) and |S_Sd|/S_p < 0.4. The utilisation is
 evaluated at every section, also where |S_Sd|/S_p >= 0.4: the summary
 reports |S_Sd|/S_p at the section of the peak utilisation
 (``sagbend_lcc_axial_ratio``, :func:`lcc_axial_ratio`), so that a peak
