@@ -45,6 +45,7 @@ from pipelay_fast._validate import (
     vectorised,
 )
 from pipelay_fast.checks import Checks, check_inputs
+from pipelay_fast.grades import DEFAULT_GRADE, grade_strengths
 from pipelay_fast.limits import check_case
 
 __all__ = [
@@ -88,11 +89,18 @@ class Pipe:
         E [Pa]; default 207e9.
     poisson_ratio : float
         nu [-], in (-1, 0.5); default 0.3.
+    grade : str or None
+        Linepipe steel grade, API 5L ("B", "X42" ... "X80") or ISO 3183
+        ("L245" ... "L555"): SMYS and SMTS from API 5L (2018) Table 7, PSL 2
+        (:mod:`pipelay_fast.grades`). Default "X65" (450 and 535 MPa) when
+        none of grade, smys and smts is given; None when smys (and smts) are.
     smys : float
-        Specified minimum yield strength [Pa]; default 448e6.
+        Specified minimum yield strength [Pa]; default the grade's. Given
+        with ``grade``, it must equal the grade's.
     smts : float or None
-        Specified minimum tensile strength [Pa]; needed by the ``[checks]``
-        (:mod:`pipelay_fast.checks`), none by default.
+        Specified minimum tensile strength [Pa], not below smys; default the
+        grade's; None when smys is given without it (then ``[checks]``
+        refuse the pipe). Given with ``grade``, it must equal the grade's.
     contents_density : float
         rho_i [kg/m^3]; default 0 (empty).
     contents_level : float
@@ -112,7 +120,8 @@ class Pipe:
     coating_density: float = 0.0
     youngs_modulus: float = 207e9
     poisson_ratio: float = 0.3
-    smys: float = 448e6
+    grade: str | None = None
+    smys: float | None = None
     smts: float | None = None
     contents_density: float = 0.0
     contents_level: float = 0.0
@@ -124,7 +133,7 @@ class Pipe:
         set_numbers(
             self, "pipe",
             positive=("outer_diameter", "inner_diameter", "steel_density",
-                      "youngs_modulus", "smys"),
+                      "youngs_modulus"),
             non_negative=("coating_density", "contents_density", "contents_level",
                           "drag_coefficient"),
             finite=("poisson_ratio",),
@@ -132,8 +141,7 @@ class Pipe:
         if self.coating_outer_diameter is None:
             assign(self, "coating_outer_diameter", self.outer_diameter)
         set_numbers(self, "pipe", positive=("coating_outer_diameter",))
-        if self.smts is not None:
-            set_numbers(self, "pipe", positive=("smts",))
+        self._set_strengths()
         if self.hydrodynamic_diameter is None:
             assign(self, "hydrodynamic_diameter", self.coating_outer_diameter)
         set_numbers(self, "pipe", positive=("hydrodynamic_diameter",))
@@ -147,6 +155,30 @@ class Pipe:
                  f"must not be smaller than pipe.outer_diameter = {do!r}")
         if not -1.0 < self.poisson_ratio < 0.5:
             fail("pipe.poisson_ratio", self.poisson_ratio, "must lie in (-1, 0.5)")
+
+    def _set_strengths(self):
+        """smys and smts from ``grade`` (X65 when none of the three is given);
+        a given strength that differs from the grade's is refused."""
+        given = [name for name in ("smys", "smts") if getattr(self, name) is not None]
+        if self.grade is None and not given:
+            assign(self, "grade", DEFAULT_GRADE)
+        if self.grade is not None:
+            smys, smts = grade_strengths(self.grade)
+            set_numbers(self, "pipe", positive=given)
+            for name, value in (("smys", smys), ("smts", smts)):
+                if getattr(self, name) is None:
+                    assign(self, name, value)
+                elif getattr(self, name) != value:
+                    fail(f"pipe.{name}", getattr(self, name),
+                         f"disagrees with pipe.grade = {self.grade!r} (its {name.upper()} "
+                         f"is {value!r} Pa): give pipe.grade or pipe.{name}, not both")
+            return
+        if self.smys is None:
+            raise ValueError("missing key pipe.smys: pipe.smts is given without it "
+                             "(give pipe.smys too, or pipe.grade instead)")
+        set_numbers(self, "pipe", positive=given)
+        if self.smts is not None and self.smts < self.smys:
+            fail("pipe.smts", self.smts, f"is below pipe.smys = {self.smys!r}")
 
     @property
     def wall_thickness(self) -> float:
@@ -742,7 +774,9 @@ class Case:
         the key (its default applies). A derived default follows its source when
         it was equal to it and is not itself changed: coating_outer_diameter
         follows outer_diameter, hydrodynamic_diameter follows
-        coating_outer_diameter, lay.top follows lay.stinger.upper.
+        coating_outer_diameter, lay.top follows lay.stinger.upper; pipe.smys
+        and pipe.smts follow pipe.grade, and changing either of them without
+        the grade drops the grade (the steel is then the given strengths).
         """
         updates = {**(changes or {}), **dotted}
         old = self.to_dict()
@@ -757,7 +791,23 @@ class Case:
             if moved and not touched and get_path(old, dependent) == get_path(old, source):
                 put_path(new, dependent, None)
                 rederived.add(dependent)
+        _follow_grade(new, updates)
         return load_case(new)
+
+
+def _follow_grade(tables: dict, updates: Mapping) -> None:
+    """In ``tables`` changed by ``updates``: a new pipe.grade re-derives the
+    strengths not changed with it; a strength changed without the grade
+    drops the grade."""
+    if "pipe" in updates:
+        return
+    strengths = ("pipe.smys", "pipe.smts")
+    if "pipe.grade" in updates:
+        for key in strengths:
+            if key not in updates:
+                put_path(tables, key, None)
+    elif any(key in updates for key in strengths):
+        put_path(tables, "pipe.grade", None)
 
 
 _TABLES = {"pipe": Pipe, "environment": Environment, "seabed": Seabed, "lay": Lay,

@@ -6,32 +6,47 @@ The engine's static answer is checked the way a pipelay engineer checks a lay:
   imposed (a displacement-controlled condition): the extreme-fibre strain
   |Tw/EA| + (Do/2) kappa over the user's limit ``overbend_strain_limit``;
 * **sagbend**, where the free span carries its moment (a load-controlled
-  condition): the local-buckling check for combined loading of DNVGL-ST-F101
-  (2017) Sec.5 [5.4.6], pipe members under bending moment, effective axial
-  force and external overpressure, stated for 15 <= D/t2 <= 45, p_i < p_e
-  and |S_Sd|/S_p < 0.4::
+  condition): the local-buckling criterion for combined loading of
+  DNVGL-ST-F101 (2017) Sec.5, pipe members under bending moment M_Sd,
+  effective axial force S_Sd and overpressure. With g = gamma_m gamma_SC
+  and the bending part
 
-      {g |M_Sd| / (alpha_c M_p) + (g S_Sd / (alpha_c S_p))^2}^2
-          + (g (p_e - p_min) / p_c)^2 <= 1,          g = gamma_m gamma_SC
+      B = g |M_Sd| / (alpha_c M_p) + (g S_Sd / (alpha_c S_p))^2,
 
-  with M_p = f_y (D - t2)^2 t2 and S_p = f_y pi (D - t2) t2 the plastic
-  capacities, alpha_c = (1 - beta) + beta f_u / f_y the flow-stress parameter
-  (beta = 0.5 for D/t2 < 15, (60 - D/t2)/90 up to 60, 0 beyond), p_c the
-  characteristic collapse pressure, the real root of Sec.5 [5.4.4.2]'s cubic
-  (eq. 5.11) (p_c - p_el)(p_c^2 - p_p^2) = p_c p_el p_p f0 D/t2, p_el =
-  2E (t2/D)^3 / (1 - nu^2) (eq. 5.12), p_p = f_y alpha_fab 2 t2/D (eq. 5.13),
-  f0 >= 0.005 (eq. 5.14). The left-hand side is reported as the utilisation
-  (1 meets the criterion). It is evaluated at every section, also where
-  |S_Sd|/S_p >= 0.4, outside the range the criterion is stated for: the
-  summary reports |S_Sd|/S_p at the section of the peak utilisation
-  (``sagbend_lcc_axial_ratio``, :func:`lcc_axial_ratio`), so that a peak
-  outside the range is seen (deep J-lay near the hang-off goes there: its
-  utilisation is then not the standard's). During
-  installation t2 = t, the nominal wall (Sec.5's table of characteristic wall
-  thicknesses: prior to operation t1 = t - t_fab and t2 = t, no corrosion
-  allowance yet; the load-controlled criterion, its M_p, S_p and p_c use t2,
-  the system-collapse check alone t1), and p_min, the least internal pressure
-  sustained, is the case's contents pressure (0 for an empty pipe).
+  external overpressure (p_e >= p_i)::
+
+      B^2 + (g (p_e - p_min) / p_c)^2 <= 1
+
+  and internal overpressure (p_i > p_e)::
+
+      B^2 + (alpha_p (p_i - p_e) / (alpha_c p_b))^2 <= 1,
+      alpha_p = 1 - beta                          for (p_i - p_e)/p_b < 2/3,
+                1 - 3 beta (1 - (p_i - p_e)/p_b)  otherwise
+
+  (the two alpha_p branches meet at 2/3, and the two forms at p_i = p_e,
+  where the pressure term vanishes in both). M_p = f_y (D - t2)^2 t2 and
+  S_p = f_y pi (D - t2) t2 are the plastic capacities, alpha_c = (1 - beta)
+  + beta f_u / f_y the flow-stress parameter (beta = 0.5 for D/t2 < 15,
+  (60 - D/t2)/90 up to 60, 0 beyond), p_c the characteristic collapse
+  pressure, the real root of [5.4.4.2]'s cubic (eq. 5.11) (p_c - p_el)(p_c^2
+  - p_p^2) = p_c p_el p_p f0 D/t2, p_el = 2E (t2/D)^3 / (1 - nu^2) (eq.
+  5.12), p_p = f_y alpha_fab 2 t2/D (eq. 5.13), f0 >= 0.005 (eq. 5.14), and
+  p_b = 2 t2/(D - t2) f_cb 2/sqrt(3), f_cb = min(f_y, f_u/1.15), the
+  pressure containment resistance ([5.4.2.2], eq. 5.8). p_min, the least
+  internal pressure sustained, and p_i are the case's contents pressure (0
+  for an empty pipe). The left-hand side is reported as the utilisation (1
+  meets the criterion). During installation t2 = t, the nominal wall (Sec.5
+  Table 5-5: t2 carries no fabrication tolerance, and no corrosion allowance
+  before operation).
+
+The criterion is stated for a range (as remembered: see "Not confirmed"
+below): 15 <= D/t2 <= 45 (a ``[checks]`` table on a pipe outside it is
+refused) and |S_Sd|/S_p < 0.4. The utilisation is
+evaluated at every section, also where |S_Sd|/S_p >= 0.4: the summary
+reports |S_Sd|/S_p at the section of the peak utilisation
+(``sagbend_lcc_axial_ratio``, :func:`lcc_axial_ratio`), so that a peak
+outside the range is seen (deep J-lay near the hang-off goes there: its
+utilisation is then not the standard's).
 
 Design load effects (Sec.4, the design load effect of the load effect
 factor combinations) are L_Sd = gamma_F gamma_c L_F + gamma_E L_E for the
@@ -54,18 +69,45 @@ Characteristic strengths are f_y = SMYS alpha_U and f_u = SMTS alpha_U
 ambient temperature, below the 50 deg C where the derating of C-Mn steel
 starts (Sec.5 [5.3.3.4], Figure 5-2).
 
-Sources checked (facts and figures only): the clause, table and equation
-numbers of Sec.5 (Tables 5-1 to 5-4, eq. 5.4, 5.5, 5.11 to 5.14) as cited by
-PDover2t (github.com/qwilka/PDover2t, pdover2t/dnvgl_st_f101/factor.py,
-material.py, pipe_collapse.py: gamma_m 1.15 ULS, gamma_SC 1.04/1.14/1.26,
-alpha_U 0.96/1.00, alpha_fab 1.00/0.93/0.85, the collapse cubic, f0 >=
-0.005); Flexcom's code-check defaults gamma_F 1.1, gamma_E 1.3, combination
-b (flexcom.fea.solutions/kwd_codechecking_loadfactor.html); the functional
-load case without current
-(orcina.com/webhelp/OrcaFlex/Content/html/Codechecks,DNVfunctionalload.htm).
-The criterion's form and validity range, combination a of Table 4-4 and
-Tables 4-5 and 2-4 were checked against the 2017 edition's text as
-remembered: no stored copy of the standard was found to confirm them.
+Sources checked (facts and figures only; no copy of the standard's text
+was found, so every item below is a secondary source's):
+
+* DNVGL-ST-F101 (2017) clause, table and equation numbers and values as
+  PDover2t cites and implements them (github.com/qwilka/PDover2t,
+  pdover2t/dnvgl_st_f101/factor.py, material.py, pipe_collapse.py,
+  pressure_containment.py, in the repository's history): Table 5-1
+  ([5.3.2.3]) gamma_m 1.15 ULS; Table 5-2 ([5.3.2.4]) gamma_SC 1.04, 1.14,
+  1.26; Table 5-3 ([5.3.3.6]) alpha_U 0.96, 1.00; Table 5-4 ([5.3.3.7])
+  alpha_fab 1.00, 0.93, 0.85; eq. 5.4, 5.5 ([5.3.3.2]); Figure 5-2
+  ([5.3.3.4]); [5.4.4.2] eq. 5.11 to 5.14 (the cubic, p_el, p_p, f0 >=
+  0.005); [5.4.2.2] eq. 5.8, p_b with f_cb = min(f_y, f_u/1.15); Table 5-5,
+  t2 without fabrication tolerance, no corrosion allowance before operation;
+  collapse at [5.4.4] and propagation buckling at [5.4.5];
+* the combined-loading criterion's definitions, from the paper that derives
+  it (Collberg and Levold, DNV GL-ST-F101 combined loading criterion -
+  background and derivation, OMAE2016-54238): S the effective force N -
+  p_i A_i + p_e A_e, S_p = f_y (D - t) pi t, M_p = D_m^2 t f_y, alpha_c the
+  strain-hardening correction, the criterion in this form since the 2007
+  revision;
+* the criterion's two forms, alpha_p and p_b as written above, in three
+  independent public implementations that agree with each other (found by
+  the code search, repositories not named by it: a numpy ``lcc`` "library
+  of limit states", a JavaScript ``localBuckling``, a Python
+  ``calculate_capacity_parameters_STF101``);
+* DNV-OS-F101 (2012) Table 2-4: the temporary phase in the low safety class
+  for every fluid category and location class (github.com/benranderson/
+  wallthick, wallthick/dnvf101.py);
+* the load effect factors gamma_F 1.1, gamma_E 1.3 of combination b as
+  Flexcom's code-check defaults (flexcom.fea.solutions/
+  kwd_codechecking_loadfactor.html); the functional load case without
+  current (orcina.com/webhelp/OrcaFlex/Content/html/
+  Codechecks,DNVfunctionalload.htm).
+
+Not confirmed (as remembered from the 2017 edition; no source found): the
+criterion's clause number (taken as [5.4.6], after [5.4.5]) and equation
+numbers; its validity range 15 <= D/t2 <= 45 and |S_Sd|/S_p < 0.4;
+combination a of Table 4-4 (1.2, 0.7); Table 4-5's condition factor
+gamma_c (1.00 otherwise; the other rows are not listed here).
 """
 
 from __future__ import annotations
@@ -79,7 +121,8 @@ from pipelay_fast._validate import choice, fail, set_numbers
 
 __all__ = ["CURRENT_LOADS", "Checks", "FABRICATION_FACTORS", "LCC_AXIAL_LIMIT",
            "LOAD_COMBINATIONS", "SAFETY_CLASS_FACTORS", "check_inputs", "collapse_pressure",
-           "design_load_effects", "flow_stress_factor", "lcc_axial_ratio", "lcc_utilisation"]
+           "design_load_effects", "flow_stress_factor", "hardening_beta", "lcc_axial_ratio",
+           "lcc_utilisation", "pressure_containment_resistance"]
 
 # DNVGL-ST-F101 (2017) Sec.5 Table 5-2: safety class resistance factor gamma_SC
 # for all checks but pressure containment
@@ -93,8 +136,10 @@ LOAD_COMBINATIONS = {"a": (1.2, 0.7), "b": (1.1, 1.3)}
 SAFETY_CLASSES = tuple(SAFETY_CLASS_FACTORS)
 CURRENT_LOADS = ("environmental", "functional")  # how the current's load effects are factored
 MIN_OVALITY = 0.005  # Sec.5 [5.4.4.2], eq. 5.14: f0 not to be taken below 0.5 %
-LCC_SLENDERNESS = (15.0, 45.0)  # the D/t2 range the load-controlled criterion is stated for
-LCC_AXIAL_LIMIT = 0.4  # |S_Sd|/S_p below which the load-controlled criterion is stated
+# the D/t2 range and the |S_Sd|/S_p bound the load-controlled criterion is stated for
+# (as remembered from the 2017 edition: no source found confirms them)
+LCC_SLENDERNESS = (15.0, 45.0)
+LCC_AXIAL_LIMIT = 0.4
 
 
 @dataclass(frozen=True, slots=True)
@@ -102,7 +147,8 @@ class Checks:
     """Code-check inputs, table ``[checks]`` (DNVGL-ST-F101, 2017 edition).
 
     Without the table the code-check columns are NaN. With it, the pipe
-    needs ``pipe.smts`` (and uses ``pipe.smys``).
+    needs ``pipe.smts`` (and uses ``pipe.smys``): from ``pipe.grade`` or
+    given.
 
     Attributes
     ----------
@@ -122,7 +168,8 @@ class Checks:
         See ``alpha_fab``.
     safety_class : str
         "low" | "medium" | "high"; default "low", the normal class of the
-        temporary phases, installation among them (Sec.2 Table 2-4).
+        temporary phases, installation among them, for every fluid category
+        and location class (Sec.2 Table 2-4).
     gamma_SC : float or None
         Safety class resistance factor [-]; default from ``safety_class``:
         1.04, 1.14, 1.26 (Sec.5 Table 5-2).
@@ -134,9 +181,10 @@ class Checks:
         Table 4-4, a) 1.2 and 0.7, b) 1.1 and 1.3, are checked and the larger
         utilisation is reported (:attr:`load_combinations`).
     gamma_c : float
-        Condition load effect factor [-]; default 1.00, the table's
-        "otherwise" (Sec.4 Table 4-5: 1.07 on an uneven seabed, 0.82 reeling
-        on and J-tube pull-in, 0.93 the system pressure test).
+        Condition load effect factor [-]; default 1.00, no condition factor
+        (Sec.4 Table 4-5's value where none of its conditions applies, as
+        remembered: no source confirmed the table; give its value where a
+        condition of the lay applies).
     current_load : str
         "environmental" (the default: the current is an environmental load,
         Sec.4; its share of the load effects, found by solving the case
@@ -223,31 +271,44 @@ class Checks:
 
 def check_inputs(pipe, checks: Checks | None) -> None:
     """Refuse a ``[checks]`` table the pipe cannot be checked with: no
-    ``pipe.smts``, SMTS below SMYS, or D/t outside the criterion's 15 to 45."""
+    ``pipe.smts`` (SMYS given without it), or D/t outside the criterion's 15
+    to 45. (:class:`pipelay_fast.case.Pipe` refuses SMTS below SMYS.)"""
     if checks is None:
         return
     if pipe.smts is None:
         raise ValueError("missing key pipe.smts: the [checks] need the specified minimum "
-                         "tensile strength SMTS [Pa] (DNVGL-ST-F101 eq. 5.5)")
-    if pipe.smts < pipe.smys:
-        fail("pipe.smts", pipe.smts, f"is below pipe.smys = {pipe.smys!r}")
+                         "tensile strength SMTS [Pa] (DNVGL-ST-F101 eq. 5.5); give "
+                         "pipe.smts with pipe.smys, or pipe.grade instead of both")
     slenderness = pipe.outer_diameter / pipe.wall_thickness
     lo, hi = LCC_SLENDERNESS
     if not lo <= slenderness <= hi:
         fail("pipe.inner_diameter", pipe.inner_diameter,
              f"makes D/t = {slenderness:.4g}, outside {lo:g} to {hi:g} where the "
-             "load-controlled check of DNVGL-ST-F101 [5.4.6] is stated; remove [checks]")
+             "load-controlled check of DNVGL-ST-F101 is stated; remove [checks]")
+
+
+def hardening_beta(slenderness: float) -> float:
+    """beta [-] of D/t2 = ``slenderness``: 0.5 below 15, (60 - D/t2)/90 up
+    to 60, 0 beyond."""
+    if slenderness < 15.0:
+        return 0.5
+    if slenderness <= 60.0:
+        return (60.0 - slenderness) / 90.0
+    return 0.0
 
 
 def flow_stress_factor(slenderness: float, fy: float, fu: float) -> float:
     """alpha_c = (1 - beta) + beta f_u/f_y [-] of D/t2 = ``slenderness``."""
-    if slenderness < 15.0:
-        beta = 0.5
-    elif slenderness <= 60.0:
-        beta = (60.0 - slenderness) / 90.0
-    else:
-        beta = 0.0
+    beta = hardening_beta(slenderness)
     return (1.0 - beta) + beta * fu / fy
+
+
+def pressure_containment_resistance(pipe, checks: Checks) -> float:
+    """p_b = 2 t/(D - t) f_cb 2/sqrt(3) [Pa], f_cb = min(f_y, f_u/1.15), of
+    ``pipe``'s nominal wall t (t2 during installation)."""
+    d, t = pipe.outer_diameter, pipe.wall_thickness
+    f_cb = min(pipe.smys, pipe.smts / 1.15) * checks.alpha_U
+    return 2.0 * t / (d - t) * f_cb * 2.0 / math.sqrt(3.0)
 
 
 def collapse_pressure(pipe, checks: Checks) -> float:
@@ -301,7 +362,7 @@ def design_load_effects(checks: Checks, combination, moment, tension, functional
 def lcc_axial_ratio(pipe, checks: Checks, design_tension):
     """|S_Sd|/S_p [-] per section, S_p = f_y pi (D - t2) t2: the
     load-controlled criterion is stated for values below ``LCC_AXIAL_LIMIT``
-    = 0.4 (Sec.5 [5.4.6])."""
+    = 0.4 (as remembered; not confirmed by a source)."""
     d, t = pipe.outer_diameter, pipe.wall_thickness
     s_p = pipe.smys * checks.alpha_U * math.pi * (d - t) * t
     return np.abs(np.asarray(design_tension, dtype=float)) / s_p
@@ -313,13 +374,17 @@ def lcc_utilisation(pipe, checks: Checks, design_moment, design_tension, externa
 
     ``design_moment`` |M_Sd| [N m] and ``design_tension`` S_Sd [N] (the
     factored effects, :func:`design_load_effects`), pressures [Pa]: arrays
-    of one value per section. NaN where the contents pressure exceeds the
-    external one (the internal-overpressure form, not evaluated). Where
-    |S_Sd|/S_p >= 0.4 (:func:`lcc_axial_ratio`) the value is outside the
-    range the criterion is stated for.
+    of one value per section. Where the external pressure is at least the
+    contents pressure, the external-overpressure form (p_min the contents
+    pressure); where the contents pressure exceeds it, the
+    internal-overpressure form with alpha_p and p_b
+    (:func:`pressure_containment_resistance`). Where |S_Sd|/S_p >= 0.4
+    (:func:`lcc_axial_ratio`) the value is outside the range the criterion
+    is stated for.
     """
     d, t = pipe.outer_diameter, pipe.wall_thickness
     fy, fu = pipe.smys * checks.alpha_U, pipe.smts * checks.alpha_U
+    beta = hardening_beta(d / t)
     alpha_c = flow_stress_factor(d / t, fy, fu)
     m_p = fy * (d - t) ** 2 * t
     s_p = fy * math.pi * (d - t) * t
@@ -327,6 +392,10 @@ def lcc_utilisation(pipe, checks: Checks, design_moment, design_tension, externa
     m_sd = np.abs(np.asarray(design_moment, dtype=float))
     s_sd = np.asarray(design_tension, dtype=float)
     over = np.asarray(external_pressure, dtype=float) - np.asarray(internal_pressure, dtype=float)
-    bending = g * m_sd / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2
-    value = bending**2 + (g * over / collapse_pressure(pipe, checks)) ** 2
-    return np.where(over >= 0.0, value, np.nan)
+    bending = (g * m_sd / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2) ** 2
+    external = bending + (g * over / collapse_pressure(pipe, checks)) ** 2
+    p_b = pressure_containment_resistance(pipe, checks)
+    burst = -over / p_b  # (p_i - p_e)/p_b
+    alpha_p = np.where(burst < 2.0 / 3.0, 1.0 - beta, 1.0 - 3.0 * beta * (1.0 - burst))
+    internal = bending + (alpha_p * burst / alpha_c) ** 2
+    return np.where(over >= 0.0, external, internal)

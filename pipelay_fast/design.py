@@ -129,7 +129,7 @@ def lcc_sections(case, cols: dict):
         utilisation.append(lcc_utilisation(case.pipe, checks, m_sd, s_sd, p_e, p_i))
         ratio.append(lcc_axial_ratio(case.pipe, checks, s_sd))
     utilisation, ratio = np.array(utilisation), np.array(ratio)
-    governing = np.argmax(np.nan_to_num(utilisation, nan=-np.inf), axis=0)
+    governing = np.argmax(utilisation, axis=0)
     at = np.arange(cols["s"].size)
     return utilisation[governing, at], ratio[governing, at]
 
@@ -184,7 +184,7 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
         over_u = over_strain / checks.overbend_strain_limit
         lcc, lcc_axial = lcc_sections(case, cols)
         region = behind if sagbend is None else sagbend
-        checked = np.nan_to_num(lcc[region], nan=0.0)
+        checked = lcc[region]
         if sagbend is None:
             sag_u = interior_peak(checked)
         elif sagbend.any():

@@ -220,7 +220,9 @@ def test_defaults_of_a_minimal_j_lay_case():
     assert case.name == "case"
     assert (pipe.coating_outer_diameter, pipe.hydrodynamic_diameter) == (DO, DO)
     assert (pipe.steel_density, pipe.coating_density, pipe.youngs_modulus) == (7900.0, 0.0, E)
-    assert (pipe.poisson_ratio, pipe.smys, pipe.drag_coefficient) == (0.3, 448e6, 1.0)
+    assert (pipe.poisson_ratio, pipe.drag_coefficient) == (0.3, 1.0)
+    # no grade, smys or smts: X65, API 5L (2018) Table 7, PSL 2
+    assert (pipe.grade, pipe.smys, pipe.smts) == ("X65", 450e6, 535e6)
     assert (pipe.contents_density, pipe.contents_level, pipe.extensible) == (0.0, 0.0, True)
     env = case.environment
     assert (env.water_density, env.gravity) == (1025.0, 9.81)
@@ -240,6 +242,61 @@ def test_defaults_of_a_minimal_j_lay_case():
         1000, 20000, 0.02)
 
 
+# API 5L, 46th edition (2018), Table 7, PSL 2 pipe body: minimum yield and
+# tensile strength [MPa], typed here from the table (pipelay_fast/grades.py
+# names the copies checked)
+API_5L_PSL2 = {"B": ("L245", 245, 415), "X42": ("L290", 290, 415), "X46": ("L320", 320, 435),
+               "X52": ("L360", 360, 460), "X56": ("L390", 390, 490), "X60": ("L415", 415, 520),
+               "X65": ("L450", 450, 535), "X70": ("L485", 485, 570), "X80": ("L555", 555, 625)}
+
+
+@pytest.mark.parametrize("grade", API_5L_PSL2)
+def test_grade_gives_the_api_5l_strengths(grade):
+    iso, smys, smts = API_5L_PSL2[grade]
+    for name in (grade, iso):
+        pipe = load_case(changed(j125_tables(), {"pipe.grade": name})).pipe
+        assert (pipe.grade, pipe.smys, pipe.smts) == (name, smys * 1e6, smts * 1e6)
+    same = load_case(changed(j125_tables(), {"pipe.grade": grade, "pipe.smys": smys * 1e6,
+                                             "pipe.smts": smts * 1e6})).pipe
+    assert same.grade == grade
+
+
+@pytest.mark.parametrize(("changes", "message"), [
+    ({"pipe.grade": "X65", "pipe.smys": 448e6},
+     "pipe.smys = 448000000.0 disagrees with pipe.grade = 'X65' (its SMYS is 450000000.0 Pa)"),
+    ({"pipe.grade": "X65", "pipe.smts": 531e6},
+     "pipe.smts = 531000000.0 disagrees with pipe.grade = 'X65' (its SMTS is 535000000.0 Pa)"),
+    ({"pipe.smts": 531e6}, "missing key pipe.smys: pipe.smts is given without it"),
+    ({"pipe.grade": "X65Q"}, "pipe.grade = 'X65Q' must be one of 'B', 'X42'"),
+    ({"pipe.grade": 65}, "pipe.grade = 65 must be one of"),
+    ({"pipe.smys": 448e6, "pipe.smts": 400e6},
+     "pipe.smts = 400000000.0 is below pipe.smys = 448000000.0"),
+    ({"pipe.grade": "X65", "pipe.smys": "448e6"}, "pipe.smys = '448e6' must be a number"),
+])
+def test_strengths_that_disagree_are_refused(changes, message):
+    with pytest.raises(ValueError) as err:
+        load_case(changed(j125_tables(), changes))
+    assert message in str(err.value)
+
+
+def test_smys_without_grade_is_a_steel_of_its_own():
+    pipe = load_case(changed(j125_tables(), {"pipe.smys": 448e6})).pipe
+    assert (pipe.grade, pipe.smys, pipe.smts) == (None, 448e6, None)
+
+
+def test_strengths_follow_the_grade_in_with_changes():
+    """A new grade re-derives both strengths; a strength changed alone drops
+    the grade; a grade and a strength changed together must agree."""
+    case = load_case(j125_tables())
+    x70 = case.with_changes({"pipe.grade": "X70"}).pipe
+    assert (x70.grade, x70.smys, x70.smts) == ("X70", 485e6, 570e6)
+    own = case.with_changes({"pipe.smys": 460e6}).pipe
+    assert (own.grade, own.smys, own.smts) == (None, 460e6, 535e6)
+    with pytest.raises(ValueError, match="pipe.smys = 460000000.0 disagrees with pipe.grade"):
+        case.with_changes({"pipe.grade": "X70", "pipe.smys": 460e6})
+    assert load_case(case.to_dict()) == case
+
+
 def test_values_are_normalised_to_float_and_tuples():
     case = load_case(changed(j125_tables(), {"environment.water_depth": 125,
                                              "seabed.stiffness": 2_000_000}))
@@ -255,7 +312,8 @@ def test_example_files_load_and_round_trip(name):
     case = load_case(EXAMPLES / f"{name}.toml")
     assert case.name == name
     assert case.pipe == Pipe(DO, DI, DC, RHO_STEEL, RHO_COATING, hydrodynamic_diameter=DC,
-                             smts=531e6)
+                             smys=448e6, smts=531e6)
+    assert case.pipe.grade is None  # the paper's SMYS, given
     assert case.checks.overbend_strain_limit == 0.0025
     assert case.lay.top_tension == 580e3
     assert case.solver.element_length == 4.0

@@ -7,7 +7,7 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.checks import (Checks, collapse_pressure, flow_stress_factor, lcc_axial_ratio,
-                                 lcc_utilisation)
+                                 lcc_utilisation, pressure_containment_resistance)
 from tests.helpers import EXAMPLES
 
 REQUIRED = {"overbend_strain_limit": 0.0025, "ovality": 0.01, "fabrication": "UOE"}
@@ -100,7 +100,8 @@ def test_collapse_pressure_is_the_cubic_root():
     """p_c against numpy.roots of (p - p_el)(p^2 - p_p^2) - p p_el p_p f0 D/t,
     for the paper's pipe and a thick and a thin one."""
     for di in (0.58, 0.50, 0.594):
-        pipe = pf.case.Pipe(outer_diameter=0.61, inner_diameter=di, smts=531e6)
+        pipe = pf.case.Pipe(outer_diameter=0.61, inner_diameter=di, smys=448e6,
+                            smts=531e6)
         checks = Checks(**{**REQUIRED, "fabrication": "seamless"})
         d, t = 0.61, (0.61 - di) / 2
         p_el = 2 * 207e9 * (t / d) ** 3 / (1 - 0.3**2)
@@ -120,11 +121,9 @@ def test_flow_stress_factor_branches():
 
 def test_lcc_pure_bending_and_pure_pressure():
     """Each term alone (design effects given): M_Sd = M_p alpha_c / g gives
-    1; p_e = p_c / g gives 1; S_Sd just below 0.4 S_p gives
-    (g 0.4 / alpha_c)^4; just above 0.4 S_p (either sign) the criterion is
-    not stated and gives +inf; contents pressure above the external one gives
-    NaN (not this form)."""
-    pipe = pf.case.Pipe(outer_diameter=0.61, inner_diameter=0.58, smts=531e6)
+    1; p_e = p_c / g gives 1; S_Sd = 0.4 S_p (either sign) gives
+    (g 0.4 / alpha_c)^4."""
+    pipe = pf.case.Pipe(outer_diameter=0.61, inner_diameter=0.58, smys=448e6, smts=531e6)
     checks = Checks(**REQUIRED)
     d, t = 0.61, 0.015
     fy, fu = 448e6 * 0.96, 531e6 * 0.96
@@ -133,11 +132,46 @@ def test_lcc_pure_bending_and_pure_pressure():
     m = fy * (d - t) ** 2 * t * alpha_c / g
     p_c = collapse_pressure(pipe, checks)
     s_p = fy * np.pi * (d - t) * t
-    s_sd = [0.0, 0.0, 0.0, 0.4 * s_p, -0.4 * s_p]
-    u = lcc_utilisation(pipe, checks, [m, 0.0, 0.0, 0.0, 0.0], s_sd,
-                        [0.0, p_c / g, 1e5, 0.0, 0.0], [0.0, 0.0, 2e5, 0.0, 0.0])
+    s_sd = [0.0, 0.0, 0.4 * s_p, -0.4 * s_p]
+    u = lcc_utilisation(pipe, checks, [m, 0.0, 0.0, 0.0], s_sd, [0.0, p_c / g, 0.0, 0.0],
+                        np.zeros(4))
     assert u[:2] == pytest.approx([1.0, 1.0], rel=1e-12)
-    assert np.isnan(u[2])
-    assert u[3:] == pytest.approx([(g * 0.4 / alpha_c) ** 4] * 2, rel=1e-12)
+    assert u[2:] == pytest.approx([(g * 0.4 / alpha_c) ** 4] * 2, rel=1e-12)
     ratio = lcc_axial_ratio(pipe, checks, s_sd)
-    assert ratio == pytest.approx([0.0, 0.0, 0.0, 0.4, 0.4], rel=1e-12)
+    assert ratio == pytest.approx([0.0, 0.0, 0.4, 0.4], rel=1e-12)
+
+
+@pytest.mark.parametrize(("grade", "smys", "smts"), [
+    ("X65", 450e6, 535e6),  # f_cb = f_y (535/1.15 = 465 > 450)
+    ("X80", 555e6, 625e6),  # f_cb = f_u/1.15 (625/1.15 = 543 < 555)
+])
+def test_lcc_internal_overpressure_by_hand(grade, smys, smts):
+    """Contents pressure above the external one: the internal-overpressure
+    form {g |M|/(alpha_c M_p) + (g S/(alpha_c S_p))^2}^2 + (alpha_p (p_i -
+    p_e)/(alpha_c p_b))^2, p_b = 2t/(D - t) min(f_y, f_u/1.15) 2/sqrt(3),
+    alpha_p = 1 - beta below (p_i - p_e)/p_b = 2/3 and 1 - 3 beta (1 -
+    (p_i - p_e)/p_b) above, evaluated here for a section on each side of
+    2/3 (bending and tension both present), at 2/3 (the two alpha_p agree)
+    and at p_i = p_e (both forms give the bending part)."""
+    d, di = 0.61, 0.58
+    pipe = pf.case.Pipe(outer_diameter=d, inner_diameter=di, grade=grade)
+    checks = Checks(**{**REQUIRED, "safety_class": "medium"})
+    t = (d - di) / 2
+    fy, fu = smys * 0.96, smts * 0.96
+    beta = (60 - d / t) / 90  # D/t = 40.7
+    alpha_c = (1 - beta) + beta * fu / fy
+    m_p, s_p = fy * (d - t) ** 2 * t, fy * np.pi * (d - t) * t
+    p_b = 2 * t / (d - t) * min(fy, fu / 1.15) * 2 / np.sqrt(3)
+    g = 1.15 * 1.14
+    m_sd = np.array([0.3, 0.2, 0.1, 0.25]) * m_p
+    s_sd = np.array([0.1, -0.15, 0.05, 0.2]) * s_p
+    p_e = np.array([0.5e6, 1.0e6, 0.2e6, 0.7e6])
+    dp = np.array([0.3, 0.9, 2 / 3, 0.0]) * p_b  # p_i - p_e
+    bend = (g * m_sd / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2) ** 2
+    alpha_p = np.array([1 - beta, 1 - 3 * beta * (1 - 0.9), 1 - beta, 1 - beta])
+    expected = bend + (alpha_p * dp / (alpha_c * p_b)) ** 2
+    u = lcc_utilisation(pipe, checks, m_sd, s_sd, p_e, p_e + dp)
+    assert u == pytest.approx(expected, rel=1e-12)
+    assert u[3] == pytest.approx(bend[3], rel=1e-12)
+    assert 1 - 3 * beta * (1 - 2 / 3) == pytest.approx(1 - beta, rel=1e-14)
+    assert pressure_containment_resistance(pipe, checks) == pytest.approx(p_b, rel=1e-14)

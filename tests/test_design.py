@@ -140,10 +140,12 @@ def _collapse_by_roots(d, t, e, nu, fy, alpha_fab, f0):
     return p_c
 
 
-def _lcc_by_hand(p, m_sd, s_sd):
-    """DNV-ST-F101 [5.4.6], external overpressure, for the paper's pipe in
-    67 m of water (SMYS 448 MPa, SMTS 531 MPa, empty): per node of the
-    profile ``p`` with design moment ``m_sd`` and effective force ``s_sd``."""
+def _lcc_by_hand(p, m_sd, s_sd, contents_density=0.0, contents_level=0.0):
+    """DNVGL-ST-F101's load-controlled combined-loading criterion for the
+    paper's pipe in 67 m of water (SMYS 448 MPa, SMTS 531 MPa), per node of
+    the profile ``p`` with design moment ``m_sd`` and effective force
+    ``s_sd``: the external-overpressure form (p_min the contents pressure)
+    where p_e >= p_i, the internal-overpressure form elsewhere."""
     d, di, e, nu = 0.61, 0.58, 207e9, 0.3
     t = (d - di) / 2
     fy, fu = 448e6 * 0.96, 531e6 * 0.96
@@ -151,10 +153,16 @@ def _lcc_by_hand(p, m_sd, s_sd):
     alpha_c = (1 - beta) + beta * fu / fy
     m_p, s_p = fy * (d - t) ** 2 * t, fy * math.pi * (d - t) * t
     p_c = _collapse_by_roots(d, t, e, nu, fy, 0.85, 0.01)
+    p_b = 2 * t / (d - t) * min(fy, fu / 1.15) * 2 / math.sqrt(3)
     g = 1.15 * 1.04
-    p_e = 1025.0 * 9.81 * np.clip(67.0 - p["x"].to_numpy(), 0.0, None)
-    return (g * np.abs(m_sd) / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2) ** 2 \
-        + (g * p_e / p_c) ** 2
+    x = p["x"].to_numpy()
+    p_e = 1025.0 * 9.81 * np.clip(67.0 - x, 0.0, None)
+    p_i = contents_density * 9.81 * np.clip(contents_level - x, 0.0, None)
+    bend = (g * np.abs(m_sd) / (alpha_c * m_p) + (g * s_sd / (alpha_c * s_p)) ** 2) ** 2
+    ratio = (p_i - p_e) / p_b
+    alpha_p = np.where(ratio < 2 / 3, 1 - beta, 1 - 3 * beta * (1 - ratio))
+    return np.where(p_e >= p_i, bend + (g * (p_e - p_i) / p_c) ** 2,
+                    bend + (alpha_p * ratio / alpha_c) ** 2)
 
 
 def _sagbend(sm, p):
@@ -199,7 +207,7 @@ def test_current_factored_as_environmental_by_hand():
 def test_strain_and_lcc_utilisation_by_hand():
     """S67 with its current, lifting off: the overbend strain utilisation and
     the sagbend LCC utilisation evaluated here, node by node, from the
-    profile and the inputs: DNV-ST-F101 [5.4.6] external-overpressure form,
+    profile and the inputs: DNVGL-ST-F101's external-overpressure form,
     gamma_m = 1.15, gamma_SC = 1.04 (low), gamma_c = 1, alpha_U = 0.96,
     alpha_fab = 0.85 (UOE), f0 = 0.01, t2 = t; everything functional, so of
     combinations a (gamma_F = 1.2) and b (1.1) a governs; given the pair
@@ -240,6 +248,27 @@ def test_strain_and_lcc_utilisation_by_hand():
     assert sm["max_utilisation"] == max(sm["overbend_strain_utilisation"],
                                         sm["sagbend_lcc_utilisation"])
     assert 0.0 < sm["sagbend_lcc_utilisation"] < 1.0
+
+
+def test_lcc_under_internal_overpressure_by_hand():
+    """S67 with contents of 100 kg/m3 whose free surface stands 700 m above
+    the sea (a pressurised pipe): the contents pressure exceeds the external
+    one all along, so every sagbend section takes the internal-overpressure
+    form, evaluated here node by node from the profile; the pressure term
+    raises the utilisation above the bending part alone."""
+    contents = {"pipe.contents_density": 100.0, "pipe.contents_level": 767.0}
+    case = pf.load_case(EXAMPLES / "s67.toml").with_changes({**CHECKS, **contents})
+    result = pf.solve(case)
+    sm, p = result.summary, result.profile
+    x = p["x"].to_numpy()
+    assert np.all(100.0 * (767.0 - x) > 1025.0 * np.clip(67.0 - x, 0.0, None))
+    m, te = p["moment"].to_numpy(), p["effective_tension"].to_numpy()
+    lcc = np.maximum(*(_lcc_by_hand(p, g_f * m, g_f * te, 100.0, 767.0)
+                       for g_f, _ in COMBINATIONS))
+    sag = _sagbend(sm, p)
+    assert sm["sagbend_lcc_utilisation"] == pytest.approx(lcc[sag].max(), rel=1e-9)
+    bending_only = _lcc_by_hand(p, 1.2 * m, 1.2 * te, 1025.0, 67.0)  # flooded: p_i = p_e
+    assert sm["sagbend_lcc_utilisation"] > bending_only[sag].max() > 0.0
 
 
 def test_jlay_lcc_is_interior_peak():
