@@ -103,9 +103,13 @@ was found, so every item below is a secondary source's):
   current (orcina.com/webhelp/OrcaFlex/Content/html/
   Codechecks,DNVfunctionalload.htm).
 
+* the criterion's clause, [5.4.6] "Local buckling - combined loading
+  criteria": DNV-ST-F101 (2021), "Changes - current", which lists an
+  amendment to [5.4.6.6] under that title (the standard's preview copy,
+  scribd.com/document/617918744).
+
 Not confirmed (as remembered from the 2017 edition; no source found): the
-criterion's clause number (taken as [5.4.6], after [5.4.5]) and equation
-numbers; its validity range 15 <= D/t2 <= 45 and |S_Sd|/S_p < 0.4;
+criterion's equation numbers; its validity range 15 <= D/t2 <= 45 and |S_Sd|/S_p < 0.4;
 combination a of Table 4-4 (1.2, 0.7); Table 4-5's condition factor
 gamma_c (1.00 otherwise; the other rows are not listed here).
 """
