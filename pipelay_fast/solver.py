@@ -437,6 +437,14 @@ def _bear_on_tip(case: Case, pb: Problem):
     _follow_nodes(case, pb, (pb.td_node, k, kt))
 
 
+def _lift_off_above_tip(case: Case, pb: Problem):
+    """The regime switch back: bearing on the tip, Newton closes the gap span
+    (status SPAN_CLOSED), so the pipe lifts off the stinger above the tip,
+    at re-contact's node, with no node over the tip."""
+    pb.tip[0], pb.tip[1] = 0.0, 0.0
+    _follow_nodes(case, pb, (pb.td_node, pb.lo_node, -1))
+
+
 def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
                      switch: bool = False):
     """:func:`_run_newton` within the solve's iteration budget; a SolveError
@@ -450,7 +458,7 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     budget.charge(info[I_ITER])
     if status == L.SHORT_LAID:
         raise _ShortLaid
-    if status == L.PAST_TIP and not switch:
+    if status in (L.PAST_TIP, L.SPAN_CLOSED) and not switch:
         raise SolveError(f"case {case.name!r} at {where}: {_newton_state(info, status)}")
     if status != L.OK and budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)} (last Newton "
@@ -490,10 +498,13 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
                                               switch=can_switch)
         if status == L.OK and can_switch and _passes_below_tip(pb):
             status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
-        if status != L.PAST_TIP:
+        if status not in (L.PAST_TIP, L.SPAN_CLOSED):
             break
         spent += int(info[I_ITER])
-        _bear_on_tip(case, pb)
+        if status == L.PAST_TIP:
+            _bear_on_tip(case, pb)
+        else:
+            _lift_off_above_tip(case, pb)
     iters = int(info[I_ITER]) + spent
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}

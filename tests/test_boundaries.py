@@ -126,6 +126,25 @@ def test_tip_regime_matches_slay_elastica(s67, a):
 
 
 
+def test_lift_off_just_above_the_tip_from_a_guess_that_bears():
+    """S125 at a = -0.00168, next to the change of regime: the reference
+    lifts off 0.2 m above the tip, but the first guess leaves from the tip.
+    Bearing, Newton then drives the gap span towards zero (the bearing
+    equations' limit, approached only linearly) until the switch to lifting
+    off (SPAN_CLOSED); lift-off then lands to 1 cm of the elastica."""
+    case = pf.load_case(EXAMPLES / "s125.toml").with_changes(
+        {"environment.current.speed": 0.0, "solver.contact": "boundaries",
+         "lay.stinger.a": -0.00168, "pipe.extensible": False})
+    ref = slay_elastica_for(case)
+    assert ref["regime"] == "liftoff"
+    assert 0.0 < ref["liftoff_z"] - case.lay.stinger.lower[1] < 0.5
+    sm = pf.solve(case).summary
+    assert sm["tip_reaction"] == 0.0
+    assert abs(sm["liftoff_z"] - ref["liftoff_z"]) < 1e-2
+    assert abs(sm["tdp_z"] - ref["tdp_z"]) < 1e-2
+    assert sm["overbend_max_moment"] == pytest.approx(ref["overbend_max_moment"], rel=1e-3)
+
+
 @pytest.mark.parametrize("example,changes", [
     ("j125_3d.toml", {"environment.current.speed": 3.0}),
     ("s67_3d.toml", {"environment.current.speed": 2.5}),

@@ -75,6 +75,7 @@ NOT_FINITE = 3
 ACTIVE_SET_CYCLE = 4
 PAST_TIP = 5
 SHORT_LAID = 6
+SPAN_CLOSED = 7
 
 STATUS_TEXT = {
     OK: "converged",
@@ -85,6 +86,8 @@ STATUS_TEXT = {
     PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
                "down, after the switches to bearing on the tip that a solve may make "
                "(solver.contact = \"boundaries\"; \"active_set\" is the other way)"),
+    SPAN_CLOSED: ("bearing on the stinger's tip, Newton closes the gap span between re-contact "
+                  "and the tip (the caller switches to lifting off above the tip)"),
     SHORT_LAID: ("touchdown moves more than half way to the modelled lower end in one "
                  "Newton step (the solver prepends laid pipe and goes on)"),
 }
