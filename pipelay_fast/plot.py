@@ -120,7 +120,8 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     several ``a``: overbend and sagbend peak von Mises stress against ``a``,
     with ``select``'s equal-peaks ``a`` (when ``selection.parquet`` holds
     it) as a vertical line; then, for each method solved at several water
-    depths, top tension and max utilisation against depth.
+    depths with one case per depth (a lay table), top tension and max
+    utilisation against depth.
 
     Raises
     ------
@@ -140,8 +141,10 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     groups = [(dict(zip(GROUP_KEYS, k, strict=True)), g.sort_values("a"))
               for k, g in slay.groupby(list(GROUP_KEYS), sort=True, observed=True, dropna=False)
               if g["a"].nunique() > 1]
+    # a lay table: one case per water depth (a sweep with several cases at a
+    # depth, over a or the current, is drawn against a above instead)
     depth_groups = [(m, g.sort_values("water_depth")) for m, g in ok.groupby("method", sort=True)
-                    if g["water_depth"].nunique() > 1]
+                    if g["water_depth"].nunique() > 1 and not g["water_depth"].duplicated().any()]
     panels = len(groups) + 2 * len(depth_groups)
     if panels == 0:
         raise ValueError(f"{root}: nothing to plot: no S-lay scene over several a and no "
@@ -156,8 +159,7 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
         chosen = _chosen_a(selection, key)
         if chosen is not None:
             ax.axvline(chosen, color="C3", ls="--", lw=1.0, label=f"equal peaks a = {chosen:.6f}")
-        given = [f"{name.removeprefix('given_')} {key[name]:.4g}" for name in GROUP_KEYS[4:]
-                 if np.isfinite(key[name])]
+        given = [_given(name, key[name]) for name in GROUP_KEYS[4:] if np.isfinite(key[name])]
         ax.set(xlabel="a [1/m]", ylabel="peak von Mises [MPa]",
                title=f"{key['scene']} {key['dimension']}, current {key['current_speed']:g} m/s "
                      f"at {key['current_heading_deg']:g} deg" + "".join(f", {t}" for t in given))
@@ -180,6 +182,14 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     if path is not None:
         save(fig, path)
     return fig
+
+
+def _given(name: str, value: float) -> str:
+    """A panel's given tension [kN] or pipe length [m], for its title."""
+    label = name.removeprefix("given_").replace("_", " ")
+    if name == "given_pipe_length":
+        return f"{label} {value:.6g} m"
+    return f"{label} {value / 1e3:.6g} kN"
 
 
 def _selection(root: Path, pd):

@@ -1003,8 +1003,9 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
 
 def _check_regime(case: Case, pb: Problem):
     """Refuse a lift-off that the boundaries unknowns put below the stinger's
-    tip, on the curve continued past it: there the pipe bears on the tip, a
-    regime that solver.contact = "boundaries" does not cover yet."""
+    tip, on the curve continued past it: there the pipe bears on the tip,
+    but the solve ended lifting off (it switches between the two regimes at
+    most MAX_TIP_SWITCHES times)."""
     if pb.lo_node < 0:
         return
     z_lo = float(pb.u[pb.lo_node * pb.ndn + pb.nd - 1])
@@ -1012,9 +1013,10 @@ def _check_regime(case: Case, pb: Problem):
     if z_lo < z_tip:
         raise SolveError(
             f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "
-            f"z = {z_lo:.3f} m, would lie below the tip, z = {z_tip:.3f} m); "
-            "solver.contact = \"boundaries\" does not cover the tip regime yet: "
-            "use \"active_set\"")
+            f"z = {z_lo:.3f} m, would lie below the tip, z = {z_tip:.3f} m), but the solve "
+            f"ended lifting off (it switches between bearing on the tip and lifting off "
+            f"at most {MAX_TIP_SWITCHES} times; solver.contact = \"boundaries\"; \"active_set\" is "
+            "the other way)")
 
 
 MAX_PULL_SHARE = 0.5  # largest pull of a contact, as a share of the largest push

@@ -110,6 +110,22 @@ def test_sweep_plot_marks_the_chosen_a(tmp_path):
     assert _holds(ax.get_xlim(), summary["a"])
     assert _holds(ax.get_ylim(), summary[["overbend_max_von_mises",
                                           "sagbend_max_von_mises"]].to_numpy() / 1e6)
+    assert ax.get_title().endswith("top tension 580 kN")  # the case's given tension, in kN
+
+
+def test_sweep_plot_draws_no_lay_table_for_several_cases_per_depth(tmp_path):
+    """Two depths with three values of a each: a sweep over a, not a lay
+    table (one case per depth); its panels are the two against a."""
+    sweep = {"name": "two", "set": {"solver.element_length": 8.0}, "scenes": [
+        {"name": f"S{d}", "case": "s67", "water_depth": float(d),
+         "stinger_lower": [d - 25.5, 265.0], "stinger_upper": [d + 5.0, 400.0],
+         "vary": {"a": [-0.0010, -0.0012, -0.0014]}} for d in (67, 80)]}
+    root = tmp_path / "two"
+    run_sweep(load_sweep(sweep), root, workers=1, progress=False)
+    fig = plot_sweep(root)
+    visible = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(visible) == 2
+    assert all(ax.get_xlabel() == "a [1/m]" for ax in visible)
 
 
 DEPTH_SWEEP = {"name": "depths", "set": {"solver.element_length": 8.0}, "scenes": [
