@@ -407,7 +407,7 @@ def _fail(case, step, info, status, extra=""):
                      f"{_newton_state(info, status)}{extra}")
 
 
-MAX_TIP_SWITCHES = 2  # switches to bearing on the tip within one Newton solve
+MAX_TIP_SWITCHES = 2  # switches between bearing on the tip and lifting off, per solve
 
 
 def _passes_below_tip(pb: Problem) -> bool:
@@ -486,7 +486,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     """
     budget = budget or IterationBudget(case.solver.max_iterations_total)
     zero = np.zeros_like(pb.u)
-    spent = 0  # iterations of the calls that ended in a switch to bearing on the tip
+    spent = 0  # iterations of the calls that ended in a switch of regime
     for switches in range(MAX_TIP_SWITCHES + 1):
         # (the boundaries start where the guess puts them; the kernel holds
         # them until the pipe is in equilibrium there: an explicit solve with

@@ -920,17 +920,18 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             # which a step in its logarithm follows
             gap_s = s_bd[1] - s_bd[2]
             d_gap_s = (d_bnd[1] - d_bnd[2]) * alpha
-            if d_gap_s < -0.5 * gap_s and gap_s < href and tip[0] != 0.0:
-                # Bearing, the span's square goes like a - a_switch: from
-                # d0 Newton asks d0 / 2 + (a - a_switch) / (2 k d0), so a step
-                # that more than halves the span says there is no bearing
-                # solution (d = 0 is then the bearing equations' limit, which
-                # Newton approaches only linearly). Once the span is shorter
-                # than an element the two regimes differ by less than the
-                # mesh resolves: the pipe lifts off above the tip.
-                status = L.SPAN_CLOSED
-                break
             if d_gap_s < -0.5 * gap_s:
+                if gap_s < href and tip[0] != 0.0:
+                    # Bearing, the span's square goes like a - a_switch: from
+                    # d0 Newton asks d0 / 2 + (a - a_switch) / (2 k d0), so a
+                    # step that more than halves the span says there is no
+                    # bearing solution (d = 0 is then the bearing equations'
+                    # limit, which Newton approaches only linearly). Once the
+                    # span is shorter than an element the two regimes differ
+                    # by less than the mesh resolves: the pipe lifts off
+                    # above the tip.
+                    status = L.SPAN_CLOSED
+                    break
                 alpha *= 0.5 * gap_s / -d_gap_s
             elif d_gap_s > gap_s:
                 alpha *= gap_s / d_gap_s
