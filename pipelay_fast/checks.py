@@ -59,8 +59,8 @@ vectors of the moment added before the magnitude is taken. That costs a
 second solve of a case with a current; ``current_load = "functional"``
 factors the whole static answer by gamma_F gamma_c instead, with one solve.
 The ULS load effect factors come in two combinations (Sec.4 Table 4-4):
-a) gamma_F = 1.2, gamma_E = 0.7 (the system check) and b) gamma_F = 1.1,
-gamma_E = 1.3 (the local check); both are evaluated and the larger
+a) gamma_F = 1.2, gamma_E = 0.7 (system effects present) and b) gamma_F =
+1.1, gamma_E = 1.3 (not present); both are evaluated and the larger
 utilisation reported, unless the user gives one pair. The overbend strain
 is compared with its limit as computed (the limit is the project's).
 
@@ -106,12 +106,26 @@ was found, so every item below is a secondary source's):
 * the criterion's clause, [5.4.6] "Local buckling - combined loading
   criteria": DNV-ST-F101 (2021), "Changes - current", which lists an
   amendment to [5.4.6.6] under that title (the standard's preview copy,
-  scribd.com/document/617918744).
+  scribd.com/document/617918744);
+* Table 4-4's two ULS combinations, a) gamma_F 1.2, gamma_E 0.7 (system
+  effects present) and b) 1.1, 1.3, in three independent scripts that agree:
+  pypelay's S-lay design (github.com/Pyseas/pypelay, src/pypelay/stinger.py,
+  which sets combination a for the lay's load-controlled check), two
+  OrcFxAPI code-check examples that loop over "condition a" and "condition
+  b", and a DNV-ST-F101 (2021) load-controlled check found by the code
+  search (its repository not named) that cites Table 4-4 for both;
+* Table 4-5's condition load effect factor gamma_c: 1.00 "otherwise", 0.80
+  for the load-controlled check of S-lay on the stinger (with 1.07 uneven
+  seabed, 0.82 J-tube pull-in, 0.93 system pressure test, 0.77 and 0.82
+  reeling), in that same DNV-ST-F101 (2021) implementation; pypelay applies
+  1.00 in the sagbend and 0.80 over the stinger. The check here is the
+  sagbend's, so the default is the "otherwise" row;
+* the upper end of the criterion's range, D/t2 <= 45: the same
+  implementation refuses a thicker ratio.
 
 Not confirmed (as remembered from the 2017 edition; no source found): the
-criterion's equation numbers; its validity range 15 <= D/t2 <= 45 and |S_Sd|/S_p < 0.4;
-combination a of Table 4-4 (1.2, 0.7); Table 4-5's condition factor
-gamma_c (1.00 otherwise; the other rows are not listed here).
+criterion's equation numbers; the lower end of its range, 15 <= D/t2, and
+|S_Sd|/S_p < 0.4 (reported, not refused).
 """
 
 from __future__ import annotations
@@ -135,13 +149,13 @@ SAFETY_CLASS_FACTORS = {"low": 1.04, "medium": 1.14, "high": 1.26}
 FABRICATION_FACTORS = {"seamless": 1.00, "UO": 0.93, "TRB": 0.93, "ERW": 0.93, "HFW": 0.93,
                        "UOE": 0.85}
 # DNVGL-ST-F101 (2017) Sec.4 Table 4-4, ULS: load effect factor combinations
-# (gamma_F, gamma_E), a) the system check, b) the local check
+# (gamma_F, gamma_E), a) system effects present, b) not present
 LOAD_COMBINATIONS = {"a": (1.2, 0.7), "b": (1.1, 1.3)}
 SAFETY_CLASSES = tuple(SAFETY_CLASS_FACTORS)
 CURRENT_LOADS = ("environmental", "functional")  # how the current's load effects are factored
 MIN_OVALITY = 0.005  # Sec.5 [5.4.4.2], eq. 5.14: f0 not to be taken below 0.5 %
 # the D/t2 range and the |S_Sd|/S_p bound the load-controlled criterion is stated for
-# (as remembered from the 2017 edition: no source found confirms them)
+# (45 confirmed by a secondary source; 15 and 0.4 as remembered from the 2017 edition)
 LCC_SLENDERNESS = (15.0, 45.0)
 LCC_AXIAL_LIMIT = 0.4
 
@@ -185,10 +199,11 @@ class Checks:
         Table 4-4, a) 1.2 and 0.7, b) 1.1 and 1.3, are checked and the larger
         utilisation is reported (:attr:`load_combinations`).
     gamma_c : float
-        Condition load effect factor [-]; default 1.00, no condition factor
-        (Sec.4 Table 4-5's value where none of its conditions applies, as
-        remembered: no source confirmed the table; give its value where a
-        condition of the lay applies).
+        Condition load effect factor [-]; default 1.00, Sec.4 Table 4-5's
+        "otherwise" row: the check is the sagbend's, where none of the
+        table's conditions applies (its 0.80 is for the load-controlled
+        check of S-lay on the stinger). Give the table's value where a
+        condition of the lay applies.
     current_load : str
         "environmental" (the default: the current is an environmental load,
         Sec.4; its share of the load effects, found by solving the case

@@ -35,7 +35,7 @@ def test_defaults_name_their_tables(tables):
             checks.gamma_E, checks.gamma_c, checks.alpha_U, checks.fabrication_factor,
             checks.current_load) == ("low", 1.04, 1.15, None, None, 1.0, 0.96, 0.85,
                                      "environmental")
-    # DNVGL-ST-F101 Table 4-4, ULS: a) 1.2, 0.7 (system check), b) 1.1, 1.3 (local check)
+    # DNVGL-ST-F101 Table 4-4, ULS: a) 1.2, 0.7 (system effects present), b) 1.1, 1.3 (not)
     assert checks.load_combinations == ((1.2, 0.7), (1.1, 1.3))
     pair = Checks(**{**REQUIRED, "gamma_F": 1.1, "gamma_E": 1.3})
     assert pair.load_combinations == ((1.1, 1.3),)
