@@ -444,6 +444,10 @@ class Stinger:
         """Tangent angle from horizontal [deg] at z [m]; vectorised."""
         return vectorised(z, lambda z: np.degrees(np.arctan(2.0 * self.a * z + self.b)))
 
+    def curvature(self, z):
+        """Signed curvature d(theta)/ds [1/m] at z [m] (negative: hogging); vectorised."""
+        return vectorised(z, lambda z: 2.0 * self.a / (1.0 + (2.0 * self.a * z + self.b) ** 2) ** 1.5)
+
 
 @dataclass(frozen=True, slots=True)
 class Lay:
@@ -466,8 +470,15 @@ class Lay:
         Prescribed top angle from horizontal [deg], in (0, 90], or "pinned".
         Omitted: pinned for J-lay; for S-lay the firing line, the pipe held
         along the stinger's tangent at its upper end. A pinned S-lay top frees
-        the end's slope, so the moment falls to zero there over a short length
-        beside the stinger's curvature: that spike is in the overbend peaks.
+        the end's slope and moment, but the pipe still conforms to the stinger
+        up to the pin (a moment-free end on a convex support cannot lift off
+        it): the moment falls from the stinger's EI kappa_U to zero at the pin
+        itself, and across that fall the effective tension rises by
+        (EI kappa_U)^2 / (2 EI), the first integral Te + M^2/(2 EI) - W(x) =
+        const of the rod. The engine solves it so, as the firing line with the
+        tension below the pin that much lower (:func:`pipelay_fast.model.pin_jump`);
+        the profile's top node reports the pin's values (zero moment, the
+        tension above the jump).
     stinger : Stinger or None
         Required for S-lay, forbidden for J-lay.
     torque : float

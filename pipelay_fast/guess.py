@@ -20,6 +20,7 @@ from scipy.optimize import brentq
 
 from .case import Case
 from .catenary import Catenary, from_top_tension
+from .model import pin_jump
 
 
 @dataclass
@@ -114,7 +115,8 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
 
     def tension(x):
         if bottom_tension is None and lay.top_tension is not None:
-            return lay.top_tension - (_rise(w1, w2, depth, x_u) - _rise(w1, w2, depth, x))
+            below_top = lay.top_tension - pin_jump(case)  # the conforming pipe's at the top
+            return below_top - (_rise(w1, w2, depth, x_u) - _rise(w1, w2, depth, x))
         bottom = lay.bottom_tension if bottom_tension is None else bottom_tension
         return bottom + _rise(w1, w2, depth, x)
 

@@ -71,3 +71,26 @@ def build_props(case: Case, gravity_factor: float = 1.0, current_factor: float =
     else:
         table = np.zeros((1, 2))
     return p, table
+
+
+def pin_jump(case: Case) -> float:
+    """Jump of the effective tension across a pinned S-lay top [N], else 0.
+
+    On a curved stinger the pipe conforms up to a pinned top, so its moment
+    falls from M_U = EI kappa_U (the stinger's curvature at its upper end) to
+    zero at the pin. Along the pipe Te + M^2/(2 EI) - W(x) is constant (the
+    rod's first integral: Te' = w x' - (M^2/2EI)', normal reactions doing no
+    tangential work), so across the pin Te jumps by M_U^2/(2 EI): the pipe
+    below the pin is the firing line's with the top tension that much lower.
+    It is the limit of any model of the pin zone in which the support's
+    reaction is normal (a stiff elastic stinger: the reaction's tangential
+    share integrates to k gap^2/2, zero at both ends of the zone); a clamp to
+    the curve one element below the pin instead puts 1.5 M_U there and
+    returns only part of the difference (the tests' reference,
+    tests/test_slay.py).
+    """
+    lay = case.lay
+    if lay.stinger is None or lay.top_angle != "pinned":
+        return 0.0
+    moment = case.pipe.bending_stiffness * float(lay.stinger.curvature(lay.stinger.upper[1]))
+    return moment * moment / (2.0 * case.pipe.bending_stiffness)

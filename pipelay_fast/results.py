@@ -17,6 +17,7 @@ import pandas as pd
 
 from .case import Case
 from .design import DESIGN_UNITS, design_columns
+from .model import pin_jump
 from .kernels import layout as L
 from .kernels.contact import ST_ON, lateral_hold, tip_geometry
 
@@ -242,6 +243,9 @@ def build_profile(case: Case, pb, react) -> dict:
     ei = pipe.bending_stiffness
     r, rp, rpp = nodal_fields(nd, s, u, lateral_clamp(pb))
     kvec, t3 = signed_curvature_vector(nd, rp, rpp)
+    jump = pin_jump(case)
+    if jump:  # a pinned S-lay top: the pin's own values, past the moment's fall
+        kvec[-1] = 0.0
     torque = float(pb.props[L.TORQUE]) if nd == 3 else 0.0
     mom = ei * kvec + torque * t3
     curvature = np.linalg.norm(kvec, axis=1)
@@ -256,7 +260,7 @@ def build_profile(case: Case, pb, react) -> dict:
     # exact, while lam + EI kappa^2 carries the O(h) error of the lam field at
     # an end
     top = (s.size - 1) * ndn
-    te[-1] = float(react[top:top + nd] @ (rp[-1] / np.linalg.norm(rp[-1])))
+    te[-1] = float(react[top:top + nd] @ (rp[-1] / np.linalg.norm(rp[-1]))) + jump
     tw = np.asarray(case.wall_tension(te, x), dtype=float)
     strain = tw / pipe.axial_stiffness
     pe = np.asarray(case.external_pressure(x))

@@ -40,7 +40,7 @@ from .kernels.contact import (
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_BND, N_INFO, _system, newton
 from .limits import IterationBudget, check_mesh_size, strain_beyond_line
 from .mesh import graded_nodes
-from .model import build_props, dimension_of
+from .model import build_props, dimension_of, pin_jump
 from .results import (
     Result,
     build_profile,
@@ -324,16 +324,18 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
         fix_val[base + i] = val
     stinger = np.zeros(N_STINGER)
     st = lay.stinger
-    top_angle = None if lay.top_angle == "pinned" else lay.top_angle
+    pinned = lay.top_angle == "pinned"
+    top_angle = None if pinned else lay.top_angle
     if st is not None:
         stinger[:] = (st.a, st.b, st.c, st.lower[1], st.upper[1], 1.0)
-        if lay.top_angle is None:
-            # the firing line: the top is held along the stinger's tangent
+        if top_angle is None:
+            # the firing line, and below a pinned top (the pipe conforms up to
+            # the pin, model.pin_jump): held along the stinger's tangent
             top_angle = float(st.angle(st.upper[1]))
     if top_angle is not None:
         phi_rp[top] = math.radians(top_angle)
         fix_mask[base + nd] = 1  # r' normal to the prescribed direction = 0
-        if nd == 3:
+        if nd == 3 and not pinned:
             fix_mask[base + nd + 1] = 1  # r'_y = 0
     # lower end: on the seabed with y held; z held only with a given pipe length
     fix_mask[0] = 1
@@ -346,7 +348,7 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
         fix_val[zi] = u[zi]
         slide_dof, tb = -1, 0.0
     elif lay.top_tension is not None:
-        top_target = lay.top_tension
+        top_target = lay.top_tension - pin_jump(case)  # Te below a pinned top
     else:
         tb = lay.bottom_tension
     bed = np.ones(nn, dtype=np.int8)
