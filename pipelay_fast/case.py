@@ -610,7 +610,7 @@ class Solver:
     element_length: float = 4.0
     min_element_length: float | None = None
     grading: bool = True
-    contact: str = "active_set"
+    contact: str = "boundaries"
     laid_length: float | None = None
     tolerance: float = 1e-8
     max_iterations: int = 100

@@ -273,16 +273,38 @@ def _follow_nodes(case: Case, pb: Problem, nodes):
                       (zone, zone)))
 
 
-MAX_STRETCH = 1.5  # a mesh following the boundaries: largest element, in h_max
-MIN_SQUEEZE = 0.5  # ... smallest, in h_min; beyond either it is graded anew
+ON_FOCUS = 0.02  # a mesh is graded at a point within this share of h_min of it
+HOLD_SPLIT = 0.1  # the shortest element [h_min] between lift-off and the tip's point
 
 
-def _distorted(pb: Problem) -> bool:
-    """True when a mesh that follows the boundaries has moved so far that an
-    element exceeds MAX_STRETCH h_max or falls below MIN_SQUEEZE h_min."""
-    le = np.diff(pb.s)
-    return bool(le.max() > MAX_STRETCH * pb.stats["h_max"]
-                or le.min() < MIN_SQUEEZE * pb.stats["h_min"])
+def _graded_on_boundaries(case: Case, pb: Problem) -> bool:
+    """True when the mesh that follows the boundaries is graded at each of
+    them: touchdown and every point of :func:`_stinger_foci` lie within
+    ON_FOCUS h_min of a point the mesh was graded at. Regrading until it is
+    makes the answer the mesh's at the boundaries the solve found, whatever
+    the path (cold, warm, a target solve's trials) that led there."""
+    near = ON_FOCUS * pb.stats["h_min"]
+    held = pb.stats.get("stinger_foci", [])
+    if abs(pb.s[pb.td_node] - pb.stats["focus"]) > near:
+        return False
+    return all(any(abs(p - f) <= near for f in held) for p in _stinger_foci(case, pb))
+
+
+def _lateral_hold_start(pb: Problem):
+    """Lifting off above the stinger's tip with no node over it: the arc
+    length [m] of the material point over the tip, for the mesh to hold a
+    node there. In 3D the lateral hold begins there (every point over the
+    stinger's z range is held at y = 0); in 2D the node is kept too, so that
+    a 3D case without lateral load has the 2D case's mesh. None otherwise,
+    and when that point lies within HOLD_SPLIT h_min of lift-off (lift-off's
+    node then begins the hold, that close to the tip)."""
+    if pb.lo_node < 0 or pb.tip_node >= 0:
+        return None
+    found, _gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger,
+                                          np.zeros_like(pb.u))
+    if not found or s_tip > pb.s[pb.lo_node] - HOLD_SPLIT * pb.stats["h_min"]:
+        return None
+    return float(s_tip)
 
 
 def _follows_all(case: Case, pb: Problem) -> bool:
@@ -617,9 +639,12 @@ def liftoff_position(case: Case, pb: Problem):
 
 def _stinger_foci(case: Case, pb: Problem):
     """Arc lengths [m] the mesh should hold as nodes on the stinger side (a
-    mesh that follows the boundaries: lift-off's and the tip's nodes)."""
+    mesh that follows the boundaries: lift-off's and the tip's nodes, and in
+    3D where the lateral hold begins, :func:`_lateral_hold_start`)."""
     if _follows_all(case, pb):
-        return [float(pb.s[k]) for k in (pb.lo_node, pb.tip_node) if k >= 0]
+        foci = [float(pb.s[k]) for k in (pb.lo_node, pb.tip_node) if k >= 0]
+        s_hold = _lateral_hold_start(pb)
+        return foci if s_hold is None else [*foci, s_hold]
     return [x for x in (tip_position(pb), conform_end(case, pb)) if x is not None]
 
 
@@ -693,12 +718,12 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
         if _follows_all(case, pb):
-            # the mesh follows the boundaries: graded anew only when it has
-            # moved too far, or when laid pipe is short
-            if not (_distorted(pb) or short_laid):
+            # the mesh follows the boundaries: graded anew at them until it
+            # is graded where they are, and when laid pipe is short
+            if _graded_on_boundaries(case, pb) and not short_laid:
                 break
         else:
-            near = 0.02 * pb.stats["h_min"]
+            near = ON_FOCUS * pb.stats["h_min"]
             held = pb.stats.get("stinger_foci", [])
             lift_ok = all(any(abs(f - h) <= near for h in held) for f in foci)
             on_node = abs(s_t - pb.stats["focus"]) <= near

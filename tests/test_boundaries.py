@@ -33,7 +33,9 @@ def test_touchdown_unknown_matches_elastica(j125, name):
     assert sm["sagbend_max_moment"] == pytest.approx(ref["sagbend_moment"], rel=1e-3)
     assert sm["top_tension"] == pytest.approx(ref["top_tension"], rel=1e-6)
     assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-6)
-    assert sm["n_iterations"] <= 12  # cold, from the catenary guess
+    # cold, from the catenary guess: at most 12 to where the boundaries are,
+    # then 1 on the mesh graded anew there
+    assert sm["n_iterations"] <= 13
 
 
 @pytest.mark.parametrize("h", [8.0, 2.0])

@@ -81,7 +81,7 @@ STATUS_TEXT = {
     OK: "converged",
     MAX_ITERATIONS: "maximum number of Newton iterations reached",
     SINGULAR: "singular tangent matrix (a mechanism: is the pipe held?)",
-    NOT_FINITE: "non-finite residual (the iteration diverged)",
+    NOT_FINITE: "non-finite or runaway residual (the iteration diverged)",
     ACTIVE_SET_CYCLE: "contact active set did not settle",
     PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
                "down, after the switches to bearing on the tip that a solve may make "

@@ -308,6 +308,10 @@ def _weighted_max(nd, g, cmask, fref, href):
 
 
 MERIT_RISE = 1e8  # boundaries mode: the largest rise of the merit a step may bring
+# a weighted residual above RUNAWAY times the larger of its start and 1 (forces
+# a million times the reference force) has diverged (a 50 m/s current in 2D,
+# accepted steps and all, went on to 1e98 over 81 iterations)
+RUNAWAY = 1e6
 INNER_RATIO = 1.0  # the boundaries move once the pipe's imbalance is below this times theirs
 MAX_BOUNDARY_STEP = 2.0  # largest move of a contact boundary per Newton step, in href
 RELEASE_DELTA = 1e-3  # constraint correction (per href) above which no contact is released
@@ -615,6 +619,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     r_max = 0.0
     changes_total = 0
     it = 0
+    res_start = 1.0
     fr_out = np.zeros(n)
     # nodes held laterally by the stinger, fixed during the step
     y_held = np.zeros(nn, dtype=np.bool_)
@@ -770,6 +775,11 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 bnd_res = max(bnd_res, abs(res_bnd[b]) / _bnd_scale(b, fref, href))
         if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
             status = L.NOT_FINITE
+            break
+        if it == 1:
+            res_start = max(res_max, 1.0)
+        elif res_max > RUNAWAY * res_start:
+            status = L.NOT_FINITE  # diverging: stop before the budget is spent on it
             break
         info[I_RES] = res_max
         info[I_DELTA] = max_delta
