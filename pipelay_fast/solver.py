@@ -290,15 +290,15 @@ def _graded_on_boundaries(case: Case, pb: Problem) -> bool:
     return all(any(abs(p - f) <= near for f in held) for p in _stinger_foci(case, pb))
 
 
-def _lateral_hold_start(pb: Problem):
-    """Lifting off above the stinger's tip with no node over it: the arc
-    length [m] of the material point over the tip, for the mesh to hold a
-    node there. In 3D the lateral hold begins there (every point over the
-    stinger's z range is held at y = 0); in 2D the node is kept too, so that
-    a 3D case without lateral load has the 2D case's mesh. None otherwise,
+def _lateral_hold_start(case: Case, pb: Problem):
+    """In 3D under lateral load, lifting off above the stinger's tip with no
+    node over it: the arc length [m] of the material point over the tip,
+    where the lateral hold begins (every point over the stinger's z range is
+    held at y = 0), for the mesh to hold a node there. None otherwise (with
+    planar loads the hold carries nothing, and the mesh is the 2D case's),
     and when that point lies within HOLD_SPLIT h_min of lift-off (lift-off's
     node then begins the hold, that close to the tip)."""
-    if pb.lo_node < 0 or pb.tip_node >= 0:
+    if pb.nd != 3 or case.is_planar or pb.lo_node < 0 or pb.tip_node >= 0:
         return None
     found, _gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger,
                                           np.zeros_like(pb.u))
@@ -643,7 +643,7 @@ def _stinger_foci(case: Case, pb: Problem):
     3D where the lateral hold begins, :func:`_lateral_hold_start`)."""
     if _follows_all(case, pb):
         foci = [float(pb.s[k]) for k in (pb.lo_node, pb.tip_node) if k >= 0]
-        s_hold = _lateral_hold_start(pb)
+        s_hold = _lateral_hold_start(case, pb)
         return foci if s_hold is None else [*foci, s_hold]
     return [x for x in (tip_position(pb), conform_end(case, pb)) if x is not None]
 
