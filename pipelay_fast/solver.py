@@ -502,23 +502,20 @@ def _restore(pb: Problem, snap):
         getattr(pb, name)[:] = arr
 
 
-def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
-    """Newton from the current state; on failure, the load-path homotopy.
-    ``budget``: the solve's Newton iterations left (None: a fresh one).
+def _newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str):
+    """:func:`_budgeted_newton`, switching between lifting off and bearing on
+    the stinger's tip (at most MAX_TIP_SWITCHES times) when the kernel stops
+    at the change of regime (PAST_TIP, SPAN_CLOSED) or, lifting off, the
+    answer passes below the tip.
 
-    Returns the reactions and a dict of iteration counts.
+    Returns (status, reactions, info, iterations of every call, the state
+    the last call started from).
     """
-    budget = budget or IterationBudget(case.solver.max_iterations_total)
-    zero = np.zeros_like(pb.u)
     spent = 0  # iterations of the calls that ended in a switch of regime
     for switches in range(MAX_TIP_SWITCHES + 1):
-        # (the boundaries start where the guess puts them; the kernel holds
-        # them until the pipe is in equilibrium there: an explicit solve with
-        # them held first cost S67 2 to 5 more iterations)
         start = _snapshot(pb)
         can_switch = pb.lo_node >= 0 and switches < MAX_TIP_SWITCHES
-        status, react, info = _budgeted_newton(case, pb, zero, budget,
-                                              "the first Newton solve on a mesh",
+        status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
                                               switch=can_switch)
         if status == L.OK and can_switch and _passes_below_tip(pb):
             status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
@@ -529,7 +526,22 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
             _bear_on_tip(case, pb)
         else:
             _lift_off_above_tip(case, pb)
-    iters = int(info[I_ITER]) + spent
+    return status, react, info, int(info[I_ITER]) + spent, start
+
+
+def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
+    """Newton from the current state; on failure, the load-path homotopy.
+    ``budget``: the solve's Newton iterations left (None: a fresh one).
+
+    Returns the reactions and a dict of iteration counts.
+    """
+    budget = budget or IterationBudget(case.solver.max_iterations_total)
+    zero = np.zeros_like(pb.u)
+    # (the boundaries start where the guess puts them; the kernel holds
+    # them until the pipe is in equilibrium there: an explicit solve with
+    # them held first cost S67 2 to 5 more iterations)
+    status, react, info, iters, start = _newton_in_regime(
+        case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
     # homotopy: G(u) - (1 - alpha) G(u0) = 0, alpha from 0 to 1
@@ -824,9 +836,9 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
         trial = min(1.0, factor + step)
         saved = _snapshot(pb)
         pb.props[L.CURRENT_FACTOR] = trial
-        status, react, info = _budgeted_newton(case, pb, zero, budget,
-                                               f"current factor {trial:.4f}")
-        stats["iterations"] += int(info[I_ITER])
+        status, react, info, iters, _start = _newton_in_regime(
+            case, pb, zero, budget, f"current factor {trial:.4f}")
+        stats["iterations"] += iters
         stats["load_steps"] += 1
         if status != L.OK:
             _restore(pb, saved)

@@ -624,6 +624,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     # nodes held laterally by the stinger, fixed during the step
     y_held = np.zeros(nn, dtype=np.bool_)
     lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, y_held)
+    y_now = np.zeros(nn, dtype=np.bool_)
     for it in range(1, maxit + 1):
         # ---- 0: stinger contacts in curve coordinates, not rotated frames --
         if has_stinger:
@@ -791,9 +792,19 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         if (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
                 and (top_res <= tol or at_roundoff) and (bnd_res <= tol or at_roundoff)
                 and not changed):
-            status = L.OK
-            it -= 1
-            break
+            # converged with the lateral hold of the nodes over the stinger's
+            # z range where they now are (a node that slid below the tip
+            # during the call is released, one that rose over it held)
+            lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, y_now)
+            same = True
+            for node in range(nn):
+                if y_now[node] != y_held[node]:
+                    same = False
+                    y_held[node] = y_now[node]
+            if same:
+                status = L.OK
+                it -= 1
+                break
         # ---- the boundaries move only from equilibrium ------------------
         # A step of the boundaries from a state out of equilibrium (u not yet
         # in balance on the present mesh) follows a linearisation that may
