@@ -146,41 +146,6 @@ def signed_curvature_vector(nd, rp, rpp):
     return np.cross(rp3, rpp3) / a[:, None] ** 3, rp3 / a[:, None]
 
 
-def touchdown_estimate(s, moment, k):
-    """Arc length of touchdown [m] from the moment just above the last contact node.
-
-    The bending moment vanishes at touchdown on a rigid seabed and grows
-    smoothly into the span; the quadratic through the nodal moments at nodes
-    k+1, k+2, k+3 is extrapolated to its zero nearest node k (searched from
-    node k-4 to node k+1). Falls back to the straight line through the first
-    two, then to the contact node itself.
-    """
-    if k + 3 >= s.size:
-        return float(s[k])
-    lo, hi = s[max(k - 4, 0)], s[k + 1]
-    (s1, s2, s3), (m1, m2, m3) = s[k + 1:k + 4], moment[k + 1:k + 4]
-    d12 = (m2 - m1) / (s2 - s1)
-    d23 = (m3 - m2) / (s3 - s2)
-    c2 = (d23 - d12) / (s3 - s1)  # M = m1 + b (t - s1) + c2 (t - s1)(t - s2)
-    b = d12
-    # in terms of t' = t - s1: c2 t'^2 + (b - c2 (s2 - s1)) t' + m1 = 0
-    bb = b - c2 * (s2 - s1)
-    cands = []
-    if c2 != 0.0:
-        disc = bb * bb - 4.0 * c2 * m1
-        if disc >= 0.0:
-            root = math.sqrt(disc)
-            cands = [s1 + (-bb - root) / (2.0 * c2), s1 + (-bb + root) / (2.0 * c2)]
-    cands = [c for c in cands if lo <= c <= hi]
-    if cands:
-        return float(min(cands, key=lambda c: abs(c - s[k])))
-    if d12 != 0.0:
-        root = s1 - m1 / d12
-        if lo <= root <= hi:
-            return float(root)
-    return float(s[k])
-
-
 def interior_peak(values) -> float:
     """Largest interior local maximum (the sagbend peak), ignoring a peak that sits
     at an end of the span (a clamped top's moment); the plain maximum if none."""
