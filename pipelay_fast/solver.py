@@ -220,7 +220,7 @@ def build_problem(case: Case) -> Problem:
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
-             "focus": s_focus,
+             "focus": s_focus, "warm": False,
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
              "at_tip": g.at_tip}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
@@ -532,6 +532,11 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
         case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
+    if pb.stats.get("warm"):
+        # a warm start is Newton from the neighbour's answer; where that does
+        # not converge the neighbour is too far, and the cold start (with its
+        # load path) is cheaper than a load path from the neighbour's state
+        _fail(case, "the warm start's Newton solve", info, status)
     # homotopy: G(u) - (1 - alpha) G(u0) = 0, alpha from 0 to 1
     _restore(pb, start)
     g0 = _residual(pb)
@@ -542,10 +547,10 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
                   "; maximum number of load steps reached")
         trial = min(1.0, alpha + step)
         saved = _snapshot(pb)
-        status, react, info = _budgeted_newton(
+        status, react, info, used, _start = _newton_in_regime(
             case, pb, -(1.0 - trial) * g0, budget,
             f"load step {steps + 1} (load factor {trial:.4f})")
-        iters += int(info[I_ITER])
+        iters += used
         steps += 1
         if status == L.OK:
             alpha = trial
@@ -791,7 +796,7 @@ def warm_problem(case: Case, old: Problem) -> Problem:
         raise ValueError(f"warm: lay.method {case.lay.method!r} differs from the warm case's")
     state = dict(zip(_STATE, old.before_current or _snapshot(old), strict=True))
     new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0], -1.0, np.inf,
-                   old.fref, dict(old.stats))
+                   old.fref, dict(old.stats, warm=True))
     for name in ("bed_active", "st_active", "tip", "fric"):
         getattr(new, name)[:] = state[name]
     if old.s_a is not None:
