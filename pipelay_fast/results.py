@@ -146,6 +146,28 @@ def signed_curvature_vector(nd, rp, rpp):
     return np.cross(rp3, rpp3) / a[:, None] ** 3, rp3 / a[:, None]
 
 
+def foundation_exit(s, x) -> float:
+    """Arc length [m] where the pipe rises out of an elastic seabed: x = 0
+    between the last node below the surface (x < 0) and the next, linearly;
+    the lower end's when no node is below it."""
+    below = np.flatnonzero(x < 0.0)
+    if below.size == 0:
+        return float(s[0])
+    k = int(below[-1])
+    if k + 1 >= s.size:
+        return float(s[k])
+    return float(s[k] + (s[k + 1] - s[k]) * (-x[k]) / (x[k + 1] - x[k]))
+
+
+def foundation_force(s, x, k_bed) -> np.ndarray:
+    """Nodal force [N] of an elastic seabed: k (-x) at a node below the
+    surface over its share of the pipe (half of each element beside it)."""
+    share = np.zeros(s.size)
+    share[:-1] += 0.5 * np.diff(s)
+    share[1:] += 0.5 * np.diff(s)
+    return k_bed * np.maximum(-x, 0.0) * share
+
+
 def interior_peak(values) -> float:
     """Largest interior local maximum (the sagbend peak), ignoring a peak that sits
     at an end of the span (a clamped top's moment); the plain maximum if none."""
@@ -242,10 +264,14 @@ def build_profile(case: Case, pb, react) -> dict:
     contact = np.full(s.size, "free", dtype=object)
     act = pb.bed_active.astype(bool)
     seabed[act] = react[0::ndn][act]
-    contact[act] = "seabed"
     if pb.fix_mask[0]:
+        act[0] = True
         seabed[0] = react[0]
-        contact[0] = "seabed"
+    if case.seabed.stiffness is not None:  # the elastic foundation's lumped force
+        x_n = pb.u[0::ndn]
+        act = x_n < 0.0
+        seabed = foundation_force(s, x_n, case.seabed.stiffness)
+    contact[act] = "seabed"
     seabed_y = np.zeros(s.size)
     if nd == 3:
         seabed_y[act] = react[1::ndn][act]

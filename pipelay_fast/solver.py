@@ -40,6 +40,7 @@ from .kernels.contact import (
     ST_ZL,
     ST_ZU,
     friction_forces,
+    friction_track,
     tip_geometry,
 )
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_BND, N_INFO, _system, newton
@@ -48,6 +49,7 @@ from .mesh import graded_nodes
 from .model import build_props, dimension_of, pin_jump
 from .results import (
     Result,
+    foundation_exit,
     build_profile,
     build_summary,
 )
@@ -232,13 +234,16 @@ def build_problem(case: Case) -> Problem:
 
 
 def _follow(case: Case, pb: Problem, s_focus: float):
-    """Map the mesh onto touchdown at the node nearest ``s_focus`` and, in
+    """Map the mesh onto touchdown at the node nearest ``s_focus`` (on a rigid
+    seabed: an elastic one is a foundation, with no contact boundary) and, in
     S-lay, onto lift-off and the material point over the stinger's tip."""
     s = pb.s
     zone = 3.0 * pb.stats["flexural_length"]
-    k = int(np.argmin(np.abs(s[1:-1] - s_focus))) + 1
     pb.bed_active[:] = 0
-    pb.bed_active[1:k + 1] = 1
+    k = -1
+    if case.seabed.is_rigid:
+        k = int(np.argmin(np.abs(s[1:-1] - s_focus))) + 1
+        pb.bed_active[1:k + 1] = 1
     lift = pb.stats.get("stinger_foci") or []
     if case.lay.stinger is None:
         _follow_nodes(case, pb, (k, -1, -1))
@@ -281,7 +286,7 @@ def _graded_on_boundaries(case: Case, pb: Problem) -> bool:
     the path (cold, warm, a target solve's trials) that led there."""
     near = ON_FOCUS * pb.stats["h_min"]
     held = pb.stats.get("stinger_foci", [])
-    if abs(pb.s[pb.td_node] - pb.stats["focus"]) > near:
+    if abs(touchdown_position(case, pb) - pb.stats["focus"]) > near:
         return False
     return all(any(abs(p - f) <= near for f in held) for p in _stinger_foci(case, pb))
 
@@ -365,6 +370,9 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
         tb = lay.bottom_tension
     x = u[0::ndn]
     bed_active = ((s <= s_contact) & (s > 0.0) & (x <= 1e-6)).astype(np.int8)
+    if not case.seabed.is_rigid:  # a foundation: no rigid contact, the lower end's x free
+        bed_active[:] = 0
+        fix_mask[0] = 0
     st_active = ((s >= s_stinger) & (np.arange(nn) < top)).astype(np.int8)
     if st is None:
         st_active[:] = 0
@@ -568,8 +576,12 @@ MAX_MESH_PASSES = 4
 
 
 def touchdown_position(case: Case, pb: Problem) -> float:
-    """Arc length of touchdown [m]: its node's."""
-    return float(pb.s[pb.td_node])
+    """Arc length of touchdown [m]: its node's on a rigid seabed; on an
+    elastic one, where the pipe rises out of the foundation (x = 0, linear
+    between the last node below the surface and the next)."""
+    if pb.td_node >= 0:
+        return float(pb.s[pb.td_node])
+    return foundation_exit(pb.s, pb.u[0::pb.ndn])
 
 
 def conform_end(case: Case, pb: Problem):
@@ -646,7 +658,7 @@ def _lower_end_holds(pb: Problem, react) -> bool:
     zone then reaches it, and more laid pipe is needed."""
     if pb.nd != 3 or pb.props[L.FRICTION_ON] == 0.0:
         return False
-    on_bed = np.flatnonzero(pb.bed_active)
+    on_bed = np.flatnonzero(pb.fric[:, L.FR_W] > 0.0)
     total = np.abs(react[on_bed * pb.ndn + 1]).sum() + abs(react[1])
     return abs(react[1]) > LOWER_END_SHARE * total
 
@@ -690,7 +702,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb.before_current = _snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
         _anchor(pb.fric, pb.u, pb.nd, pb.s)
-        pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, np.maximum(react[0::pb.ndn], 0.0), 0.0)
+        friction_track(pb.nd, pb.u, react, pb.props, pb.bed_active, pb.fric, pb.s)
         pb.props[L.FRICTION_ON] = 1.0
         try:
             react, more = apply_current(case, pb, budget)
@@ -828,8 +840,7 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
     # below the tip, down to touchdown: a shift that continues the slope
     # change at the tip and vanishes at touchdown (no kink at the tip)
     z_l = pb.stinger[ST_ZL]
-    bed = np.flatnonzero(pb.bed_active)
-    z_td = z[bed[-1]] if bed.size else z[0]
+    z_td = float(np.interp(touchdown_position(None, pb), pb.s, z))
     span = (z < z_l) & (z > z_td)
     if span.any() and z_l > z_td:
         k = curve(pb.stinger, np.array([z_l]))[1][0] - curve(old_stinger, np.array([z_l]))[1][0]

@@ -193,7 +193,7 @@ def friction_length_derivative(nd, u, props, bed_active, fric, s, s_b, col):
     ndn = 2 * nd + 1
     for node in range(bed_active.shape[0]):
         w = fric[node, L.FR_W]
-        if bed_active[node] == 0 or w <= 0.0 or s_b[node] == 0.0:
+        if w <= 0.0 or s_b[node] == 0.0:
             continue
         for comp in range(2):
             slot, mu, ccol, _dcol = _friction_dofs(nd, props, comp)
@@ -224,7 +224,7 @@ def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out, s):
     tangent = ab.shape[0] > 1
     for node in range(bed_active.shape[0]):
         w = fric[node, L.FR_W]
-        if bed_active[node] == 0 or w <= 0.0:
+        if w <= 0.0:
             continue
         for comp in range(2):
             slot, mu, col, _dcol = _friction_dofs(nd, props, comp)
@@ -244,14 +244,25 @@ def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out, s):
 
 
 @jit
-def friction_track(nd, u, react, bed_active, fric, s):
-    """Per Newton iteration: each contact's normal reaction W; free nodes keep
-    their anchors where they are, so a node that lands is anchored there."""
+def friction_track(nd, u, react, props, bed_active, fric, s):
+    """Per Newton iteration: each contact's normal force W, the reaction of a
+    rigid seabed contact or, on an elastic seabed, the foundation's force at a
+    node below the surface, k (-x) over the node's share of the pipe (half of
+    each element beside it); nodes off the seabed keep their anchors where
+    they are, so a node that lands is anchored there."""
     ndn = 2 * nd + 1
-    for node in range(bed_active.shape[0]):
+    nn = bed_active.shape[0]
+    k_bed = props[L.SEABED_K]
+    for node in range(nn):
         base = node * ndn
+        w = 0.0
         if bed_active[node] != 0:
-            fric[node, L.FR_W] = max(react[base], 0.0)
+            w = max(react[base], 0.0)
+        elif k_bed > 0.0 and u[base] < 0.0:
+            share = 0.5 * (s[min(node + 1, nn - 1)] - s[max(node - 1, 0)])
+            w = -k_bed * u[base] * share
+        if w > 0.0:
+            fric[node, L.FR_W] = w
         else:
             fric[node, L.FR_W] = 0.0
             fric[node, L.FR_DIR] = 0.0
@@ -285,7 +296,7 @@ def friction_commit(nd, u, props, bed_active, fric, s):
             if slot < 0:
                 continue
             fric[node, dcol] = 0.0
-            if bed_active[node] == 0 or mu <= 0.0 or props[L.FRICTION_ON] == 0.0:
+            if fric[node, L.FR_W] <= 0.0 or mu <= 0.0 or props[L.FRICTION_ON] == 0.0:
                 continue
             pos = u[node * ndn + slot]
             d = pos - fric[node, col]

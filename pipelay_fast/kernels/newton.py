@@ -680,9 +680,9 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed_acti
                 cmask[base] = True
                 delta[base] = -_local_value(nd, u, node, 0, phi_r, phi_rp)
             # a pipe lying on the flat seabed is tangent to it: the slope is held
-            # at every contact node, touchdown's and a lower end resting on the
-            # seabed included
-            on_bed = bed_active[node] != 0 or (node == 0 and fix_mask[0] != 0)
+            # at every contact node, touchdown's included, and at the lower end
+            # (resting on a rigid seabed, or on an elastic one's foundation)
+            on_bed = bed_active[node] != 0 or node == 0
             if on_bed and fix_mask[base + nd] == 0:
                 cmask[base + nd] = True
                 delta[base + nd] = -u[base + nd]
@@ -974,7 +974,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed_acti
         # ---- 5: the tip's contact -----------------------------------------
         changed = False
         node_arcs(s_el, s_nd)
-        friction_track(nd, u, react, bed_active, fric, s_nd)
+        friction_track(nd, u, react, props, bed_active, fric, s_nd)
         if has_tipn:
             # the tip by the complementarity min(R, c g) = 0 (semismooth Newton:
             # the branch that the present normal reaction R and gap g select):
