@@ -4,7 +4,6 @@ the stinger tip inside Newton, measured on the public API only.
     python benchmarks/bench_contact.py [--quick | --full] [--a-step A] [--workers 2]
                                        [--random N] [--seed N] [--timeout S]
                                        [--parts 1 2 ...] [--out DIR]
-                                       [--contact active_set|boundaries]
 
 Parts (``--parts``, default all):
 
@@ -46,7 +45,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import re
 import statistics
 import sys
@@ -110,11 +108,8 @@ SUMMARY_KEYS = ("n_iterations", "n_elements", "max_von_mises", "overbend_max_von
 
 
 def load(example: str) -> pf.Case:
-    """An example case, with ``solver.contact`` from --contact when given (the
-    workers read it from BENCH_CONTACT, which main sets before they spawn)."""
-    case = pf.load_case(EXAMPLES / f"{example}.toml")
-    contact = os.environ.get("BENCH_CONTACT")
-    return case.with_changes({"solver.contact": contact}) if contact else case
+    """An example case."""
+    return pf.load_case(EXAMPLES / f"{example}.toml")
 
 
 def contact_pull(prof: pd.DataFrame) -> dict:
@@ -708,14 +703,9 @@ def main(argv=None):
     parser.add_argument("--parts", type=int, nargs="+", default=list(range(1, 9)),
                         choices=range(1, 9))
     parser.add_argument("--out", type=Path, default=REPO / "benchmarks" / "out")
-    parser.add_argument("--contact", choices=("active_set", "boundaries"),
-                        help="solver.contact for the example cases (default: the case's); "
-                             "the paper studies of part 3 keep their files' setting")
     args = parser.parse_args(argv)
     if 3 in args.parts and 1 not in args.parts:
         args.parts.append(1)  # part 3's refusals on the grid are part 1's table
-    if args.contact:
-        os.environ["BENCH_CONTACT"] = args.contact
     mode = "full" if args.full else "quick"
     grid = GRID[mode] | ({"a_step": args.a_step} if args.a_step else {})
     info = machine_info()

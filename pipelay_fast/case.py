@@ -63,7 +63,6 @@ __all__ = [
 METHODS = ("S", "J")
 PROFILES = ("uniform", "linear", "power", "table")
 DIMENSIONS = ("auto", "2d", "3d")
-CONTACTS = ("active_set", "boundaries")
 _PLANAR_TOL = 1e-12
 MAX_STINGER_TURN = 90.0  # deg, the most a stinger may turn the pipe (Stinger)
 
@@ -565,15 +564,6 @@ class Solver:
         Finest graded element [m], <= element_length; None: the solver picks.
     grading : bool
         Grade the mesh at touchdown and lift-off; default true.
-    contact : str
-        How contact boundaries are found: "active_set" (the default: nodes
-        join and leave the seabed and stinger contacts between Newton
-        iterations) or "boundaries" (experimental: touchdown on a rigid
-        seabed, lift-off from the stinger and the material point over its
-        tip are unknowns of Newton and the mesh follows them, the tip's
-        contact chosen by a complementarity; see
-        :mod:`pipelay_fast.kernels.newton`). The second is to replace the
-        first; README, Method, gives where it stands.
     laid_length : float or None
         Length of pipe modelled on the seabed [m]; None: the solver picks.
     tolerance : float
@@ -610,7 +600,6 @@ class Solver:
     element_length: float = 4.0
     min_element_length: float | None = None
     grading: bool = True
-    contact: str = "active_set"
     laid_length: float | None = None
     tolerance: float = 1e-8
     max_iterations: int = 100
@@ -621,7 +610,6 @@ class Solver:
 
     def __post_init__(self):
         choice("solver.dimension", self.dimension, DIMENSIONS)
-        choice("solver.contact", self.contact, CONTACTS)
         optional = [name for name in ("min_element_length", "laid_length")
                     if getattr(self, name) is not None]
         set_numbers(self, "solver", positive=("element_length", "tolerance", *optional))

@@ -146,39 +146,26 @@ def signed_curvature_vector(nd, rp, rpp):
     return np.cross(rp3, rpp3) / a[:, None] ** 3, rp3 / a[:, None]
 
 
-def touchdown_estimate(s, moment, k):
-    """Arc length of touchdown [m] from the moment just above the last contact node.
-
-    The bending moment vanishes at touchdown on a rigid seabed and grows
-    smoothly into the span; the quadratic through the nodal moments at nodes
-    k+1, k+2, k+3 is extrapolated to its zero nearest node k (searched from
-    node k-4 to node k+1). Falls back to the straight line through the first
-    two, then to the contact node itself.
-    """
-    if k + 3 >= s.size:
+def foundation_exit(s, x) -> float:
+    """Arc length [m] where the pipe rises out of an elastic seabed: x = 0
+    between the last node below the surface (x < 0) and the next, linearly;
+    the lower end's when no node is below it."""
+    below = np.flatnonzero(x < 0.0)
+    if below.size == 0:
+        return float(s[0])
+    k = int(below[-1])
+    if k + 1 >= s.size:
         return float(s[k])
-    lo, hi = s[max(k - 4, 0)], s[k + 1]
-    (s1, s2, s3), (m1, m2, m3) = s[k + 1:k + 4], moment[k + 1:k + 4]
-    d12 = (m2 - m1) / (s2 - s1)
-    d23 = (m3 - m2) / (s3 - s2)
-    c2 = (d23 - d12) / (s3 - s1)  # M = m1 + b (t - s1) + c2 (t - s1)(t - s2)
-    b = d12
-    # in terms of t' = t - s1: c2 t'^2 + (b - c2 (s2 - s1)) t' + m1 = 0
-    bb = b - c2 * (s2 - s1)
-    cands = []
-    if c2 != 0.0:
-        disc = bb * bb - 4.0 * c2 * m1
-        if disc >= 0.0:
-            root = math.sqrt(disc)
-            cands = [s1 + (-bb - root) / (2.0 * c2), s1 + (-bb + root) / (2.0 * c2)]
-    cands = [c for c in cands if lo <= c <= hi]
-    if cands:
-        return float(min(cands, key=lambda c: abs(c - s[k])))
-    if d12 != 0.0:
-        root = s1 - m1 / d12
-        if lo <= root <= hi:
-            return float(root)
-    return float(s[k])
+    return float(s[k] + (s[k + 1] - s[k]) * (-x[k]) / (x[k + 1] - x[k]))
+
+
+def foundation_force(s, x, k_bed) -> np.ndarray:
+    """Nodal force [N] of an elastic seabed: k (-x) at a node below the
+    surface over its share of the pipe (half of each element beside it)."""
+    share = np.zeros(s.size)
+    share[:-1] += 0.5 * np.diff(s)
+    share[1:] += 0.5 * np.diff(s)
+    return k_bed * np.maximum(-x, 0.0) * share
 
 
 def interior_peak(values) -> float:
@@ -277,10 +264,14 @@ def build_profile(case: Case, pb, react) -> dict:
     contact = np.full(s.size, "free", dtype=object)
     act = pb.bed_active.astype(bool)
     seabed[act] = react[0::ndn][act]
-    contact[act] = "seabed"
     if pb.fix_mask[0]:
+        act[0] = True
         seabed[0] = react[0]
-        contact[0] = "seabed"
+    if case.seabed.stiffness is not None:  # the elastic foundation's lumped force
+        x_n = pb.u[0::ndn]
+        act = x_n < 0.0
+        seabed = foundation_force(s, x_n, case.seabed.stiffness)
+    contact[act] = "seabed"
     seabed_y = np.zeros(s.size)
     if nd == 3:
         seabed_y[act] = react[1::ndn][act]

@@ -5,14 +5,19 @@ The orchestration lives here; every loop over nodes or elements is a kernel in
 
 1. natural-catenary guess (:mod:`.catenary`) plus the laid pipe;
 2. mesh graded at touchdown and the top (:mod:`.mesh`);
-3. constraints as flat arrays (fixed unknowns in rotated nodal frames, seabed
-   contact candidates, a sliding lower end with its tension);
-4. Newton with line search (:func:`.kernels.newton.newton`); if it fails, the
+3. constraints as flat arrays (fixed unknowns in rotated nodal frames, the
+   seabed contact from the lower end to touchdown, the stinger contact from
+   lift-off to the top, a sliding lower end with its tension), the mesh
+   mapped onto those boundaries, unknowns of Newton (:func:`_follow`);
+4. Newton with line search (:func:`.kernels.newton.newton`), switching
+   between lifting off and bearing on the stinger's tip when the kernel stops
+   at the change of regime (:func:`_newton_in_regime`); if it fails, the
    out-of-balance force of the guess is removed in adaptive load steps, and the
    current is then applied in increments (friction is path dependent);
-5. if touchdown ended up away from the fine part of the mesh, or too close to
-   the lower end, the mesh is rebuilt around it and the solve repeated from the
-   interpolated solution.
+5. under gravity, until the mesh is graded at the boundaries the solve found
+   (or when touchdown came too close to the lower end), the mesh is graded
+   anew there and the solve repeated from the interpolated solution, so the
+   answer does not depend on the path to it.
 """
 
 from __future__ import annotations
@@ -35,6 +40,7 @@ from .kernels.contact import (
     ST_ZL,
     ST_ZU,
     friction_forces,
+    friction_track,
     tip_geometry,
 )
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_BND, N_INFO, _system, newton
@@ -43,11 +49,9 @@ from .mesh import graded_nodes
 from .model import build_props, dimension_of, pin_jump
 from .results import (
     Result,
+    foundation_exit,
     build_profile,
     build_summary,
-    nodal_fields,
-    signed_curvature_vector,
-    touchdown_estimate,
 )
 
 
@@ -75,7 +79,6 @@ class Problem:
     fix_val: np.ndarray
     phi_r: np.ndarray
     phi_rp: np.ndarray
-    bed: np.ndarray
     bed_active: np.ndarray
     stinger: np.ndarray
     st_active: np.ndarray
@@ -90,11 +93,11 @@ class Problem:
     href: float
     stats: dict = field(default_factory=dict)
     before_current: list | None = None  # state snapshot before the current (friction path)
-    # the mesh follows the contact boundaries (solver.contact = "boundaries"):
-    # node i at s_a[i] + sum_b s_b[b, i] s_bd[b], touchdown on node bnodes[0],
-    # lift-off from (or re-contact with) the stinger on bnodes[1], the
-    # material point over the stinger's tip on bnodes[2] (-1: none, a fixed
-    # mesh, the active set finds that boundary)
+    # the mesh follows the contact boundaries: node i at s_a[i] + sum_b
+    # s_b[b, i] s_bd[b], touchdown on node bnodes[0], lift-off from (or
+    # re-contact with) the stinger on bnodes[1], the material point over the
+    # stinger's tip on bnodes[2] while it bears (-1: none; until the mesh is
+    # mapped, all -1)
     bnodes: np.ndarray = field(default_factory=lambda: np.full(N_BND, -1, dtype=np.int64))
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
@@ -219,7 +222,7 @@ def build_problem(case: Case) -> Problem:
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
-             "focus": s_focus,
+             "focus": s_focus, "warm": False,
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
              "at_tip": g.at_tip}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
@@ -231,20 +234,18 @@ def build_problem(case: Case) -> Problem:
 
 
 def _follow(case: Case, pb: Problem, s_focus: float):
-    """With solver.contact = "boundaries" (a rigid seabed: the case checks
-    it), map the mesh onto touchdown at the node nearest ``s_focus`` and, in
+    """Map the mesh onto touchdown at the node nearest ``s_focus`` (on a rigid
+    seabed: an elastic one is a foundation, with no contact boundary) and, in
     S-lay, onto lift-off and the material point over the stinger's tip."""
-    if case.solver.contact != "boundaries":
-        return
     s = pb.s
     zone = 3.0 * pb.stats["flexural_length"]
+    pb.bed_active[:] = 0
     k = -1
-    if case.seabed.is_rigid:  # an elastic seabed is a foundation, no contact boundary
+    if case.seabed.is_rigid:
         k = int(np.argmin(np.abs(s[1:-1] - s_focus))) + 1
-        pb.bed_active[:] = 0
         pb.bed_active[1:k + 1] = 1
     lift = pb.stats.get("stinger_foci") or []
-    if case.lay.stinger is None or not lift:
+    if case.lay.stinger is None:
         _follow_nodes(case, pb, (k, -1, -1))
         return
     # lift-off: the guess's; where the guess leaves from the tip, the pipe
@@ -273,22 +274,38 @@ def _follow_nodes(case: Case, pb: Problem, nodes):
                       (zone, zone)))
 
 
-MAX_STRETCH = 1.5  # a mesh following the boundaries: largest element, in h_max
-MIN_SQUEEZE = 0.5  # ... smallest, in h_min; beyond either it is graded anew
+ON_FOCUS = 0.02  # a mesh is graded at a point within this share of h_min of it
+HOLD_SPLIT = 0.1  # the shortest element [h_min] between lift-off and the tip's point
 
 
-def _distorted(pb: Problem) -> bool:
-    """True when a mesh that follows the boundaries has moved so far that an
-    element exceeds MAX_STRETCH h_max or falls below MIN_SQUEEZE h_min."""
-    le = np.diff(pb.s)
-    return bool(le.max() > MAX_STRETCH * pb.stats["h_max"]
-                or le.min() < MIN_SQUEEZE * pb.stats["h_min"])
+def _graded_on_boundaries(case: Case, pb: Problem) -> bool:
+    """True when the mesh that follows the boundaries is graded at each of
+    them: touchdown and every point of :func:`_stinger_foci` lie within
+    ON_FOCUS h_min of a point the mesh was graded at. Regrading until it is
+    makes the answer the mesh's at the boundaries the solve found, whatever
+    the path (cold, warm, a target solve's trials) that led there."""
+    near = ON_FOCUS * pb.stats["h_min"]
+    held = pb.stats.get("stinger_foci", [])
+    if abs(touchdown_position(case, pb) - pb.stats["focus"]) > near:
+        return False
+    return all(any(abs(p - f) <= near for f in held) for p in _stinger_foci(case, pb))
 
 
-def _follows_all(case: Case, pb: Problem) -> bool:
-    """True when the mesh follows every contact boundary of the case (the
-    boundaries mode on a rigid seabed): no pass moves the mesh onto them."""
-    return pb.td_node >= 0 and (case.lay.stinger is None or pb.lo_node >= 0)
+def _lateral_hold_start(case: Case, pb: Problem):
+    """In 3D under lateral load, lifting off above the stinger's tip with no
+    node over it: the arc length [m] of the material point over the tip,
+    where the lateral hold begins (every point over the stinger's z range is
+    held at y = 0), for the mesh to hold a node there. None otherwise (with
+    planar loads the hold carries nothing, and the mesh is the 2D case's),
+    and when that point lies within HOLD_SPLIT h_min of lift-off (lift-off's
+    node then begins the hold, that close to the tip)."""
+    if pb.nd != 3 or case.is_planar or pb.lo_node < 0 or pb.tip_node >= 0:
+        return None
+    found, _gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger,
+                                          np.zeros_like(pb.u))
+    if not found or s_tip > pb.s[pb.lo_node] - HOLD_SPLIT * pb.stats["h_min"]:
+        return None
+    return float(s_tip)
 
 
 def _laid_source(case: Case, cat, lam: float) -> str:
@@ -351,17 +368,18 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
         top_target = lay.top_tension - pin_jump(case)  # Te below a pinned top
     else:
         tb = lay.bottom_tension
-    bed = np.ones(nn, dtype=np.int8)
-    bed[top] = 0
     x = u[0::ndn]
     bed_active = ((s <= s_contact) & (s > 0.0) & (x <= 1e-6)).astype(np.int8)
+    if not case.seabed.is_rigid:  # a foundation: no rigid contact, the lower end's x free
+        bed_active[:] = 0
+        fix_mask[0] = 0
     st_active = ((s >= s_stinger) & (np.arange(nn) < top)).astype(np.int8)
     if st is None:
         st_active[:] = 0
     props, table = build_props(case)
     fric = np.zeros((nn, L.N_FRIC))
     _anchor(fric, u, nd, s)
-    return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
+    return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed_active,
                    stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof,
                    np.array([float(tb)]), top,
                    top_target, fref, stats["h_max"], stats=stats)
@@ -375,7 +393,7 @@ def _run_newton(pb: Problem, g_off, tol, maxit):
     else:
         s_a, s_b = np.zeros(pb.nn), np.zeros((N_BND, pb.nn))
     status = newton(pb.nd, pb.s_el, pb.u, pb.props, pb.table, pb.fix_mask, pb.fix_val,
-                    pb.phi_r, pb.phi_rp, pb.bed, pb.bed_active, pb.stinger, pb.st_active,
+                    pb.phi_r, pb.phi_rp, pb.bed_active, pb.stinger, pb.st_active,
                     pb.tip, pb.fric, pb.f_node, g_off,
                     pb.slide_dof, pb.tb, pb.top_node, pb.top_target, tol, pb.fref, pb.href,
                     maxit, react, info, pb.bnodes, s_a, s_b, pb.s_bd)
@@ -480,23 +498,20 @@ def _restore(pb: Problem, snap):
         getattr(pb, name)[:] = arr
 
 
-def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
-    """Newton from the current state; on failure, the load-path homotopy.
-    ``budget``: the solve's Newton iterations left (None: a fresh one).
+def _newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str):
+    """:func:`_budgeted_newton`, switching between lifting off and bearing on
+    the stinger's tip (at most MAX_TIP_SWITCHES times) when the kernel stops
+    at the change of regime (PAST_TIP, SPAN_CLOSED) or, lifting off, the
+    answer passes below the tip.
 
-    Returns the reactions and a dict of iteration counts.
+    Returns (status, reactions, info, iterations of every call, the state
+    the last call started from).
     """
-    budget = budget or IterationBudget(case.solver.max_iterations_total)
-    zero = np.zeros_like(pb.u)
     spent = 0  # iterations of the calls that ended in a switch of regime
     for switches in range(MAX_TIP_SWITCHES + 1):
-        # (the boundaries start where the guess puts them; the kernel holds
-        # them until the pipe is in equilibrium there: an explicit solve with
-        # them held first cost S67 2 to 5 more iterations)
         start = _snapshot(pb)
         can_switch = pb.lo_node >= 0 and switches < MAX_TIP_SWITCHES
-        status, react, info = _budgeted_newton(case, pb, zero, budget,
-                                              "the first Newton solve on a mesh",
+        status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
                                               switch=can_switch)
         if status == L.OK and can_switch and _passes_below_tip(pb):
             status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
@@ -507,9 +522,29 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
             _bear_on_tip(case, pb)
         else:
             _lift_off_above_tip(case, pb)
-    iters = int(info[I_ITER]) + spent
+    return status, react, info, int(info[I_ITER]) + spent, start
+
+
+def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
+    """Newton from the current state; on failure, the load-path homotopy.
+    ``budget``: the solve's Newton iterations left (None: a fresh one).
+
+    Returns the reactions and a dict of iteration counts.
+    """
+    budget = budget or IterationBudget(case.solver.max_iterations_total)
+    zero = np.zeros_like(pb.u)
+    # (the boundaries start where the guess puts them; the kernel holds
+    # them until the pipe is in equilibrium there: an explicit solve with
+    # them held first cost S67 2 to 5 more iterations)
+    status, react, info, iters, start = _newton_in_regime(
+        case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
+    if pb.stats.get("warm"):
+        # a warm start is Newton from the neighbour's answer; where that does
+        # not converge the neighbour is too far, and the cold start (with its
+        # load path) is cheaper than a load path from the neighbour's state
+        _fail(case, "the warm start's Newton solve", info, status)
     # homotopy: G(u) - (1 - alpha) G(u0) = 0, alpha from 0 to 1
     _restore(pb, start)
     g0 = _residual(pb)
@@ -520,10 +555,10 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
                   "; maximum number of load steps reached")
         trial = min(1.0, alpha + step)
         saved = _snapshot(pb)
-        status, react, info = _budgeted_newton(
+        status, react, info, used, _start = _newton_in_regime(
             case, pb, -(1.0 - trial) * g0, budget,
             f"load step {steps + 1} (load factor {trial:.4f})")
-        iters += int(info[I_ITER])
+        iters += used
         steps += 1
         if status == L.OK:
             alpha = trial
@@ -537,70 +572,29 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     return react, {"iterations": iters, "load_steps": steps}
 
 
-def touchdown_index(pb: Problem) -> int:
-    """Index of the last node in seabed contact (the lower end counts as one).
-
-    Contact just behind touchdown need not be contiguous: nodes there may hover
-    a micrometre above the seabed with no reaction, so the last contact node
-    is used, not the end of the contiguous block.
-    """
-    act = np.flatnonzero(pb.bed_active)
-    return int(act[-1]) if act.size else 0
-
-
 MAX_MESH_PASSES = 4
 
 
-def _curvature_window(pb: Problem, lo: int, hi: int):
-    """Node positions r [m] and curvature vectors [1/m] of nodes lo..hi-1."""
-    ndn = pb.ndn
-    r, rp, rpp = nodal_fields(pb.nd, pb.s[lo:hi], pb.u[lo * ndn:hi * ndn])
-    kvec, _ = signed_curvature_vector(pb.nd, rp, rpp)
-    return r, kvec
-
-
 def touchdown_position(case: Case, pb: Problem) -> float:
-    """Arc length of touchdown [m]: the node that follows it, or located
-    inside its element (see results) on a fixed mesh."""
+    """Arc length of touchdown [m]: its node's on a rigid seabed; on an
+    elastic one, where the pipe rises out of the foundation (x = 0, linear
+    between the last node below the surface and the next)."""
     if pb.td_node >= 0:
         return float(pb.s[pb.td_node])
-    k = touchdown_index(pb)
-    lo, hi = max(k - 1, 0), min(k + 5, pb.nn)
-    _, kvec = _curvature_window(pb, lo, hi)
-    moment = case.pipe.bending_stiffness * np.linalg.norm(kvec, axis=1)
-    return touchdown_estimate(pb.s[lo:hi], moment, k - lo)
+    return foundation_exit(pb.s, pb.u[0::pb.ndn])
 
 
 def conform_end(case: Case, pb: Problem):
-    """Arc length [m] where the pipe leaves the stinger's curve, None without one.
-
-    The pipe's curvature meets the stinger's there: their difference,
-    extrapolated from the three free nodes below the last contact node, is zero
-    (as the moment is at touchdown). On a mesh that follows lift-off, its node.
-    """
-    if pb.lo_node >= 0:
-        return float(pb.s[pb.lo_node])
-    k = liftoff_index(pb)
-    if k < 0:
-        return None
-    lo, hi = max(k - 4, 0), min(k + 2, pb.nn)
-    r, kvec = _curvature_window(pb, lo, hi)
-    st = case.lay.stinger
-    slope = np.asarray(st.slope(r[:, pb.nd - 1]))
-    mismatch = kvec[:, 1] - 2.0 * st.a / (1.0 + slope**2) ** 1.5
-    # mirror so that the free side lies at larger index, as for touchdown
-    s_m = -pb.s[lo:hi][::-1]
-    return -touchdown_estimate(s_m, mismatch[::-1], hi - 1 - k)
+    """Arc length [m] where the pipe leaves (or regains) the stinger's curve:
+    lift-off's node; None without a stinger."""
+    return float(pb.s[pb.lo_node]) if pb.lo_node >= 0 else None
 
 
 def tip_position(pb: Problem):
     """Arc length [m] of the material point on the stinger's tip when it bears."""
-    if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
+    if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0 or pb.tip_node < 0:
         return None
-    if pb.tip_node >= 0:
-        return float(pb.s[pb.tip_node])
-    found, _gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger, np.zeros_like(pb.u))
-    return float(s_tip) if found else None
+    return float(pb.s[pb.tip_node])
 
 
 def liftoff_position(case: Case, pb: Problem):
@@ -617,10 +611,11 @@ def liftoff_position(case: Case, pb: Problem):
 
 def _stinger_foci(case: Case, pb: Problem):
     """Arc lengths [m] the mesh should hold as nodes on the stinger side (a
-    mesh that follows the boundaries: lift-off's and the tip's nodes)."""
-    if _follows_all(case, pb):
-        return [float(pb.s[k]) for k in (pb.lo_node, pb.tip_node) if k >= 0]
-    return [x for x in (tip_position(pb), conform_end(case, pb)) if x is not None]
+    mesh that follows the boundaries: lift-off's and the tip's nodes, and in
+    3D where the lateral hold begins, :func:`_lateral_hold_start`)."""
+    foci = [float(pb.s[k]) for k in (pb.lo_node, pb.tip_node) if k >= 0]
+    s_hold = _lateral_hold_start(case, pb)
+    return foci if s_hold is None else [*foci, s_hold]
 
 
 MAX_LAID_DOUBLINGS = 6
@@ -663,16 +658,16 @@ def _lower_end_holds(pb: Problem, react) -> bool:
     zone then reaches it, and more laid pipe is needed."""
     if pb.nd != 3 or pb.props[L.FRICTION_ON] == 0.0:
         return False
-    on_bed = np.flatnonzero(pb.bed_active)
+    on_bed = np.flatnonzero(pb.fric[:, L.FR_W] > 0.0)
     total = np.abs(react[on_bed * pb.ndn + 1]).sum() + abs(react[1])
     return abs(react[1]) > LOWER_END_SHARE * total
 
 
 def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
-    """Solve, then move the finest part of the mesh onto touchdown (and onto
-    lift-off: the end of conforming stinger contact and the bearing tip) until
-    a node sits on each (to 2 % of the smallest element). ``budget``: the
-    solve's Newton iterations left.
+    """Solve under gravity, grading the mesh anew at the boundaries found until
+    it is graded at them (:func:`_graded_on_boundaries`), then follow the
+    current's path (the mesh follows the boundaries it moves). ``budget``:
+    the solve's Newton iterations left.
 
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
@@ -692,18 +687,10 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
             break
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
-        if _follows_all(case, pb):
-            # the mesh follows the boundaries: graded anew only when it has
-            # moved too far, or when laid pipe is short
-            if not (_distorted(pb) or short_laid):
-                break
-        else:
-            near = 0.02 * pb.stats["h_min"]
-            held = pb.stats.get("stinger_foci", [])
-            lift_ok = all(any(abs(f - h) <= near for h in held) for f in foci)
-            on_node = abs(s_t - pb.stats["focus"]) <= near
-            if on_node and lift_ok and not short_laid:
-                break
+        # the mesh follows the boundaries: graded anew at them until it is
+        # graded where they are, and when laid pipe is short
+        if _graded_on_boundaries(case, pb) and not short_laid:
+            break
         pb = remesh(case, pb, s_t, foci)
         if path:
             pb.props[L.CURRENT_FACTOR] = 0.0
@@ -711,12 +698,11 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
-    current_passes = 0
     while path:
         pb.before_current = _snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
         _anchor(pb.fric, pb.u, pb.nd, pb.s)
-        pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, np.maximum(react[0::pb.ndn], 0.0), 0.0)
+        friction_track(pb.nd, pb.u, react, pb.props, pb.bed_active, pb.fric, pb.s)
         pb.props[L.FRICTION_ON] = 1.0
         try:
             react, more = apply_current(case, pb, budget)
@@ -724,19 +710,13 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         except _ShortLaid:  # touchdown ran toward the lower end under the current
             short = True
         if not short:
+            # the mesh follows the boundaries the current moves
             stats = {key: stats[key] + more[key] for key in stats}
             s_t = touchdown_position(case, pb)
-            foci = _stinger_foci(case, pb)
-            near = 0.02 * pb.stats["h_min"]
-            current_passes += 1
-            if (not case.solver.grading or current_passes > MAX_MESH_PASSES
-                    or _follows_all(case, pb) or abs(s_t - pb.stats["focus"]) <= near):
-                break
-        # mesh again (more laid pipe, or around where the current moved
-        # touchdown off the fine mesh), from the pipe under gravity alone, and
-        # follow the path again
+            break
+        # more laid pipe, from the pipe under gravity alone, and the path again
         _restore(pb, pb.before_current)
-        pb = _with_more_laid(case, pb) if short else remesh(case, pb, s_t, foci)
+        pb = _with_more_laid(case, pb)
         pb.props[L.CURRENT_FACTOR] = 0.0
         pb.props[L.FRICTION_ON] = 0.0
         pb, react, more = _solve_gravity(case, pb, budget)
@@ -799,9 +779,9 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
         trial = min(1.0, factor + step)
         saved = _snapshot(pb)
         pb.props[L.CURRENT_FACTOR] = trial
-        status, react, info = _budgeted_newton(case, pb, zero, budget,
-                                               f"current factor {trial:.4f}")
-        stats["iterations"] += int(info[I_ITER])
+        status, react, info, iters, _start = _newton_in_regime(
+            case, pb, zero, budget, f"current factor {trial:.4f}")
+        stats["iterations"] += iters
         stats["load_steps"] += 1
         if status != L.OK:
             _restore(pb, saved)
@@ -828,7 +808,7 @@ def warm_problem(case: Case, old: Problem) -> Problem:
         raise ValueError(f"warm: lay.method {case.lay.method!r} differs from the warm case's")
     state = dict(zip(_STATE, old.before_current or _snapshot(old), strict=True))
     new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0], -1.0, np.inf,
-                   old.fref, dict(old.stats))
+                   old.fref, dict(old.stats, warm=True))
     for name in ("bed_active", "st_active", "tip", "fric"):
         getattr(new, name)[:] = state[name]
     if old.s_a is not None:
@@ -860,8 +840,7 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
     # below the tip, down to touchdown: a shift that continues the slope
     # change at the tip and vanishes at touchdown (no kink at the tip)
     z_l = pb.stinger[ST_ZL]
-    bed = np.flatnonzero(pb.bed_active)
-    z_td = z[bed[-1]] if bed.size else z[0]
+    z_td = float(np.interp(touchdown_position(None, pb), pb.s, z))
     span = (z < z_l) & (z > z_td)
     if span.any() and z_l > z_td:
         k = curve(pb.stinger, np.array([z_l]))[1][0] - curve(old_stinger, np.array([z_l]))[1][0]
@@ -878,12 +857,6 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
     rp[:, 0] += slope * zp[over]
     rp *= (stretch / np.linalg.norm(rp, axis=1))[:, None]
     pb.u[(idx + nd)[:, None] + np.arange(nd)] = rp
-
-
-def liftoff_index(pb: Problem) -> int:
-    """Index of the lowest node on the stinger (-1 without stinger contact)."""
-    act = np.flatnonzero(pb.st_active)
-    return int(act[0]) if act.size else -1
 
 
 def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
@@ -927,19 +900,15 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     s_c = conform_end(case, pb)
     s_stinger = np.inf if s_c is None else s_c + extra - tol
     new = _problem(case, nd, s, u, pb.tb[0], focus + tol, s_stinger, pb.fref, stats)
-    if _follows_all(case, pb):
-        # the boundaries mode: the new mesh follows the same boundaries, each
-        # on the node graded onto it
-        def at(k):
-            return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))
-        new.bed_active[:] = 0
-        new.bed_active[1:at(pb.td_node) + 1] = 1
-        if pb.lo_node >= 0:
-            new.st_active[:] = 0
-            new.st_active[at(pb.lo_node):-1] = 1
-        _follow_nodes(case, new, (at(pb.td_node), at(pb.lo_node), at(pb.tip_node)))
-    else:
-        _follow(case, new, focus)
+    # the new mesh follows the same boundaries, each on the node graded onto it
+    def at(k):
+        return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))
+    new.bed_active[:] = 0
+    new.bed_active[1:at(pb.td_node) + 1] = 1
+    if pb.lo_node >= 0:
+        new.st_active[:] = 0
+        new.st_active[at(pb.lo_node):-1] = 1
+    _follow_nodes(case, new, (at(pb.td_node), at(pb.lo_node), at(pb.tip_node)))
     new.tip[:] = pb.tip  # a bearing tip keeps bearing (its point moves with the pipe)
     return new
 
@@ -983,8 +952,8 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
 
 
 def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
-    """Solve, build the result and refuse it if it is not finite, is strained
-    beyond solver.max_strain or a contact pulls."""
+    """Solve, build the result and refuse it if it is not finite or is
+    strained beyond solver.max_strain."""
     pb, react, stats, s_t, s_l = solve_problem(case, warm)
     _check_regime(case, pb)
     columns = build_profile(case, pb, react)
@@ -998,8 +967,6 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     beyond = strain_beyond_line(case, columns)
     if beyond is not None:
         raise SolveError(f"case {case.name!r}: {beyond}")
-    if case.solver.grading:  # without it a boundary stays inside its element
-        _check_contacts_push(case, columns)
     return Result(case, summary, columns, state=pb)
 
 
@@ -1017,28 +984,7 @@ def _check_regime(case: Case, pb: Problem):
             f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "
             f"z = {z_lo:.3f} m, would lie below the tip, z = {z_tip:.3f} m), but the solve "
             f"ended lifting off (it switches between bearing on the tip and lifting off "
-            f"at most {MAX_TIP_SWITCHES} times; solver.contact = \"boundaries\"; \"active_set\" is "
-            "the other way)")
-
-
-MAX_PULL_SHARE = 0.5  # largest pull of a contact, as a share of the largest push
-
-
-def _check_contacts_push(case: Case, columns: dict):
-    """Refuse an answer whose seabed or stinger contact pulls by more than
-    MAX_PULL_SHARE of the largest contact reaction. Smaller pulls are the
-    discretisation's couple next to a boundary that lies inside an element
-    (on coarse meshes up to about a third of the boundary's reaction); a
-    larger one means the contact boundary was not found."""
-    reac = np.concatenate([columns["seabed_reaction"][1:], columns["stinger_reaction"]])
-    if reac.size and reac.min() < -MAX_PULL_SHARE * max(reac.max(), 0.0):
-        k = int(np.argmin(reac))
-        where = "seabed" if k < columns["seabed_reaction"].size - 1 else "stinger"
-        raise SolveError(
-            f"case {case.name!r}: a {where} contact pulls with {-reac.min():.4g} N, "
-            f"{-reac.min() / reac.max():.0%} of the largest contact reaction: the contact "
-            "boundary was not located (try a finer solver.min_element_length); "
-            "the solution is not returned")
+            f"at most {MAX_TIP_SWITCHES} times)")
 
 
 def slipping_length_bound(case: Case, cat) -> float:

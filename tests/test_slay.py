@@ -143,17 +143,14 @@ def test_warm_start_refuses_another_dimension(s67, still):
         pf.solve(s67.with_changes({"solver.dimension": "3d"}), warm=still)
 
 
-@pytest.mark.parametrize("name,h,contact", [("s67.toml", 2.0, "active_set"),
-                                            ("s67_3d.toml", 4.0, "active_set"),
-                                            ("s67.toml", 4.0, "boundaries")])
-def test_a_sweep_across_the_tip_regime_has_no_jumps(name, h, contact):
+@pytest.mark.parametrize("name,h", [("s67.toml", 2.0), ("s67_3d.toml", 4.0), ("s67.toml", 4.0)])
+def test_a_sweep_across_the_tip_regime_has_no_jumps(name, h):
     """From bearing on the tip (a = -0.0009) to lifting off the stinger
     (-0.0015): every solve converges, the tip reaction falls to zero once and
     stays there, and the overbend peak has a single minimum (no chattering).
     With the boundaries unknowns the tip regime is a complementarity; 8 to 150
     iterations (the most at -0.00115, next to the change of regime)."""
-    base = pf.load_case(EXAMPLES / name).with_changes({"solver.element_length": h,
-                                                       "solver.contact": contact})
+    base = pf.load_case(EXAMPLES / name).with_changes({"solver.element_length": h})
     grid = np.linspace(-0.0009, -0.0015, 13)
     rows = [pf.solve(base.with_changes({"lay.stinger.a": float(a)})).summary for a in grid]
     tip = np.array([r["tip_reaction"] for r in rows])
@@ -223,8 +220,7 @@ def _pin_jump_measured(case, res):
     return te[-1] - below
 
 
-@pytest.mark.parametrize("contact", ["active_set", "boundaries"])
-def test_pinned_top_on_a_steep_stinger(s67, contact):
+def test_pinned_top_on_a_steep_stinger(s67):
     """Across a moment-free pin on a curved stinger the effective tension jumps
     by M_U^2/(2 EI) (the rod's first integral), so the bottom tension is
     T_top - W(x_U) exactly and the span is the clamped-top elastica's with
@@ -238,7 +234,7 @@ def test_pinned_top_on_a_steep_stinger(s67, contact):
     clamp to the curve gave 1.25 times the jump whatever the mesh: the bottom
     tension 0.95 % low and touchdown 0.36 m off here (2.8 % and 1.3 m with a
     tip at 53 deg)."""
-    case = s67.with_changes({**STEEP_PINNED, "solver.contact": contact})
+    case = s67.with_changes(STEEP_PINNED)
     res = pf.solve(case)
     sm = res.summary
     _, jump = _stinger_top_moment(case)

@@ -1,16 +1,14 @@
-"""Contact laws as kernels: the stinger's geometry, contact regions, the tip,
-seabed friction.
+"""Contact laws as kernels: the stinger's geometry, the tip, the lateral
+hold, seabed friction.
 
 Normal contacts act through the condensation in :mod:`.newton`: a contact
 node's unknowns are prescribed in its nodal frame and its reaction is read
-back from the constrained rows. This module decides which nodes are in
-contact, and carries the seabed friction:
+back from the constrained rows. Which nodes are in contact follows from the
+contact boundaries, unknowns of Newton there (the seabed from the lower end
+to touchdown, the stinger from lift-off to the top). This module carries:
 
-* :func:`update_region`: a contiguous contact region (the seabed from the
-  lower end, the stinger from the top) grows past penetrating nodes and
-  shrinks where its boundary node pulls;
-* :func:`tip_geometry`: the stinger's tip as a point against the element above
-  it (a Lagrange multiplier, solved as a bordered unknown);
+* :func:`tip_geometry`: the stinger's tip as a point against the element
+  spanning it (the material point whose z is the tip's);
 * :func:`lateral_hold`: the nodes the stinger holds laterally in 3D;
 * :func:`friction_forces`, :func:`friction_track`, :func:`friction_commit`:
   an elastic-perfectly-plastic friction spring at each seabed contact (a
@@ -37,29 +35,11 @@ ST_ZU = 4
 ST_ON = 5
 N_STINGER = 6
 
-# contact-region state slots (one int64 vector per region)
-CS_FROZEN = 0
-CS_RUN = 1
-CS_DIR = 2
-CS_COUNT = 3
-CS_HIST = 4  # the N_HIST most recent boundaries follow
-N_HIST = 32
-N_CSTATE = CS_HIST + N_HIST
-CLAMP_PULL = 20.0  # pull next to a boundary, in mean support reactions, that releases it
-CYCLE_DEPTH = 10.0  # penetration, in pen_frozen, that takes a frozen boundary back
-
 
 @jit
 def stinger_angle(stinger, z):
     """Angle of the stinger tangent above horizontal at z [rad]."""
     return math.atan(2.0 * stinger[ST_A] * z + stinger[ST_B])
-
-
-@jit
-def stinger_gap(stinger, x, z):
-    """Normal clearance [m] of the point (x, z) above the stinger (negative inside)."""
-    f = (stinger[ST_A] * z + stinger[ST_B]) * z + stinger[ST_C]
-    return (x - f) * math.cos(stinger_angle(stinger, z))
 
 
 @jit
@@ -84,127 +64,6 @@ def lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, held):
             h_near = min(h_near, s_el[node - 1])
         z_n = u[node * ndn + nd - 1]
         held[node] = stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU]
-
-
-@jit
-def _seen(cs, p):
-    for k in range(CS_HIST, N_CSTATE):
-        if cs[k] == p:
-            return True
-    return False
-
-
-@jit
-def _boundary(active, sign):
-    """Position (counted from the region's end) of its last active node; -1: none."""
-    nn = active.shape[0]
-    last = -1
-    for p in range(nn):
-        node = p if sign > 0 else nn - 1 - p
-        if active[node] != 0:
-            last = p
-    return last
-
-
-@jit
-def update_region(active, gap, reac, sign, pen_tol, pen_frozen, pull_tol, cs):
-    """Active-set update of one contiguous contact region; returns True if changed.
-
-    The region grows from one end of the pipe: from the lower end (``sign`` = 1,
-    the seabed) or from the top (``sign`` = -1, the stinger). ``gap`` is the
-    clearance of every node [m] (+inf where the node cannot touch), ``reac``
-    the normal reaction of every node [N]. Contact first extends to the
-    furthest node that penetrates; else a pull at the boundary node releases it
-    (consecutive releases double in size up to 16 nodes: touchdown or lift-off
-    may have to recede by many elements from the first guess), and a pull further in
-    releases everything beyond. The node next to the boundary is not tested:
-    the slope clamp there shares a couple with the boundary node (on the
-    stinger it is, against CLAMP_PULL mean support reactions: a couple far
-    beyond the support would clamp the pipe at the tip, a convex corner). When the
-    boundary falls inside an element it cycles between nearby nodes: once a
-    change would return it to one of its last N_HIST (32) positions the region is
-    frozen: it is extended only past penetrations deeper than ``pen_frozen``
-    [m], and back to one of those positions only past CYCLE_DEPTH times deeper
-    ones. The iteration so ends with every reaction pushing and at most a
-    discretisation-sized penetration next to it, which the caller removes by
-    moving a node onto the boundary.
-    """
-    nn = active.shape[0]
-    changed = False
-    held = _boundary(active, sign)
-    for node in range(nn):
-        if active[node] != 0 and gap[node] == np.inf:
-            active[node] = 0  # slid off the support (past the stinger's tip)
-            changed = True
-    if changed:  # the boundary it slid off joins the history (a node can slide
-        # off the tip and back on each iteration)
-        cs[CS_HIST + cs[CS_COUNT] % N_HIST] = held
-        cs[CS_COUNT] += 1
-    last = _boundary(active, sign)
-    direction = 0
-    deepest = -1
-    # frozen, only a penetration beyond discretisation size still extends
-    limit = pen_tol if cs[CS_FROZEN] == 0 else pen_frozen
-    depth = 0.0
-    for p in range(last + 1, nn):
-        node = p if sign > 0 else nn - 1 - p
-        if gap[node] < -limit:
-            deepest = p
-            depth = max(depth, -gap[node])
-    # back to a boundary it has held: it cycles, and is frozen; frozen, it
-    # goes back only past a penetration of CYCLE_DEPTH times pen_frozen
-    if deepest >= 0 and _seen(cs, deepest) and (cs[CS_FROZEN] == 0
-                                                or depth < CYCLE_DEPTH * pen_frozen):
-        cs[CS_FROZEN] = 1
-        deepest = -1
-    if deepest >= 0:
-        for p in range(last + 1, deepest + 1):
-            node = p if sign > 0 else nn - 1 - p
-            if gap[node] < np.inf:
-                active[node] = 1
-        changed = True
-        direction = 1
-    else:
-        start = -1
-        for p in range(last - 1):
-            node = p if sign > 0 else nn - 1 - p
-            if active[node] != 0 and reac[node] < -pull_tol:
-                start = p
-                break
-        if start < 0 and last >= 1 and sign < 0:
-            # the stinger's node next to the boundary: a pull there far beyond
-            # the distributed support (a couple with the boundary node, as a
-            # clamp would give, which the stinger's convex tip cannot) releases
-            # it too
-            total = 0.0
-            count = 0
-            for p in range(last - 1):
-                node = p if sign > 0 else nn - 1 - p
-                if active[node] != 0 and reac[node] > 0.0:
-                    total += reac[node]
-                    count += 1
-            node = last - 1 if sign > 0 else nn - last
-            if count > 0 and reac[node] < -pull_tol and -reac[node] > CLAMP_PULL * total / count:
-                start = last - 1
-        if start < 0 and last >= 0:
-            node = last if sign > 0 else nn - 1 - last
-            if reac[node] < -pull_tol:
-                run = 1 if cs[CS_DIR] != -1 or cs[CS_FROZEN] else min(2 * cs[CS_RUN], 16)
-                cs[CS_RUN] = run
-                start = max(0, last - run + 1)
-        if start >= 0:
-            if _seen(cs, start - 1):
-                cs[CS_FROZEN] = 1
-            for p in range(start, last + 1):
-                node = p if sign > 0 else nn - 1 - p
-                active[node] = 0
-            changed = True
-            direction = -1
-    if changed:
-        cs[CS_HIST + cs[CS_COUNT] % N_HIST] = last
-        cs[CS_DIR] = direction
-        cs[CS_COUNT] += 1
-    return changed
 
 
 @jit
@@ -334,7 +193,7 @@ def friction_length_derivative(nd, u, props, bed_active, fric, s, s_b, col):
     ndn = 2 * nd + 1
     for node in range(bed_active.shape[0]):
         w = fric[node, L.FR_W]
-        if bed_active[node] == 0 or w <= 0.0 or s_b[node] == 0.0:
+        if w <= 0.0 or s_b[node] == 0.0:
             continue
         for comp in range(2):
             slot, mu, ccol, _dcol = _friction_dofs(nd, props, comp)
@@ -365,7 +224,7 @@ def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out, s):
     tangent = ab.shape[0] > 1
     for node in range(bed_active.shape[0]):
         w = fric[node, L.FR_W]
-        if bed_active[node] == 0 or w <= 0.0:
+        if w <= 0.0:
             continue
         for comp in range(2):
             slot, mu, col, _dcol = _friction_dofs(nd, props, comp)
@@ -385,14 +244,25 @@ def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out, s):
 
 
 @jit
-def friction_track(nd, u, react, bed_active, fric, s):
-    """Per Newton iteration: each contact's normal reaction W; free nodes keep
-    their anchors where they are, so a node that lands is anchored there."""
+def friction_track(nd, u, react, props, bed_active, fric, s):
+    """Per Newton iteration: each contact's normal force W, the reaction of a
+    rigid seabed contact or, on an elastic seabed, the foundation's force at a
+    node below the surface, k (-x) over the node's share of the pipe (half of
+    each element beside it); nodes off the seabed keep their anchors where
+    they are, so a node that lands is anchored there."""
     ndn = 2 * nd + 1
-    for node in range(bed_active.shape[0]):
+    nn = bed_active.shape[0]
+    k_bed = props[L.SEABED_K]
+    for node in range(nn):
         base = node * ndn
+        w = 0.0
         if bed_active[node] != 0:
-            fric[node, L.FR_W] = max(react[base], 0.0)
+            w = max(react[base], 0.0)
+        elif k_bed > 0.0 and u[base] < 0.0:
+            share = 0.5 * (s[min(node + 1, nn - 1)] - s[max(node - 1, 0)])
+            w = -k_bed * u[base] * share
+        if w > 0.0:
+            fric[node, L.FR_W] = w
         else:
             fric[node, L.FR_W] = 0.0
             fric[node, L.FR_DIR] = 0.0
@@ -426,7 +296,7 @@ def friction_commit(nd, u, props, bed_active, fric, s):
             if slot < 0:
                 continue
             fric[node, dcol] = 0.0
-            if bed_active[node] == 0 or mu <= 0.0 or props[L.FRICTION_ON] == 0.0:
+            if fric[node, L.FR_W] <= 0.0 or mu <= 0.0 or props[L.FRICTION_ON] == 0.0:
                 continue
             pos = u[node * ndn + slot]
             d = pos - fric[node, col]

@@ -288,7 +288,7 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe
             q[i] = 0.0
         q[0] = -gf * effective_weight(props, x)
         dqx_dx = 0.0
-        if k_bed > 0.0 and x < 0.0:
+        if k_bed > 0.0 and x <= 0.0:  # (at x = 0 its tangent: the pipe lands on it)
             q[0] -= k_bed * x
             dqx_dx = -k_bed
         has_drag = drag_force(props, table, nd, x, rp, qd, dq_drp, dq_dx, dwork)

@@ -72,7 +72,7 @@ OK = 0
 MAX_ITERATIONS = 1
 SINGULAR = 2
 NOT_FINITE = 3
-ACTIVE_SET_CYCLE = 4
+TIP_CYCLE = 4
 PAST_TIP = 5
 SHORT_LAID = 6
 SPAN_CLOSED = 7
@@ -81,11 +81,10 @@ STATUS_TEXT = {
     OK: "converged",
     MAX_ITERATIONS: "maximum number of Newton iterations reached",
     SINGULAR: "singular tangent matrix (a mechanism: is the pipe held?)",
-    NOT_FINITE: "non-finite residual (the iteration diverged)",
-    ACTIVE_SET_CYCLE: "contact active set did not settle",
+    NOT_FINITE: "non-finite or runaway residual (the iteration diverged)",
+    TIP_CYCLE: "the tip's contact kept switching between bearing and clear",
     PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
-               "down, after the switches to bearing on the tip that a solve may make "
-               "(solver.contact = \"boundaries\"; \"active_set\" is the other way)"),
+               "down, after the switches to bearing on the tip that a solve may make"),
     SPAN_CLOSED: ("bearing on the stinger's tip, Newton closes the gap span between re-contact "
                   "and the tip (the caller switches to lifting off above the tip)"),
     SHORT_LAID: ("touchdown moves more than half way to the modelled lower end in one "

@@ -10,12 +10,17 @@ Python/numba boundary once per load step:
    unknowns are solved from the band system and the reactions recovered from
    the constrained rows, ``R_c = G_c + K_cf du_f + K_cc du_c``;
 4. a backtracking line search on the weighted residual norm;
-5. active-set update (``solver.contact = "active_set"``, the default; see
-   below for "boundaries"): nodes that penetrate the seabed or the stinger are
-   added, nodes whose reaction pulls are released (:mod:`.contact`); seabed
-   friction enters as spring forces in G and K, not as constraints; converged
-   when the residual is below the tolerance, the constraints hold and the
-   active set no longer changes.
+5. the tip's contact by its complementarity (below); seabed friction enters
+   as spring forces in G and K, not as constraints; converged when the
+   residual is below the tolerance, the constraints and the boundaries'
+   equations hold, the tip's branch no longer changes and the lateral hold
+   is the one of the nodes where they are.
+
+No node walks on or off a contact: the contact boundaries are unknowns of
+Newton (below). The node-walking active set this replaced (session notes,
+issue 10) took 5 to 150 iterations and a stack of rules: freezing on
+revisit, doubling releases, the clamp-couple release, a contact history,
+a contact-pull refusal, remesh passes to put a node on each boundary.
 
 When the top tension is given, the bottom tension T_b is one more unknown with
 the equation Te(top) = R_top . t_top - T_top = 0 (the reaction at the pinned top
@@ -29,8 +34,7 @@ derivatives, weighted by the residual (the support's reaction), enter the
 tangent, so a node that slides along the stinger keeps Newton quadratic, and
 the constraints hold exactly after every step.
 
-Contact boundaries as unknowns (``bnodes[b] >= 0``, ``solver.contact =
-"boundaries"``). The mesh follows each boundary b: node i at s_i = s_a[i] +
+Contact boundaries as unknowns (``bnodes[b] >= 0``). The mesh follows each boundary b: node i at s_i = s_a[i] +
 sum_b s_b[b, i] s_bd[b], every span between anchors mapped onto its present
 ends (:func:`mesh_lengths`). The contact stretches are then fixed sets, no
 node walks: the seabed from the lower end to touchdown (b = 0), the stinger
@@ -50,8 +54,7 @@ by its continuum condition:
 Their columns dG/ds_b are the elements' analytic dG/dle times the length
 rates (:func:`_boundary_column`) plus the friction springs' anchor derivative
 (anchors belong to material points, :func:`.contact.anchor_at`). All border
-unknowns (bottom tension, tip multiplier of the active set, the boundaries)
-are eliminated by one dense Schur complement (:func:`_solve_dense`).
+unknowns (bottom tension, the boundaries) are eliminated by one dense Schur complement (:func:`_solve_dense`).
 
 The boundaries move only from equilibrium: while the weighted residual of
 the pipe with the boundaries where they are exceeds INNER_RATIO times the
@@ -92,17 +95,11 @@ from .assembly import assemble, curve_node, distribute_torque, rotate_node
 from .element import WORK_SIZE, element_force_ws
 from .banded import band_factor, band_solve
 from .contact import (
-    CS_COUNT,
-    CS_DIR,
-    CS_FROZEN,
-    CS_RUN,
-    N_CSTATE,
     ST_A,
     ST_B,
     ST_C,
     ST_ON,
     ST_ZL,
-    ST_ZU,
     friction_commit,
     friction_forces,
     friction_length_derivative,
@@ -110,9 +107,6 @@ from .contact import (
     node_arcs,
     lateral_hold,
     stinger_angle,
-    stinger_gap,
-    tip_geometry,
-    update_region,
 )
 
 # info slots
@@ -308,11 +302,14 @@ def _weighted_max(nd, g, cmask, fref, href):
 
 
 MERIT_RISE = 1e8  # boundaries mode: the largest rise of the merit a step may bring
+# a weighted residual above RUNAWAY times the larger of its start and 1 (forces
+# a million times the reference force) has diverged (a 50 m/s current in 2D,
+# accepted steps and all, went on to 1e98 over 81 iterations)
+RUNAWAY = 1e6
 INNER_RATIO = 1.0  # the boundaries move once the pipe's imbalance is below this times theirs
 MAX_BOUNDARY_STEP = 2.0  # largest move of a contact boundary per Newton step, in href
-RELEASE_DELTA = 1e-3  # constraint correction (per href) above which no contact is released
 N_BND = 3  # boundaries that can be unknowns: touchdown (0), lift-off (1), the tip's point (2)
-N_BORDER = 2 + N_BND  # bordered unknowns: bottom tension, tip multiplier, the boundaries
+N_BORDER = 1 + N_BND  # bordered unknowns: bottom tension, the boundaries
 
 
 @jit
@@ -492,16 +489,15 @@ def _boundary_column(nd, s_el, u, props, table, torques, rate_b, col, bed_active
 
 
 @jit
-def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, tip, mu_old, dmu,
+def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb,
                has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el):
     """The state a fraction ``alpha`` along the Newton step: nodal unknowns
-    (stinger contacts along their curve), bottom tension, tip multiplier and
-    boundary arc lengths with the element lengths they give."""
+    (stinger contacts along their curve), bottom tension and boundary arc
+    lengths with the element lengths they give."""
     for i in range(u.shape[0]):
         u[i] = u_old[i] + alpha * du[i]
     _onto_curve(nd, u, u_old, du, alpha, stinger, st_active)
     tb[0] = tb_old + alpha * dtb
-    tip[1] = mu_old + alpha * dmu
     if has_bnd:
         for b in range(N_BND):
             s_bd[b] = bnd_old[b] + alpha * d_bnd[b]
@@ -509,7 +505,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, tip
 
 
 @jit
-def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed_active,
+def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed_active,
            stinger, st_active, tip, fric, f_node, g_off, slide_dof, tb, top_node, top_target,
            tol, fref, href, maxit, react, info, bnodes, s_a, s_b, s_bd):
     """Solve G(u) = reactions for one load level; see the module docstring.
@@ -521,11 +517,10 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     fix_mask : (ndof,) int8, 1 where the unknown (in the nodal frame) is prescribed
     fix_val : (ndof,) prescribed values in the nodal frame
     phi_r, phi_rp : (nn,) rotation angles of the nodal frames of r and r' [rad]
-    bed : (nn,) int8, 1 where the node may touch the seabed
-    bed_active : (nn,) int8, current seabed contacts; updated in place
+    bed_active : (nn,) int8, the seabed contacts: the lower end to touchdown
     stinger : (N_STINGER,) the curve x = a z^2 + b z + c on [zL, zU] (``ST_*``)
-    st_active : (nn,) int8, current stinger contacts; updated in place
-    tip : (2,) tip contact: [active (0/1), multiplier mu [N]]; updated in place
+    st_active : (nn,) int8, the stinger contacts: lift-off (or re-contact) to the top
+    tip : (2,) the tip's contact: [bearing (0/1), normal reaction [N]]; updated in place
     fric : (nn, N_FRIC) seabed friction springs (layout ``FR_*``); updated in place,
         anchors moved by the return mapping when the step converges
     f_node : (ndof,) nodal external loads [N]
@@ -565,24 +560,10 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             scale[i] = props[L.EI] / (href * href)
     solve_tb = top_target > 0.0 and slide_dof >= 0
     kv = kl + ku
-    pen_tol = 1e-7 * href  # penetration that adds a contact [m]
-    pen_frozen = 1e-4 * href  # ... once the boundary has cycled [m]
-    pull_tol = 1e-9 * fref  # pull that releases one [N]
     for k in range(N_INFO):
         info[k] = 0.0
     status = L.MAX_ITERATIONS
     changed = True
-    cs_bed = np.full(N_CSTATE, -2, dtype=np.int64)
-    cs_st = np.full(N_CSTATE, -2, dtype=np.int64)
-    for cs in (cs_bed, cs_st):
-        cs[CS_FROZEN] = 0
-        cs[CS_RUN] = 1
-        cs[CS_DIR] = 0
-        cs[CS_COUNT] = 0
-    gap = np.full(nn, np.inf)
-    reac = np.zeros(nn)
-    grad = np.zeros(n)
-    grad_t = np.zeros(n)
     rows = np.zeros((N_BORDER, n))
     cols = np.zeros((N_BORDER, n))
     ys = np.zeros((N_BORDER, n))
@@ -591,7 +572,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     dz = np.zeros(N_BORDER)
     sm = np.zeros((N_BORDER, N_BORDER))
     rh = np.zeros(N_BORDER)
-    # 0: bottom tension, 1: tip, 2 + b: boundary b (touchdown, lift-off)
+    # 0: bottom tension, 2 + b: boundary b (touchdown, lift-off, the tip's point)
     kind = np.zeros(N_BORDER, dtype=np.int64)
     has_td = bnodes[0] >= 0
     has_lo = bnodes[1] >= 0
@@ -608,17 +589,17 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
     s_nd = np.zeros(nn)  # node arc lengths [m]
     if has_bnd:
         mesh_lengths(s_a, s_b, s_bd, s_el)
-    g_tip = 0.0
     has_stinger = stinger[ST_ON] != 0.0
-    tip_toggles = 0
     last_step = np.inf
     r_max = 0.0
     changes_total = 0
     it = 0
+    res_start = 1.0
     fr_out = np.zeros(n)
     # nodes held laterally by the stinger, fixed during the step
     y_held = np.zeros(nn, dtype=np.bool_)
     lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, y_held)
+    y_now = np.zeros(nn, dtype=np.bool_)
     for it in range(1, maxit + 1):
         # ---- 0: stinger contacts in curve coordinates, not rotated frames --
         if has_stinger:
@@ -635,16 +616,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 slide_dof, tb, phi_r, phi_rp, True)
         node_arcs(s_el, s_nd)
         friction_forces(nd, u, g, ab, kl + ku, props, bed_active, fric, fr_out, s_nd)
-        tip_on = False
-        if has_stinger and tip[0] != 0.0 and not has_tipn:
-            found, g_tip, _c, _s = tip_geometry(nd, s_el, u, stinger, grad)
-            if found:
-                tip_on = True
-                for i in range(n):
-                    g[i] -= tip[1] * grad[i]
-            else:
-                tip[0] = 0.0
-                tip[1] = 0.0
         te_top = 0.0
         if solve_tb:
             te_top = _top_tension_row(nd, ab, kl, ku, g, u, top_node, d)
@@ -667,15 +638,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             res_b[nb] = te_top - top_target
             kind[nb] = 0
             nb += 1
-        if tip_on:
-            _rotate_all(nd, dummy_ab, kl, ku, grad, phi_r, phi_rp, False)
-            _curve_all(nd, dummy_ab, kl, ku, grad, u, stinger, st_active, False)
-            rows[nb, :] = grad
-            for i in range(n):
-                cols[nb, i] = -grad[i]
-            res_b[nb] = g_tip
-            kind[nb] = 1
-            nb += 1
         nb_fixed = nb  # the border unknowns other than the boundaries
         for b in range(N_BND):
             if bnodes[b] < 0:
@@ -697,8 +659,6 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             cols[nb, :] = col_t
             res_b[nb] = res_bnd[b]
             # the earlier border equations by s_b at fixed u: the top tension
-            # (the active set's tip multiplier never meets a boundary unknown:
-            # with the boundaries the tip is a node of its own)
             for j in range(nb):
                 if kind[j] == 0:
                     d_b[j, nb] = d_top[b]
@@ -720,12 +680,10 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                 cmask[base] = True
                 delta[base] = -_local_value(nd, u, node, 0, phi_r, phi_rp)
             # a pipe lying on the flat seabed is tangent to it: the slope is held
-            # at every contact node (a lower end resting on the seabed included)
-            # except at touchdown, the contact node followed by free pipe
-            # (with touchdown an unknown its node's slope is held too)
-            on_bed = bed_active[node] != 0 or (node == 0 and fix_mask[0] != 0)
-            touchdown = node + 1 < nn and bed_active[node + 1] == 0 and not has_td
-            if on_bed and not touchdown and fix_mask[base + nd] == 0:
+            # at every contact node, touchdown's included, and at the lower end
+            # (resting on a rigid seabed, or on an elastic one's foundation)
+            on_bed = bed_active[node] != 0 or node == 0
+            if on_bed and fix_mask[base + nd] == 0:
                 cmask[base + nd] = True
                 delta[base + nd] = -u[base + nd]
             if has_stinger and node != top_node and fix_mask[base] == 0:
@@ -762,14 +720,17 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         top_res = 0.0
         if solve_tb:
             top_res = abs(te_top - top_target) / top_target
-        if tip_on:
-            max_delta = max(max_delta, abs(g_tip) / href)
         bnd_res = 0.0
         for b in range(N_BND):
             if bnodes[b] >= 0:
                 bnd_res = max(bnd_res, abs(res_bnd[b]) / _bnd_scale(b, fref, href))
         if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
             status = L.NOT_FINITE
+            break
+        if it == 1:
+            res_start = max(res_max, 1.0)
+        elif res_max > RUNAWAY * res_start:
+            status = L.NOT_FINITE  # diverging: stop before the budget is spent on it
             break
         info[I_RES] = res_max
         info[I_DELTA] = max_delta
@@ -781,9 +742,19 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         if (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
                 and (top_res <= tol or at_roundoff) and (bnd_res <= tol or at_roundoff)
                 and not changed):
-            status = L.OK
-            it -= 1
-            break
+            # converged with the lateral hold of the nodes over the stinger's
+            # z range where they now are (a node that slid below the tip
+            # during the call is released, one that rose over it held)
+            lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, y_now)
+            same = True
+            for node in range(nn):
+                if y_now[node] != y_held[node]:
+                    same = False
+                    y_held[node] = y_now[node]
+            if same:
+                status = L.OK
+                it -= 1
+                break
         # ---- the boundaries move only from equilibrium ------------------
         # A step of the boundaries from a state out of equilibrium (u not yet
         # in balance on the present mesh) follows a linearisation that may
@@ -861,13 +832,10 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             for i in range(n):
                 du[i] -= dz[j] * ys[j, i]
         dtb = 0.0
-        dmu = 0.0
         d_bnd[:] = 0.0
         for j in range(nb):
             if kind[j] == 0:
                 dtb = dz[j]
-            elif kind[j] == 1:
-                dmu = dz[j]
             else:
                 d_bnd[kind[j] - 2] = dz[j]
         # reactions (linearised) on the constrained rows, physical units
@@ -888,8 +856,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         _to_global(nd, du_free, phi_r, phi_rp)
         u_old[:] = u
         tb_old = tb[0]
-        mu_old = tip[1]
-        merit0 = res_ssq + top_res * top_res + (g_tip / href) ** 2 * tip_on
+        merit0 = res_ssq + top_res * top_res
         for b in range(N_BND):
             if bnodes[b] >= 0 and not hold:
                 merit0 += (res_bnd[b] / _bnd_scale(b, fref, href)) ** 2
@@ -949,17 +916,12 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         alpha0 = alpha
         accepted = False
         for _ls in range(12):
-            _take_step(nd, alpha, u, u_old, du_free, stinger, st_active, tb, tb_old, dtb, tip,
-                       mu_old, dmu, has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el)
+            _take_step(nd, alpha, u, u_old, du_free, stinger, st_active, tb, tb_old, dtb,
+                       has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el)
             _system(nd, s_el, u, props, table, torques, dummy_ab, kl, ku, g_trial, f_node,
                     g_off, slide_dof, tb, phi_r, phi_rp, False)
             node_arcs(s_el, s_nd)
             friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out, s_nd)
-            gt = 0.0
-            if tip_on:
-                found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
-                for i in range(n):
-                    g_trial[i] -= tip[1] * grad_t[i]
             tr = 0.0
             if solve_tb:
                 tr = (_top_te(nd, g_trial, u, top_node) - top_target) / top_target
@@ -976,7 +938,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
             _rotate_all(nd, dummy_ab, kl, ku, g_trial, phi_r, phi_rp, False)
             _curve_all(nd, dummy_ab, kl, ku, g_trial, u, stinger, st_active, False)
             _rm, rs = _weighted_max(nd, g_trial, cmask, fref, href)
-            m1 = rs + tr * tr + (gt / href) ** 2 + tdr
+            m1 = rs + tr * tr + tdr
             # with the boundaries unknowns the (limited) full step is taken: the
             # weighted residual rises across good steps there, as the element
             # lengths move with the boundaries (cut by Armijo to 1/8 .. 1/32 on
@@ -998,8 +960,8 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         if not accepted:
             # take the full step anyway when the merit is flat (active-set change,
             # constraint correction); a diverging step is caught above
-            _take_step(nd, alpha0, u, u_old, du_free, stinger, st_active, tb, tb_old, dtb, tip,
-                       mu_old, dmu, has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el)
+            _take_step(nd, alpha0, u, u_old, du_free, stinger, st_active, tb, tb_old, dtb,
+                       has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el)
         last_step = 0.0
         r_max = 0.0
         for i in range(n):
@@ -1009,61 +971,11 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
                     last_step = v
                 if abs(u[i]) > r_max:
                     r_max = abs(u[i])
-        # ---- 5: active sets (see update_region) ---------------------------
-        # No contact is released on the reactions of a step that also moved the
-        # constrained unknowns a long way (max_delta > RELEASE_DELTA): they
-        # carry the force of that move, not the pipe's pull. Penetrations are
-        # added regardless.
-        release = pull_tol if max_delta <= RELEASE_DELTA else np.inf
-        for node in range(nn):
-            base = node * ndn
-            reac[node] = react[base]
-            if bed[node] != 0 and fix_mask[base] == 0 and st_active[node] == 0:
-                gap[node] = u[base]
-            else:
-                gap[node] = np.inf
+        # ---- 5: the tip's contact -----------------------------------------
         changed = False
-        if not has_td:
-            changed = update_region(bed_active, gap, reac, 1, pen_tol, pen_frozen, release,
-                                    cs_bed)
         node_arcs(s_el, s_nd)
-        friction_track(nd, u, react, bed_active, fric, s_nd)
-        if has_stinger and not has_lo:
-            for node in range(nn):
-                base = node * ndn
-                z_n = u[base + nd - 1]
-                if (node != top_node and fix_mask[base] == 0 and bed_active[node] == 0
-                        and stinger[ST_ZL] <= z_n <= stinger[ST_ZU]):
-                    gap[node] = stinger_gap(stinger, u[base], z_n)
-                else:
-                    gap[node] = np.inf
-            if update_region(st_active, gap, reac, -1, pen_tol, pen_frozen, release, cs_st):
-                changed = True
-            # the tip: engaged when the pipe passes below it, released when it pulls
-            # (after two toggles, as for the regions, only a penetration beyond
-            # discretisation size engages it again)
-            found, gt, _c, _s = tip_geometry(nd, s_el, u, stinger, grad_t)
-            # the first node past the tip: held on the curve, it already holds
-            # the pipe at the tip (a second constraint there would be redundant)
-            past_tip = -1
-            for node in range(nn):
-                if u[node * ndn + nd - 1] >= stinger[ST_ZL]:
-                    past_tip = node
-                    break
-            conforms = past_tip >= 0 and st_active[past_tip] != 0
-            if tip[0] == 0.0:
-                limit = pen_tol if tip_toggles < 2 else pen_frozen
-                if found and gt < -limit and not conforms:
-                    tip[0] = 1.0
-                    tip[1] = 0.0
-                    changed = True
-                    tip_toggles += 1
-            elif tip[1] < -release or not found or conforms:
-                tip[0] = 0.0
-                tip[1] = 0.0
-                changed = True
-                tip_toggles += 1
-        elif has_tipn:
+        friction_track(nd, u, react, props, bed_active, fric, s_nd)
+        if has_tipn:
             # the tip by the complementarity min(R, c g) = 0 (semismooth Newton:
             # the branch that the present normal reaction R and gap g select):
             # it bears when R - c g > 0, the node then held on it, else R = 0
@@ -1078,7 +990,7 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed, bed
         if changed:
             changes_total += 1
             if changes_total > 2 * nn:
-                status = L.ACTIVE_SET_CYCLE
+                status = L.TIP_CYCLE
                 break
     if status == L.OK:
         # the friction forces join the reactions; slipping springs' anchors follow
