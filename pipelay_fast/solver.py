@@ -473,7 +473,7 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     the caller, which switches to bearing on the tip, instead of raised."""
     if budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
-    status, react, info = _run_newton(pb, g_off, case.solver.tolerance,
+    status, react, info = _run_newton(pb, g_off, pb.stats.get("tolerance") or case.solver.tolerance,
                                       budget.cap(case.solver.max_iterations))
     budget.charge(info[I_ITER])
     if status == L.SHORT_LAID:
@@ -573,6 +573,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
 
 
 MAX_MESH_PASSES = 4
+LOOSE_TOLERANCE = 1e-4  # the first mesh's Newton tolerance [-]: boundaries to about 1e-4 href
 
 
 def touchdown_position(case: Case, pb: Problem) -> float:
@@ -678,20 +679,29 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     if path:
         pb.props[L.CURRENT_FACTOR] = 0.0
         pb.props[L.FRICTION_ON] = 0.0
+    # the first mesh only to LOOSE_TOLERANCE: it is to find where the
+    # boundaries are, and is graded anew there unless it already is
+    pb.stats["tolerance"] = max(case.solver.tolerance, LOOSE_TOLERANCE)
     pb, react, stats = _solve_gravity(case, pb, budget)
     passes = 1
     while True:
         s_t = touchdown_position(case, pb)
         foci = _stinger_foci(case, pb)
-        if not case.solver.grading or passes >= MAX_MESH_PASSES:
-            break
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
         # the mesh follows the boundaries: graded anew at them until it is
         # graded where they are, and when laid pipe is short
-        if _graded_on_boundaries(case, pb) and not short_laid:
+        if (not case.solver.grading or passes >= MAX_MESH_PASSES
+                or (_graded_on_boundaries(case, pb) and not short_laid)):
+            if pb.stats["tolerance"] is not None:  # on to the tolerance, this mesh
+                pb.stats["tolerance"] = None
+                pb, react, more = _solve_gravity(case, pb, budget)
+                stats = {key: stats[key] + more[key] for key in stats}
+                s_t = touchdown_position(case, pb)
+                foci = _stinger_foci(case, pb)
             break
         pb = remesh(case, pb, s_t, foci)
+        pb.stats["tolerance"] = None
         if path:
             pb.props[L.CURRENT_FACTOR] = 0.0
             pb.props[L.FRICTION_ON] = 0.0
