@@ -37,7 +37,8 @@ SUMMARY_UNITS = {
     "liftoff_angle_deg": "deg", "top_angle_deg": "deg", "suspended_length": "m",
     "max_von_mises": "Pa", "overbend_max_von_mises": "Pa", "sagbend_max_von_mises": "Pa",
     "overbend_max_moment": "N m", "sagbend_max_moment": "N m", "max_strain": "-",
-    "max_lateral_deflection": "m", "tip_reaction": "N", **DESIGN_UNITS,
+    "max_lateral_deflection": "m", "tip_reaction": "N", "liftoff_reaction": "N",
+    **DESIGN_UNITS,
     "n_elements": "", "n_iterations": "", "solve_seconds": "s",
 }
 
@@ -144,6 +145,23 @@ def signed_curvature_vector(nd, rp, rpp):
         rp3, rpp3 = rp, rpp
     a = np.linalg.norm(rp3, axis=1)
     return np.cross(rp3, rpp3) / a[:, None] ** 3, rp3 / a[:, None]
+
+
+def liftoff_reaction(s, reaction, k) -> float:
+    """Concentrated reaction [N] where the pipe leaves the stinger's curve (or,
+    bearing on the tip, regains it) at node ``k``: the node's stinger
+    reaction less the distributed support's share of the element above it,
+    int N_k p ds = h (2 p_k + p_k+1) / 6, with the support per length p taken
+    from the two nodes above (their reactions over their shares of the pipe),
+    extrapolated linearly to node k. NaN without lift-off's node, or with
+    fewer than two stinger nodes above it."""
+    if k < 0 or k + 3 > s.size - 1:
+        return math.nan
+    share = 0.5 * (s[k + 2:k + 4] - s[k:k + 2])
+    p1, p2 = reaction[k + 1] / share[0], reaction[k + 2] / share[1]
+    h = s[k + 1] - s[k]
+    p0 = p1 + (p1 - p2) * h / (s[k + 2] - s[k + 1])
+    return float(reaction[k] - h * (2.0 * p0 + p1) / 6.0)
 
 
 def foundation_exit(s, x) -> float:
@@ -369,6 +387,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "max_strain": float(fibre.max()),
         "max_lateral_deflection": float(np.abs(cols["y"]).max()),
         "tip_reaction": tip,
+        "liftoff_reaction": liftoff_reaction(s, cols["stinger_reaction"], pb.lo_node),
         **design,
         "n_elements": int(s.size - 1),
         "n_iterations": int(stats["iterations"]),
