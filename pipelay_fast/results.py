@@ -157,8 +157,8 @@ def liftoff_reaction(s, reaction, k) -> float:
     fewer than two stinger nodes above it."""
     if k < 0 or k + 3 > s.size - 1:
         return math.nan
-    share = 0.5 * (s[k + 2:k + 4] - s[k:k + 2])
-    p1, p2 = reaction[k + 1] / share[0], reaction[k + 2] / share[1]
+    share = node_shares(s)
+    p1, p2 = reaction[k + 1] / share[k + 1], reaction[k + 2] / share[k + 2]
     h = s[k + 1] - s[k]
     p0 = p1 + (p1 - p2) * h / (s[k + 2] - s[k + 1])
     return float(reaction[k] - h * (2.0 * p0 + p1) / 6.0)
@@ -177,13 +177,19 @@ def foundation_exit(s, x) -> float:
     return float(s[k] + (s[k + 1] - s[k]) * (-x[k]) / (x[k + 1] - x[k]))
 
 
-def foundation_force(s, x, k_bed) -> np.ndarray:
-    """Nodal force [N] of an elastic seabed: k (-x) at a node below the
-    surface over its share of the pipe (half of each element beside it)."""
+def node_shares(s) -> np.ndarray:
+    """Each node's share of the pipe [m]: half of each element beside it."""
     share = np.zeros(s.size)
     share[:-1] += 0.5 * np.diff(s)
     share[1:] += 0.5 * np.diff(s)
-    return k_bed * np.maximum(-x, 0.0) * share
+    return share
+
+
+def foundation_force(s, x, k_bed) -> np.ndarray:
+    """Nodal force [N] of an elastic seabed: k (-x) at a node below the
+    surface over its share of the pipe (the NumPy reference of the normal
+    force W that :func:`.kernels.contact.friction_track` gives friction)."""
+    return k_bed * np.maximum(-x, 0.0) * node_shares(s)
 
 
 def interior_peak(values) -> float:
@@ -278,20 +284,18 @@ def build_profile(case: Case, pb, react) -> dict:
     for sign in (1.0, -1.0):
         sa = tw / pipe.steel_area + sign * bend
         vm = np.maximum(vm, np.sqrt(sa * sa + sig_h * sig_h - sa * sig_h + 3.0 * tau * tau))
-    seabed = np.zeros(s.size)
     contact = np.full(s.size, "free", dtype=object)
-    act = pb.bed_active.astype(bool)
-    seabed[act] = react[0::ndn][act]
-    if pb.fix_mask[0]:
-        act[0] = True
+    if case.seabed.is_rigid:
+        act = pb.bed_active.astype(bool)  # the contacts, the held lower end apart
+        seabed = np.where(act, react[0::ndn], 0.0)
         seabed[0] = react[0]
-    if case.seabed.stiffness is not None:  # the elastic foundation's lumped force
-        x_n = pb.u[0::ndn]
-        act = x_n < 0.0
-        seabed = foundation_force(s, x_n, case.seabed.stiffness)
+        contact[0] = "seabed"
+    else:  # the foundation's force, lumped at the nodes below the surface
+        act = pb.u[0::ndn] < 0.0
+        seabed = foundation_force(s, pb.u[0::ndn], case.seabed.stiffness)
     contact[act] = "seabed"
     seabed_y = np.zeros(s.size)
-    if nd == 3:
+    if nd == 3:  # friction (the held lower end's lateral reaction is not)
         seabed_y[act] = react[1::ndn][act]
     stinger = np.zeros(s.size)
     on_st = pb.st_active.astype(bool)

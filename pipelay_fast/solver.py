@@ -93,6 +93,8 @@ class Problem:
     href: float
     stats: dict = field(default_factory=dict)
     before_current: list | None = None  # state snapshot before the current (friction path)
+    warm: bool = False  # started from a neighbour's answer (no load path: the cold start is)
+    tolerance: float | None = None  # Newton's tolerance when not solver.tolerance
     # the mesh follows the contact boundaries: node i at s_a[i] + sum_b
     # s_b[b, i] s_bd[b], touchdown on node bnodes[0], lift-off from (or
     # re-contact with) the stinger on bnodes[1], the material point over the
@@ -222,13 +224,12 @@ def build_problem(case: Case) -> Problem:
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
-             "focus": s_focus, "warm": False,
+             "focus": s_focus,
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
              "at_tip": g.at_tip}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
                case.lay.top_tension or 0.0)
-    s_stinger = g.s_liftoff if g.s_liftoff is not None else np.inf
-    pb = _problem(case, nd, s, u, g.cat.h, s_focus, s_stinger, fref, stats)
+    pb = _problem(case, nd, s, u, g.cat.h, fref, stats)
     _follow(case, pb, s_focus)
     return pb
 
@@ -286,7 +287,7 @@ def _graded_on_boundaries(case: Case, pb: Problem) -> bool:
     the path (cold, warm, a target solve's trials) that led there."""
     near = ON_FOCUS * pb.stats["h_min"]
     held = pb.stats.get("stinger_foci", [])
-    if abs(touchdown_position(case, pb) - pb.stats["focus"]) > near:
+    if abs(touchdown_position(pb) - pb.stats["focus"]) > near:
         return False
     return all(any(abs(p - f) <= near for f in held) for p in _stinger_foci(case, pb))
 
@@ -323,9 +324,10 @@ def _laid_source(case: Case, cat, lam: float) -> str:
     return text
 
 
-def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Problem:
-    """Constraint arrays for nodes ``s`` with state ``u``: seabed contact below
-    ``s_contact``, stinger contact above ``s_stinger`` [m]."""
+def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
+    """Constraint arrays for nodes ``s`` with state ``u``. The contact sets
+    start empty: the mapping of the mesh onto the boundaries sets them
+    (:func:`_follow`, :func:`remesh`), or a warm start copies them."""
     ndn = 2 * nd + 1
     nn = s.size
     lay = case.lay
@@ -368,14 +370,10 @@ def _problem(case: Case, nd, s, u, tb, s_contact, s_stinger, fref, stats) -> Pro
         top_target = lay.top_tension - pin_jump(case)  # Te below a pinned top
     else:
         tb = lay.bottom_tension
-    x = u[0::ndn]
-    bed_active = ((s <= s_contact) & (s > 0.0) & (x <= 1e-6)).astype(np.int8)
-    if not case.seabed.is_rigid:  # a foundation: no rigid contact, the lower end's x free
-        bed_active[:] = 0
+    if not case.seabed.is_rigid:  # a foundation: the lower end's x free
         fix_mask[0] = 0
-    st_active = ((s >= s_stinger) & (np.arange(nn) < top)).astype(np.int8)
-    if st is None:
-        st_active[:] = 0
+    bed_active = np.zeros(nn, dtype=np.int8)
+    st_active = np.zeros(nn, dtype=np.int8)
     props, table = build_props(case)
     fric = np.zeros((nn, L.N_FRIC))
     _anchor(fric, u, nd, s)
@@ -473,7 +471,7 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     the caller, which switches to bearing on the tip, instead of raised."""
     if budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
-    status, react, info = _run_newton(pb, g_off, pb.stats.get("tolerance") or case.solver.tolerance,
+    status, react, info = _run_newton(pb, g_off, pb.tolerance or case.solver.tolerance,
                                       budget.cap(case.solver.max_iterations))
     budget.charge(info[I_ITER])
     if status == L.SHORT_LAID:
@@ -540,7 +538,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
         case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
-    if pb.stats.get("warm"):
+    if pb.warm:
         # a warm start is Newton from the neighbour's answer; where that does
         # not converge the neighbour is too far, and the cold start (with its
         # load path) is cheaper than a load path from the neighbour's state
@@ -576,7 +574,7 @@ MAX_MESH_PASSES = 4
 LOOSE_TOLERANCE = 1e-4  # the first mesh's Newton tolerance [-]: boundaries to about 1e-4 href
 
 
-def touchdown_position(case: Case, pb: Problem) -> float:
+def touchdown_position(pb: Problem) -> float:
     """Arc length of touchdown [m]: its node's on a rigid seabed; on an
     elastic one, where the pipe rises out of the foundation (x = 0, linear
     between the last node below the surface and the next)."""
@@ -585,7 +583,7 @@ def touchdown_position(case: Case, pb: Problem) -> float:
     return foundation_exit(pb.s, pb.u[0::pb.ndn])
 
 
-def conform_end(case: Case, pb: Problem):
+def conform_end(pb: Problem):
     """Arc length [m] where the pipe leaves (or regains) the stinger's curve:
     lift-off's node; None without a stinger."""
     return float(pb.s[pb.lo_node]) if pb.lo_node >= 0 else None
@@ -606,7 +604,7 @@ def liftoff_position(case: Case, pb: Problem):
     s_tip = tip_position(pb)
     if s_tip is not None:
         return s_tip
-    s_c = conform_end(case, pb)
+    s_c = conform_end(pb)
     return float(pb.s[-1]) if s_c is None else s_c
 
 
@@ -681,11 +679,11 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb.props[L.FRICTION_ON] = 0.0
     # the first mesh only to LOOSE_TOLERANCE: it is to find where the
     # boundaries are, and is graded anew there unless it already is
-    pb.stats["tolerance"] = max(case.solver.tolerance, LOOSE_TOLERANCE)
+    pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
     pb, react, stats = _solve_gravity(case, pb, budget)
     passes = 1
     while True:
-        s_t = touchdown_position(case, pb)
+        s_t = touchdown_position(pb)
         foci = _stinger_foci(case, pb)
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
@@ -693,15 +691,15 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         # graded where they are, and when laid pipe is short
         if (not case.solver.grading or passes >= MAX_MESH_PASSES
                 or (_graded_on_boundaries(case, pb) and not short_laid)):
-            if pb.stats["tolerance"] is not None:  # on to the tolerance, this mesh
-                pb.stats["tolerance"] = None
+            if pb.tolerance is not None:  # on to the tolerance, this mesh
+                pb.tolerance = None
                 pb, react, more = _solve_gravity(case, pb, budget)
                 stats = {key: stats[key] + more[key] for key in stats}
-                s_t = touchdown_position(case, pb)
+                s_t = touchdown_position(pb)
                 foci = _stinger_foci(case, pb)
             break
         pb = remesh(case, pb, s_t, foci)
-        pb.stats["tolerance"] = None
+        pb.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
             pb.props[L.CURRENT_FACTOR] = 0.0
             pb.props[L.FRICTION_ON] = 0.0
@@ -722,7 +720,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         if not short:
             # the mesh follows the boundaries the current moves
             stats = {key: stats[key] + more[key] for key in stats}
-            s_t = touchdown_position(case, pb)
+            s_t = touchdown_position(pb)
             break
         # more laid pipe, from the pipe under gravity alone, and the path again
         _restore(pb, pb.before_current)
@@ -753,7 +751,7 @@ def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
         stats["iterations"] = budget.used - used  # the stopped calls' too
         return pb, react, stats
     raise SolveError(f"case {case.name!r}: touchdown still runs toward the lower end with "
-                     f"{touchdown_position(case, pb):.4g} m of laid pipe modelled after "
+                     f"{touchdown_position(pb):.4g} m of laid pipe modelled after "
                      f"{MAX_LAID_DOUBLINGS} doublings of it; the case may have no touchdown")
 
 
@@ -761,7 +759,7 @@ def _with_more_laid(case: Case, pb: Problem) -> Problem:
     """The mesh with its laid pipe doubled (at least two flexural lengths):
     touchdown ran toward the lower end. A given pipe length has no more pipe:
     SolveError."""
-    s_t = touchdown_position(case, pb)
+    s_t = touchdown_position(pb)
     if case.lay.pipe_length is not None:
         raise SolveError(f"case {case.name!r}: touchdown runs into the lower end, held at "
                          f"lay.pipe_length = {case.lay.pipe_length!r} m (the pipe is too "
@@ -817,8 +815,9 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     if (old.stinger[ST_ON] != 0.0) != (case.lay.stinger is not None):
         raise ValueError(f"warm: lay.method {case.lay.method!r} differs from the warm case's")
     state = dict(zip(_STATE, old.before_current or _snapshot(old), strict=True))
-    new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0], -1.0, np.inf,
-                   old.fref, dict(old.stats, warm=True))
+    new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0], old.fref,
+                   dict(old.stats))
+    new.warm = True
     for name in ("bed_active", "st_active", "tip", "fric"):
         getattr(new, name)[:] = state[name]
     if old.s_a is not None:
@@ -850,7 +849,7 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
     # below the tip, down to touchdown: a shift that continues the slope
     # change at the tip and vanishes at touchdown (no kink at the tip)
     z_l = pb.stinger[ST_ZL]
-    z_td = float(np.interp(touchdown_position(None, pb), pb.s, z))
+    z_td = float(np.interp(touchdown_position(pb), pb.s, z))
     span = (z < z_l) & (z > z_td)
     if span.any() and z_l > z_td:
         k = curve(pb.stinger, np.array([z_l]))[1][0] - curve(old_stinger, np.array([z_l]))[1][0]
@@ -906,10 +905,8 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
             u[1::ndn][first] = pb.u[1]
             u[nd + 1::ndn][first] = 0.0
     stats = dict(pb.stats, focus=focus, stinger_foci=held)
-    tol = 1e-9 * pb.stats["h_min"]
-    s_c = conform_end(case, pb)
-    s_stinger = np.inf if s_c is None else s_c + extra - tol
-    new = _problem(case, nd, s, u, pb.tb[0], focus + tol, s_stinger, pb.fref, stats)
+    new = _problem(case, nd, s, u, pb.tb[0], pb.fref, stats)
+    new.warm, new.tolerance = pb.warm, pb.tolerance
     # the new mesh follows the same boundaries, each on the node graded onto it
     def at(k):
         return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))

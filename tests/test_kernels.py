@@ -11,9 +11,10 @@ import pytest
 import pipelay_fast as pf
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.banded import band_factor, band_matvec, band_solve, dense_to_band
-from pipelay_fast.kernels.contact import N_STINGER
+from pipelay_fast.kernels.contact import N_STINGER, friction_track
 from pipelay_fast.kernels.newton import I_RES
 from pipelay_fast.model import build_props
+from pipelay_fast.results import foundation_force
 from pipelay_fast.solver import Problem, _run_newton
 
 
@@ -269,3 +270,25 @@ def test_curve_node_is_the_exact_tangent_of_the_curve_coordinates(nd):
         for i in range(max(0, j - ku), min(n - 1, j + kl) + 1):
             dense[i, j] = ab[kv + i - j, j]
     np.testing.assert_allclose(dense, fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())
+
+
+def test_friction_normal_force_on_an_elastic_seabed(j125):
+    """On an elastic seabed the kernel's normal force W for friction is the
+    foundation's force lumped at each node, k (-x) over half of each element
+    beside it: the NumPy reference of the profile (results.foundation_force),
+    on a graded mesh with nodes above and below the surface; nodes above it
+    carry none and keep their anchors where they are."""
+    case = j125.with_changes({"seabed.stiffness": 3e5})
+    props, _table = build_props(case)
+    nd, ndn = 2, 5
+    s = np.cumsum(np.r_[0.0, np.linspace(0.5, 3.0, 11)])
+    x = np.linspace(-2e-2, 1e-2, s.size)
+    u = np.zeros(s.size * ndn)
+    u[0::ndn] = x
+    u[nd - 1::ndn] = s
+    fric = np.full((s.size, L.N_FRIC), 7.0)
+    friction_track(nd, u, np.zeros_like(u), props, np.zeros(s.size, dtype=np.int8), fric, s)
+    np.testing.assert_allclose(fric[:, L.FR_W], foundation_force(s, x, 3e5), rtol=1e-14)
+    above = x >= 0.0
+    assert above.any() and (~above).any()
+    np.testing.assert_array_equal(fric[above, L.FR_Z], s[above])
