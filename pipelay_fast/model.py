@@ -32,8 +32,9 @@ def dimension_of(case: Case) -> int:
     return 2 if case.is_planar else 3
 
 
-def build_props(case: Case, gravity_factor: float = 1.0, current_factor: float = 1.0):
-    """The ``props`` vector and the current table ``[[x, speed], ...]`` of a case."""
+def build_props(case: Case):
+    """The ``props`` vector and the current table ``[[x, speed], ...]`` of a case
+    (its data only: the load path's factors are the solver's, layout ``F_*``)."""
     pipe = case.pipe
     env = case.environment
     cur = env.current
@@ -60,12 +61,9 @@ def build_props(case: Case, gravity_factor: float = 1.0, current_factor: float =
     p[L.EXTENSIBLE] = 1.0 if pipe.extensible else 0.0
     p[L.TORQUE] = case.lay.torque
     p[L.MOM_X], p[L.MOM_Y], p[L.MOM_Z] = case.lay.distributed_moment
-    p[L.GRAVITY_FACTOR] = gravity_factor
-    p[L.CURRENT_FACTOR] = current_factor
     p[L.MU_Y] = case.seabed.lateral_friction
     p[L.MU_Z] = case.seabed.axial_friction
     p[L.FRICTION_SLIP] = case.seabed.friction_slip
-    p[L.FRICTION_ON] = 0.0  # switched on for the current's load path (solver)
     if cur.profile == "table" and cur.table:
         table = np.ascontiguousarray(np.array(cur.table, dtype=np.float64).reshape(-1, 2))
     else:

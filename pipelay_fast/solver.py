@@ -44,6 +44,7 @@ from .kernels.contact import (
     tip_geometry,
 )
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_BND, N_INFO, _system, newton
+from .kernels.types import Ends, Mesh, Model, Settings, Supports
 from .limits import IterationBudget, check_mesh_size, strain_beyond_line
 from .mesh import graded_nodes
 from .model import build_props, dimension_of, pin_jump
@@ -104,6 +105,25 @@ class Problem:
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
     s_bd: np.ndarray = field(default_factory=lambda: np.zeros(N_BND))
+    # the load path's factors (layout F_*): the current's, full unless the
+    # friction path raises it in steps, and friction, off until that path
+    factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
+
+    def model(self) -> Model:
+        """What the element kernels read: the case's data and the load path's factors."""
+        return Model(self.props, self.table, self.factors)
+
+    def supports(self) -> Supports:
+        return Supports(self.fix_mask, self.fix_val, self.phi_r, self.phi_rp, self.bed_active,
+                        self.stinger, self.st_active, self.tip, self.fric)
+
+    def ends(self, g_off) -> Ends:
+        return Ends(self.f_node, g_off, self.tb, self.slide_dof, self.top_node,
+                    float(self.top_target))
+
+    def on_gravity_path(self):
+        """No current and no friction: the friction path's first stage."""
+        self.factors[:] = load_factors(0.0, False)
 
     @property
     def td_node(self) -> int:
@@ -383,6 +403,15 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
                    top_target, fref, stats["h_max"], stats=stats)
 
 
+def load_factors(current: float, friction: bool) -> np.ndarray:
+    """The load path's factors (layout ``F_*``): the current's drag factor and
+    whether seabed friction acts."""
+    f = np.zeros(L.N_FACTORS)
+    f[L.F_CURRENT] = current
+    f[L.F_FRICTION] = 1.0 if friction else 0.0
+    return f
+
+
 def _run_newton(pb: Problem, g_off, tol, maxit):
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
@@ -390,11 +419,10 @@ def _run_newton(pb: Problem, g_off, tol, maxit):
         s_a, s_b = pb.s_a, pb.s_b
     else:
         s_a, s_b = np.zeros(pb.nn), np.zeros((N_BND, pb.nn))
-    status = newton(pb.nd, pb.s_el, pb.u, pb.props, pb.table, pb.fix_mask, pb.fix_val,
-                    pb.phi_r, pb.phi_rp, pb.bed_active, pb.stinger, pb.st_active,
-                    pb.tip, pb.fric, pb.f_node, g_off,
-                    pb.slide_dof, pb.tb, pb.top_node, pb.top_target, tol, pb.fref, pb.href,
-                    maxit, react, info, pb.bnodes, s_a, s_b, pb.s_bd)
+    mesh = Mesh(pb.s_el, s_a, s_b, pb.s_bd, pb.bnodes)
+    settings = Settings(float(tol), float(pb.fref), float(pb.href), int(maxit))
+    status = newton(pb.nd, pb.u, mesh, pb.model(), pb.supports(), pb.ends(g_off), settings,
+                    react, info)
     pb.update_nodes()
     return status, react, info
 
@@ -403,9 +431,9 @@ def _residual(pb: Problem):
     """Residual at the current state with constrained rows zeroed (for the homotopy)."""
     g = np.zeros_like(pb.u)
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
-    _system(pb.nd, pb.s_el, pb.u, pb.props, pb.table, torques, np.zeros((1, 1)), 1, 1, g,
-            pb.f_node, np.zeros_like(pb.u), pb.slide_dof, pb.tb, pb.phi_r, pb.phi_rp, False)
-    friction_forces(pb.nd, pb.u, g, np.zeros((1, 1)), 0, pb.props, pb.bed_active, pb.fric,
+    _system(pb.nd, pb.s_el, pb.u, pb.model(), torques, np.zeros((1, 1)), 1, 1, g,
+            pb.ends(np.zeros_like(pb.u)), pb.phi_r, pb.phi_rp, False)
+    friction_forces(pb.nd, pb.u, g, np.zeros((1, 1)), 0, pb.model(), pb.bed_active, pb.fric,
                     np.zeros_like(pb.u), pb.s)
     g[pb.fix_mask != 0] = 0.0
     g[0::pb.ndn][pb.bed_active != 0] = 0.0
@@ -655,7 +683,7 @@ def _lower_end_holds(pb: Problem, react) -> bool:
     """True when the lower end, held laterally, carries more than LOWER_END_SHARE
     of the lateral force on the laid pipe: the slipping (or elastically held)
     zone then reaches it, and more laid pipe is needed."""
-    if pb.nd != 3 or pb.props[L.FRICTION_ON] == 0.0:
+    if pb.nd != 3 or pb.factors[L.F_FRICTION] == 0.0:
         return False
     on_bed = np.flatnonzero(pb.fric[:, L.FR_W] > 0.0)
     total = np.abs(react[on_bed * pb.ndn + 1]).sum() + abs(react[1])
@@ -675,8 +703,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     # friction is path dependent: gravity first, then the current in steps
     path = friction_path(case)
     if path:
-        pb.props[L.CURRENT_FACTOR] = 0.0
-        pb.props[L.FRICTION_ON] = 0.0
+        pb.on_gravity_path()
     # the first mesh only to LOOSE_TOLERANCE: it is to find where the
     # boundaries are, and is graded anew there unless it already is
     pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
@@ -701,8 +728,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb = remesh(case, pb, s_t, foci)
         pb.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
-            pb.props[L.CURRENT_FACTOR] = 0.0
-            pb.props[L.FRICTION_ON] = 0.0
+            pb.on_gravity_path()
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
@@ -711,7 +737,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         # friction springs anchored where the pipe lies under gravity alone
         _anchor(pb.fric, pb.u, pb.nd, pb.s)
         friction_track(pb.nd, pb.u, react, pb.props, pb.bed_active, pb.fric, pb.s)
-        pb.props[L.FRICTION_ON] = 1.0
+        pb.factors[L.F_FRICTION] = 1.0
         try:
             react, more = apply_current(case, pb, budget)
             short = False
@@ -725,8 +751,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         # more laid pipe, from the pipe under gravity alone, and the path again
         _restore(pb, pb.before_current)
         pb = _with_more_laid(case, pb)
-        pb.props[L.CURRENT_FACTOR] = 0.0
-        pb.props[L.FRICTION_ON] = 0.0
+        pb.on_gravity_path()
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
@@ -786,7 +811,7 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
     while factor < 1.0:
         trial = min(1.0, factor + step)
         saved = _snapshot(pb)
-        pb.props[L.CURRENT_FACTOR] = trial
+        pb.factors[L.F_CURRENT] = trial
         status, react, info, iters, _start = _newton_in_regime(
             case, pb, zero, budget, f"current factor {trial:.4f}")
         stats["iterations"] += iters
@@ -800,7 +825,7 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
             continue
         factor = trial
         step = min(2.0 * step, max_step)
-    pb.props[L.CURRENT_FACTOR] = 1.0
+    pb.factors[L.F_CURRENT] = 1.0
     return react, stats
 
 

@@ -30,8 +30,6 @@ def make_props(drag=0.0, torque_free=True, extensible=True, bed_k=0.0):
     p[L.EXTENSIBLE] = 1.0 if extensible else 0.0
     if not torque_free:
         p[L.MOM_X], p[L.MOM_Y], p[L.MOM_Z] = 30.0, -20.0, 10.0
-    p[L.GRAVITY_FACTOR] = 1.0
-    p[L.CURRENT_FACTOR] = 1.0
     return p
 
 

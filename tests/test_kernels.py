@@ -169,13 +169,13 @@ def test_lateral_friction_on_laid_pipe(j125, ratio):
     pb = laid_pipe(case, 3, n_el=200, length=length, tension=tension)
     ndn = pb.ndn
     pb.fix_mask[(pb.nn - 1) * ndn + 1] = 1  # far end held laterally too
-    pb.props[L.CURRENT_FACTOR] = 0.0  # gravity first ...
+    pb.factors[L.F_CURRENT] = 0.0  # gravity first ...
     status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
     assert status == L.OK
     pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, react[0::ndn], 0.0)
-    pb.props[L.FRICTION_ON] = 1.0  # ... then the current, against friction
+    pb.factors[L.F_FRICTION] = 1.0  # ... then the current, against friction
     for factor in (0.25, 0.5, 0.75, 1.0):
-        pb.props[L.CURRENT_FACTOR] = factor
+        pb.factors[L.F_CURRENT] = factor
         status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 80)
         assert status == L.OK
     y = pb.u[1::ndn]

@@ -13,7 +13,7 @@ from .element import WORK_SIZE, element_force_ws
 
 
 @jit
-def assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent):
+def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent):
     """Global residual ``g`` (= internal - distributed external forces) and tangent.
 
     ``u`` holds the nodal unknowns node by node, so element ``e`` owns the
@@ -33,7 +33,7 @@ def assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent):
         ab[:, :] = 0.0
     for e in range(nel):
         g0 = e * ndn
-        element_force_ws(nd, s_el[e], u[g0:g0 + ne], props, table, torques[e], fe, ke,
+        element_force_ws(nd, s_el[e], u[g0:g0 + ne], model, torques[e], fe, ke,
                          want_tangent, no_dfe, False, ws, wm)
         for a in range(ne):
             g[g0 + a] += fe[a]

@@ -183,12 +183,13 @@ def _anchor_slope(fric, col, s, node):
 
 
 @jit
-def friction_length_derivative(nd, u, props, bed_active, fric, s, s_b, col):
+def friction_length_derivative(nd, u, model, bed_active, fric, s, s_b, col):
     """Add to ``col`` d(friction in the residual)/d s_T at fixed nodal unknowns:
     a sticking spring's stretch u - anchor(s_i) changes as its node moves along
     the pipe by ds_i/ds_T = s_b[i] (a sliding spring's force does not)."""
-    if props[L.FRICTION_ON] == 0.0:
+    if model.factors[L.F_FRICTION] == 0.0:
         return
+    props = model.props
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
     for node in range(bed_active.shape[0]):
@@ -207,7 +208,7 @@ def friction_length_derivative(nd, u, props, bed_active, fric, s, s_b, col):
 
 
 @jit
-def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out, s):
+def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
     """Add the seabed friction springs to the residual ``g`` (and, when ``ab``
     has more than one row, their stiffness to its diagonal row ``kv``).
 
@@ -217,8 +218,9 @@ def friction_forces(nd, u, g, ab, kv, props, bed_active, fric, out, s):
     (lagged one iteration). ``out`` (ndof,) receives the force on the pipe;
     ``s`` (nn,) holds the node arc lengths [m] (see :func:`anchor_at`).
     """
-    if props[L.FRICTION_ON] == 0.0:
+    if model.factors[L.F_FRICTION] == 0.0:  # off on gravity's path
         return
+    props = model.props
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
     tangent = ab.shape[0] > 1
@@ -274,11 +276,13 @@ def friction_track(nd, u, react, props, bed_active, fric, s):
 
 
 @jit
-def friction_commit(nd, u, props, bed_active, fric, s):
+def friction_commit(nd, u, model, bed_active, fric, s):
     """End of a load step (return mapping): a spring stretched to or beyond
     its mobilising displacement slides, its anchor following the pipe to
     d_slip behind it; the slip direction is recorded (``FR_DIR``, ``FR_DIRZ``).
     Every anchor is then taken to the node's present material point."""
+    props = model.props
+    friction_on = model.factors[L.F_FRICTION] != 0.0
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
     nn = bed_active.shape[0]
@@ -296,7 +300,7 @@ def friction_commit(nd, u, props, bed_active, fric, s):
             if slot < 0:
                 continue
             fric[node, dcol] = 0.0
-            if fric[node, L.FR_W] <= 0.0 or mu <= 0.0 or props[L.FRICTION_ON] == 0.0:
+            if fric[node, L.FR_W] <= 0.0 or mu <= 0.0 or not friction_on:
                 continue
             pos = u[node * ndn + slot]
             d = pos - fric[node, col]

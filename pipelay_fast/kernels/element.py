@@ -15,7 +15,7 @@ polynomial term exactly (the highest is lam (r'.dr'), degree 5).
 An element that crosses the water surface or the contents level is integrated
 piecewise, 4 points on each side of the crossing.
 
-Loads q: effective weight -w(x) e_x (times the gravity factor), Morison drag on
+Loads q: effective weight -w(x) e_x, Morison drag on
 the normal current (times the current factor), an elastic seabed -k x e_x where
 x < 0. The torque and distributed-moment terms are evaluated only when they are
 non-zero. The tangent is the exact derivative of G except for the jump of w at
@@ -51,6 +51,7 @@ import numpy as np
 from .._jit import jit
 from . import layout as L
 from .loads import drag_force, effective_weight, wall_minus_effective
+from .types import Model
 
 _G = np.sqrt(3.0 / 7.0 - 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
 _H = np.sqrt(3.0 / 7.0 + 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
@@ -140,22 +141,25 @@ WORK_SIZE = 73
 _P = (0.0, 1.0, 0.0, 1.0)  # power of le in each shape function
 
 
-def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=None):
+def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=None,
+                  current_factor=1.0):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due and, if ``dfe`` is
-    given, ``dfe`` = dG/dle of one element.
+    given, ``dfe`` = dG/dle of one element, with the current's drag times
+    ``current_factor``.
 
     Allocating Python wrapper of :func:`element_force_ws` for tests and one-off
     calls; it always calls the kernel with the same argument types.
     """
     want_dle = dfe is not None
-    element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent,
+    factors = np.zeros(L.N_FACTORS)
+    factors[L.F_CURRENT] = current_factor
+    element_force_ws(nd, le, ue, Model(props, table, factors), torque, fe, ke, want_tangent,
                      dfe if want_dle else np.empty(0), want_dle,
                      np.empty(WORK_SIZE), np.empty((3, 3)))
 
 
 @jit
-def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe, want_dle,
-                     ws, wm):
+def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due, and dG/dle of one element.
 
     Parameters
@@ -166,8 +170,9 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe
         Unstretched element length [m].
     ue : (2*(2nd+1),) float64
         Nodal unknowns of the two nodes (layout in :mod:`.layout`).
-    props, table : float64 arrays
-        Model data (:mod:`.layout`) and the current table ``[[x, speed], ...]``.
+    model : :data:`.types.Model`
+        The case's data ``props`` (:mod:`.layout`), the current table
+        ``[[x, speed], ...]`` and the load path's factors (``F_*``).
     torque : float
         Torque H in this element [N m] (3D only).
     fe, ke : float64 arrays, overwritten
@@ -184,10 +189,10 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe
     """
     ndn = 2 * nd + 1
     ne = 2 * ndn
+    props = model.props
     ei = props[L.EI]
     ea = props[L.EA]
     extensible = props[L.EXTENSIBLE] != 0.0
-    gf = props[L.GRAVITY_FACTOR]
     k_bed = props[L.SEABED_K]
     use_torque = nd == 3 and torque != 0.0
     mx = props[L.MOM_X]
@@ -286,12 +291,12 @@ def element_force_ws(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe
         # --- distributed loads --------------------------------------------
         for i in range(nd):
             q[i] = 0.0
-        q[0] = -gf * effective_weight(props, x)
+        q[0] = -effective_weight(props, x)
         dqx_dx = 0.0
         if k_bed > 0.0 and x <= 0.0:  # (at x = 0 its tangent: the pipe lands on it)
             q[0] -= k_bed * x
             dqx_dx = -k_bed
-        has_drag = drag_force(props, table, nd, x, rp, qd, dq_drp, dq_dx, dwork)
+        has_drag = drag_force(model, nd, x, rp, qd, dq_drp, dq_dx, dwork)
         if has_drag:
             for i in range(nd):
                 q[i] += qd[i]

@@ -40,13 +40,16 @@ TORQUE = 19  # torque H [N m] at the top (constant when m . t = 0)
 MOM_X = 20  # distributed moment, global components [N m/m]
 MOM_Y = 21
 MOM_Z = 22
-GRAVITY_FACTOR = 23  # load factor on the effective weight [-]
-CURRENT_FACTOR = 24  # load factor on the current drag [-]
-MU_Y = 25  # lateral seabed friction coefficient [-]
-MU_Z = 26  # axial seabed friction coefficient [-]
-FRICTION_SLIP = 27  # displacement that mobilises full friction [m]
-FRICTION_ON = 28  # 1.0 while friction acts (the current's load path), else 0.0
-N_PROPS = 29
+MU_Y = 23  # lateral seabed friction coefficient [-]
+MU_Z = 24  # axial seabed friction coefficient [-]
+FRICTION_SLIP = 25  # displacement that mobilises full friction [m]
+N_PROPS = 26
+
+# --- load-path control: the vector ``factors`` of a Model (:mod:`.types`) -------
+# Not model data: the solver sets them along its load path, props stays the case's.
+F_CURRENT = 0  # load factor on the current drag [-]
+F_FRICTION = 1  # 1.0 while seabed friction acts (the current's load path), else 0.0
+N_FACTORS = 2
 
 # --- seabed friction state per node (columns of the ``fric`` array) -----------
 # Each seabed contact carries an elastic-perfectly-plastic friction spring per

@@ -85,7 +85,7 @@ def current_speed(props, table, x):
 
 
 @jit
-def drag_force(props, table, nd, x, rp, q, dq_drp, dq_dx, work):
+def drag_force(model, nd, x, rp, q, dq_drp, dq_dx, work):
     """Morison drag per unstretched length on the current normal to the pipe.
 
     q = C |r'| |Vn| Vn with C = 1/2 rho_w C_D D_h, Vn = V - (V.t) t, t = r'/|r'|.
@@ -93,10 +93,11 @@ def drag_force(props, table, nd, x, rp, q, dq_drp, dq_dx, work):
     returns False (and writes nothing) when there is no drag at this point.
     ``work`` is scratch space of at least 15 floats.
     """
-    cf = props[L.CURRENT_FACTOR]
+    props = model.props
+    cf = model.factors[L.F_CURRENT]
     if cf == 0.0:
         return False
-    u, du = current_speed(props, table, x)
+    u, du = current_speed(props, model.table, x)
     if u == 0.0:
         return False
     c = props[L.DRAG] * cf

@@ -86,6 +86,7 @@ The kernel never raises: it writes a status code (:mod:`.layout`) into ``info``.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
@@ -119,17 +120,18 @@ N_INFO = 5
 
 
 @jit
-def _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
-            slide_dof, tb, phi_r, phi_rp, want_tangent):
-    """Residual (+ tangent) with nodal loads, in the nodal frames."""
+def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, phi_r, phi_rp, want_tangent):
+    """Residual (+ tangent, global frame) with the nodal loads, the load
+    path's offset and the bottom tension on the sliding lower end."""
+    props = model.props
     if props[L.MOM_X] != 0.0 or props[L.MOM_Y] != 0.0 or props[L.MOM_Z] != 0.0:
         distribute_torque(nd, s_el, u, props, torques)
-    assemble(nd, s_el, u, props, table, torques, ab, kl, ku, g, want_tangent)
+    assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent)
     n = g.shape[0]
     for i in range(n):
-        g[i] += g_off[i] - f_node[i]
-    if slide_dof >= 0:
-        g[slide_dof] += tb[0]
+        g[i] += ends.g_off[i] - ends.f_node[i]
+    if ends.slide_dof >= 0:
+        g[ends.slide_dof] += ends.tb[0]
 
 
 @jit
@@ -378,7 +380,7 @@ def _tangency(nd, u, stinger, b, node, row):
 
 
 @jit
-def _free_moment(nd, s_el, u, props, table, torques, td_node, rate_b, row):
+def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
     """Touchdown's equation: the moment at touchdown on the free side, the
     residual [N m] of the first free element at the slope unknown of its lower
     node (on the seabed, its slope held), which vanishes with that moment as
@@ -394,7 +396,7 @@ def _free_moment(nd, s_el, u, props, table, torques, td_node, rate_b, row):
     ke = np.zeros((ne, ne))
     dfe = np.zeros(ne)
     want = row.shape[0] == u.shape[0]
-    element_force_ws(nd, s_el[e], u[e * ndn:e * ndn + ne], props, table, torques[e], fe, ke,
+    element_force_ws(nd, s_el[e], u[e * ndn:e * ndn + ne], model, torques[e], fe, ke,
                      want, dfe, want, np.empty(WORK_SIZE), np.empty((3, 3)))
     if not want:
         return fe[nd], 0.0
@@ -456,7 +458,7 @@ def _over_tip(nd, u, stinger, node, row):
 
 
 @jit
-def _boundary_column(nd, s_el, u, props, table, torques, rate_b, col, bed_active, fric, s_nd):
+def _boundary_column(nd, s_el, u, model, torques, rate_b, col, bed_active, fric, s_nd):
     """Column dG/ds_b of a boundary's arc length at fixed nodal unknowns.
 
     s_b changes only the element lengths, by d le_e / d s_b = rate_b[e+1] -
@@ -480,76 +482,46 @@ def _boundary_column(nd, s_el, u, props, table, torques, rate_b, col, bed_active
         if rate == 0.0:
             continue
         g0 = e * ndn
-        element_force_ws(nd, s_el[e], u[g0:g0 + ne], props, table, torques[e], fe, ke,
+        element_force_ws(nd, s_el[e], u[g0:g0 + ne], model, torques[e], fe, ke,
                          False, dfe, True, ws, wm)
         for a in range(ne):
             col[g0 + a] += rate * dfe[a]
     node_arcs(s_el, s_nd)
-    friction_length_derivative(nd, u, props, bed_active, fric, s_nd, rate_b, col)
+    friction_length_derivative(nd, u, model, bed_active, fric, s_nd, rate_b, col)
 
 
 @jit
-def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb,
-               has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el):
+def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has_bnd, mesh, w):
     """The state a fraction ``alpha`` along the Newton step: nodal unknowns
     (stinger contacts along their curve), bottom tension and boundary arc
-    lengths with the element lengths they give."""
+    lengths (from ``w.bnd_old`` by ``w.d_bnd``) with the element lengths they give."""
     for i in range(u.shape[0]):
         u[i] = u_old[i] + alpha * du[i]
     _onto_curve(nd, u, u_old, du, alpha, stinger, st_active)
     tb[0] = tb_old + alpha * dtb
     if has_bnd:
         for b in range(N_BND):
-            s_bd[b] = bnd_old[b] + alpha * d_bnd[b]
-        mesh_lengths(s_a, s_b, s_bd, s_el)
+            mesh.s_bd[b] = w.bnd_old[b] + alpha * w.d_bnd[b]
+        mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
+
+
+# ---- the iteration's phases ---------------------------------------------------
+# newton() below runs them in order each iteration; each is a kernel of its own
+# over the named tuples (:mod:`.types`) and the work arrays (:data:`Work`).
+
+Work = namedtuple("Work", [
+    "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
+    "scale", "torques", "rows", "cols", "ys", "res_b", "d_b", "kind", "dz", "sm", "rh",
+    "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
+    "y_held", "y_now", "no_row", "no_ab"])
 
 
 @jit
-def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed_active,
-           stinger, st_active, tip, fric, f_node, g_off, slide_dof, tb, top_node, top_target,
-           tol, fref, href, maxit, react, info, bnodes, s_a, s_b, s_bd):
-    """Solve G(u) = reactions for one load level; see the module docstring.
-
-    Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
-    ----------
-    s_el : (nel,) element lengths [m]
-    u : (ndof,) nodal unknowns, global frame; updated in place
-    fix_mask : (ndof,) int8, 1 where the unknown (in the nodal frame) is prescribed
-    fix_val : (ndof,) prescribed values in the nodal frame
-    phi_r, phi_rp : (nn,) rotation angles of the nodal frames of r and r' [rad]
-    bed_active : (nn,) int8, the seabed contacts: the lower end to touchdown
-    stinger : (N_STINGER,) the curve x = a z^2 + b z + c on [zL, zU] (``ST_*``)
-    st_active : (nn,) int8, the stinger contacts: lift-off (or re-contact) to the top
-    tip : (2,) the tip's contact: [bearing (0/1), normal reaction [N]]; updated in place
-    fric : (nn, N_FRIC) seabed friction springs (layout ``FR_*``); updated in place,
-        anchors moved by the return mapping when the step converges
-    f_node : (ndof,) nodal external loads [N]
-    g_off : (ndof,) residual offset (load-path homotopy)
-    slide_dof : dof of the sliding lower end (-1: none); T_b = tb[0] pulls it along -z
-    tb : (1,) bottom tension [N], an unknown when ``top_target > 0``
-    top_node, top_target : node and effective tension [N] at the top (0: not given)
-    tol, fref [N], href [m] : tolerance and reference force and length
-    react : (ndof,) output, reactions on the pipe in the nodal frames [N, N m]
-    info : (N_INFO,) output, see ``I_*``
-    """
+def _work(nd, n, nn, nel, props, href):
+    """The iteration's work arrays, allocated once per call (:data:`Work`)."""
     ndn = 2 * nd + 1
-    nn = phi_r.shape[0]
-    n = u.shape[0]
     kl = 2 * ndn - 1
-    ku = kl
-    ab = np.zeros((2 * kl + ku + 1, n))
-    ab0 = np.zeros((2 * kl + ku + 1, n))
-    g = np.zeros(n)
-    g_trial = np.zeros(n)
-    ipiv = np.zeros(n, dtype=np.int64)
-    du = np.zeros(n)
-    du_free = np.zeros(n)
-    d = np.zeros(n)
-    delta = np.zeros(n)
-    cmask = np.zeros(n, dtype=np.bool_)
-    u_old = np.zeros(n)
-    torques = np.full(s_el.shape[0], props[L.TORQUE])
-    dummy_ab = np.zeros((1, 1))
+    rows_ab = 3 * kl + 1
     scale = np.empty(ndn)
     for i in range(ndn):
         if i < nd:
@@ -558,172 +530,547 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed_acti
             scale[i] = href
         else:
             scale[i] = props[L.EI] / (href * href)
-    solve_tb = top_target > 0.0 and slide_dof >= 0
+    return Work(
+        np.zeros((rows_ab, n)), np.zeros((rows_ab, n)), np.zeros(n, dtype=np.int64),
+        np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n, dtype=np.bool_),
+        np.zeros(n), np.zeros(n), np.zeros(n), scale, np.full(nel, props[L.TORQUE]),
+        np.zeros((N_BORDER, n)), np.zeros((N_BORDER, n)), np.zeros((N_BORDER, n)),
+        np.zeros(N_BORDER), np.zeros((N_BORDER, N_BORDER)), np.zeros(N_BORDER, dtype=np.int64),
+        np.zeros(N_BORDER), np.zeros((N_BORDER, N_BORDER)), np.zeros(N_BORDER),
+        np.zeros((N_BND, n)), np.zeros(n), np.zeros(n), np.zeros(N_BND), np.zeros(N_BND),
+        np.zeros(N_BND), np.zeros(N_BND), np.zeros(nn), np.zeros(n),
+        np.zeros(nn, dtype=np.bool_), np.zeros(nn, dtype=np.bool_), np.zeros(0),
+        np.zeros((1, 1)))
+
+
+@jit
+def _solves_tb(ends):
+    """True when the bottom tension is an unknown (the top tension given)."""
+    return ends.top_target > 0.0 and ends.slide_dof >= 0
+
+
+@jit
+def _linearise(nd, u, mesh, model, sup, ends, w):
+    """Phase 1: residual and tangent in the nodal frames (stinger contacts in
+    curve coordinates), the friction springs, the top tension's row and each
+    boundary's column dG/ds_b. Returns the top's effective tension [N]."""
+    ndn = 2 * nd + 1
+    kl = 2 * ndn - 1
+    nn = sup.phi_r.shape[0]
+    bnodes = mesh.bnodes
+    if sup.stinger[ST_ON] != 0.0:
+        for node in range(1, nn):
+            if node != ends.top_node:
+                sup.phi_r[node] = 0.0
+                sup.phi_rp[node] = 0.0
+    if bnodes[2] >= 0:
+        # the node over the tip: its frame along the pipe (normal, tangent)
+        base = bnodes[2] * ndn
+        sup.phi_r[bnodes[2]] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
+    _system(nd, mesh.s_el, u, model, w.torques, w.ab, kl, kl, w.g, ends, sup.phi_r, sup.phi_rp,
+            True)
+    node_arcs(mesh.s_el, w.s_nd)
+    friction_forces(nd, u, w.g, w.ab, 2 * kl, model, sup.bed_active, sup.fric, w.fr_out, w.s_nd)
+    te_top = 0.0
+    if _solves_tb(ends):
+        te_top = _top_tension_row(nd, w.ab, kl, kl, w.g, u, ends.top_node, w.d)
+    for b in range(N_BND):
+        if bnodes[b] >= 0:
+            _boundary_column(nd, mesh.s_el, u, model, w.torques, mesh.s_b[b], w.bcols[b],
+                             sup.bed_active, sup.fric, w.s_nd)
+            w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
+    _rotate_all(nd, w.ab, kl, kl, w.g, sup.phi_r, sup.phi_rp, True)
+    _curve_all(nd, w.ab, kl, kl, w.g, u, sup.stinger, sup.st_active, True)
+    return te_top
+
+
+@jit
+def _to_nodal_frames(nd, v, u, sup, w):
+    """A global-frame row or column into the nodal frames and curve coordinates."""
+    kl = 4 * nd + 1
+    _rotate_all(nd, w.no_ab, kl, kl, v, sup.phi_r, sup.phi_rp, False)
+    _curve_all(nd, w.no_ab, kl, kl, v, u, sup.stinger, sup.st_active, False)
+
+
+@jit
+def _border(nd, u, mesh, model, sup, ends, w, te_top):
+    """Phase 2: the bordered unknowns' rows (their equations' gradients),
+    columns (dG/dz) and residuals: the bottom tension (its equation the top
+    tension) and each boundary (its continuum condition). Returns (nb, the
+    count of border unknowns other than the boundaries)."""
+    nb = 0
+    w.d_b[:, :] = 0.0
+    if _solves_tb(ends):
+        _to_nodal_frames(nd, w.d, u, sup, w)
+        w.rows[nb, :] = w.d
+        w.cols[nb, :] = 0.0
+        w.cols[nb, ends.slide_dof] = 1.0
+        w.res_b[nb] = te_top - ends.top_target
+        w.kind[nb] = 0
+        nb += 1
+    nb_fixed = nb
+    for b in range(N_BND):
+        node = mesh.bnodes[b]
+        if node < 0:
+            continue
+        w.col_t[:] = w.bcols[b]
+        d_own = 0.0
+        if b == 0:
+            w.res_bnd[b], d_own = _free_moment(nd, mesh.s_el, u, model, w.torques, node,
+                                               mesh.s_b[b], w.row_t)
+        elif b == 1:
+            w.res_bnd[b] = _tangency(nd, u, sup.stinger, b, node, w.row_t)
+        else:
+            w.res_bnd[b] = _over_tip(nd, u, sup.stinger, node, w.row_t)
+        _to_nodal_frames(nd, w.col_t, u, sup, w)
+        _to_nodal_frames(nd, w.row_t, u, sup, w)
+        w.rows[nb, :] = w.row_t
+        w.cols[nb, :] = w.col_t
+        w.res_b[nb] = w.res_bnd[b]
+        # the earlier border equations by s_b at fixed u: the top tension
+        for j in range(nb):
+            if w.kind[j] == 0:
+                w.d_b[j, nb] = w.d_top[b]
+        w.d_b[nb, nb] = d_own
+        w.kind[nb] = 2 + b
+        nb += 1
+    return nb, nb_fixed
+
+
+@jit
+def _constraint_set(nd, u, mesh, sup, ends, w, href):
+    """Phase 3: the constrained unknowns (``w.cmask``) and their prescribed
+    increments (``w.delta``, nodal frames): fixed ends, the seabed contacts
+    (on it and tangent), the stinger contacts (on the curve and tangent, but
+    lift-off's slope, which its equation closes), the lateral hold, the tip's
+    node when it bears. Returns the largest violation [href, rad]."""
+    ndn = 2 * nd + 1
+    nn = sup.phi_r.shape[0]
+    n = u.shape[0]
+    fix_mask = sup.fix_mask
+    stinger = sup.stinger
+    has_stinger = stinger[ST_ON] != 0.0
+    for i in range(n):
+        w.cmask[i] = fix_mask[i] != 0
+        w.delta[i] = 0.0
+    for node in range(nn):
+        base = node * ndn
+        for slot in range(ndn):
+            i = base + slot
+            if fix_mask[i] != 0:
+                w.delta[i] = sup.fix_val[i] - _local_value(nd, u, node, slot, sup.phi_r,
+                                                           sup.phi_rp)
+        if sup.bed_active[node] != 0 and fix_mask[base] == 0:
+            w.cmask[base] = True
+            w.delta[base] = -_local_value(nd, u, node, 0, sup.phi_r, sup.phi_rp)
+        # a pipe lying on the flat seabed is tangent to it: the slope is held
+        # at every contact node, touchdown's included, and at the lower end
+        # (resting on a rigid seabed, or on an elastic one's foundation)
+        on_bed = sup.bed_active[node] != 0 or node == 0
+        if on_bed and fix_mask[base + nd] == 0:
+            w.cmask[base + nd] = True
+            w.delta[base + nd] = -u[base + nd]
+        if has_stinger and node != ends.top_node and fix_mask[base] == 0:
+            x_n = u[base]
+            z_n = u[base + nd - 1]
+            if sup.st_active[node] != 0:
+                # on the stinger: on the curve, and tangent to it except at
+                # lift-off (the contact node with free pipe below it), whose
+                # tangency is lift-off's equation
+                fp = 2.0 * stinger[ST_A] * z_n + stinger[ST_B]
+                w.cmask[base] = True
+                w.delta[base] = -(x_n - ((stinger[ST_A] * z_n + stinger[ST_B]) * z_n
+                                         + stinger[ST_C]))
+                if node > 0 and sup.st_active[node - 1] != 0:
+                    w.cmask[base + nd] = True
+                    w.delta[base + nd] = -(u[base + nd] - fp * u[base + 2 * nd - 1])
+            if w.y_held[node]:  # on the stinger's plane and tangent to it
+                w.cmask[base + 1] = True
+                w.delta[base + 1] = -u[base + 1]
+                w.cmask[base + nd + 1] = True
+                w.delta[base + nd + 1] = -u[base + nd + 1]
+    kt = mesh.bnodes[2]
+    if kt >= 0 and sup.tip[0] != 0.0:
+        # bearing on the tip: the node on it along the pipe's normal
+        w.cmask[kt * ndn] = True
+        w.delta[kt * ndn] = -_tip_gap_normal(nd, u, stinger, kt, sup.phi_r[kt])
+    max_delta = 0.0
+    for i in range(n):
+        lim = href if i % ndn < nd else 1.0
+        if w.cmask[i] and abs(w.delta[i]) / lim > max_delta:
+            max_delta = abs(w.delta[i]) / lim
+    return max_delta
+
+
+@jit
+def _imbalance(nd, mesh, ends, w, settings, te_top):
+    """The residuals convergence is judged on: (weighted max and sum of
+    squares of the free rows, the top tension's relative residual, the
+    boundaries' largest scaled residual)."""
+    res_max, res_ssq = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
+    top_res = 0.0
+    if _solves_tb(ends):
+        top_res = abs(te_top - ends.top_target) / ends.top_target
+    bnd_res = 0.0
+    for b in range(N_BND):
+        if mesh.bnodes[b] >= 0:
+            bnd_res = max(bnd_res, abs(w.res_bnd[b]) / _bnd_scale(b, settings.fref,
+                                                                  settings.href))
+    return res_max, res_ssq, top_res, bnd_res
+
+
+@jit
+def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
+    """Phase 4: whether this iteration holds the boundaries where they are.
+
+    A step of the boundaries from a state out of equilibrium (u not yet in
+    balance on the present mesh) follows a linearisation that may point the
+    wrong way (re-contact above a bearing tip ran away from a guess one
+    flexural length off). Until the pipe is nearer equilibrium, with the
+    boundaries where they are, than the boundaries are to theirs
+    (INNER_RATIO), the step holds them, lift-off's node tangent to the
+    stinger; from equilibrium the bordered step is the reduced Newton step of
+    the boundaries' own equations. Touchdown alone moves with the pipe (J125
+    with 20 kN at the bottom took 16 iterations held so, 12 without)."""
+    if mesh.bnodes[1] < 0:
+        return False
+    ndn = 2 * nd + 1
+    j_lo = mesh.bnodes[1] * ndn + nd  # lift-off's slope
+    # the boundaries' own imbalance: their equations, and the moment on
+    # lift-off's slope that its tangency would hold
+    own = max(bnd_res, abs(w.g[j_lo]) / (settings.fref * settings.href))
+    keep = w.cmask[j_lo]
+    w.cmask[j_lo] = True  # as held: lift-off's slope constrained
+    res_eq, _rs = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
+    if res_eq > INNER_RATIO * own:
+        w.delta[j_lo] = -_tangency(nd, u, sup.stinger, 1, mesh.bnodes[1], w.row_t)
+        return True
+    w.cmask[j_lo] = keep
+    return False
+
+
+@jit
+def _condensed_solve(nd, w, nb):
+    """Phase 5: the Newton step by condensation and the bordered solve.
+
+    The system is scaled (``w.scale``: lengths, slopes, multipliers), every
+    constrained unknown gets its prescribed increment (K_ff du_f = -G_f - K_fc
+    du_c), the band is factored once, and the nb border unknowns are
+    eliminated by a dense Schur complement: du = y0 - sum_j dz_j Y_j with S dz
+    = rows . y0 + res. Leaves the scaled step in ``w.du``, the border steps in
+    ``w.dz`` and the unscaled tangent in ``w.ab0``. False when singular."""
+    ndn = 2 * nd + 1
+    kl = 2 * ndn - 1
+    ku = kl
     kv = kl + ku
+    n = w.g.shape[0]
+    ab = w.ab
+    scale = w.scale
+    cmask = w.cmask
+    du = w.du
+    for j in range(n):
+        sj = scale[j % ndn]
+        for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
+            ab[kv + r - j, j] *= scale[r % ndn] * sj
+    w.ab0[:, :] = ab
+    for i in range(n):
+        du[i] = -w.g[i] * scale[i % ndn]
+    for j in range(n):
+        if not cmask[j]:
+            continue
+        dj = w.delta[j] / scale[j % ndn]
+        for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
+            if not cmask[r]:
+                du[r] -= ab[kv + r - j, j] * dj
+    for j in range(n):
+        if not cmask[j]:
+            continue
+        for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
+            ab[kv + r - j, j] = 0.0
+        for c in range(max(0, j - kl), min(n - 1, j + ku) + 1):
+            ab[kv + j - c, c] = 0.0
+        ab[kv, j] = 1.0
+        du[j] = w.delta[j] / scale[j % ndn]
+    if band_factor(ab, kl, ku, w.ipiv) != 0:
+        return False
+    band_solve(ab, kl, ku, w.ipiv, du)
+    for j in range(nb):
+        for i in range(n):
+            w.ys[j, i] = 0.0 if cmask[i] else w.cols[j, i] * scale[i % ndn]
+        band_solve(ab, kl, ku, w.ipiv, w.ys[j])
+    # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz
+    for i2 in range(nb):
+        acc = 0.0
+        for k in range(n):
+            acc += w.rows[i2, k] * scale[k % ndn] * du[k]
+        w.rh[i2] = acc + w.res_b[i2]
+        for j in range(nb):
+            acc = 0.0
+            for k in range(n):
+                acc += w.rows[i2, k] * scale[k % ndn] * w.ys[j, k]
+            w.sm[i2, j] = acc - w.d_b[i2, j]
+    if nb > 0 and not _solve_dense(nb, w.sm, w.rh, w.dz):
+        return False
+    for j in range(nb):
+        for i in range(n):
+            du[i] -= w.dz[j] * w.ys[j, i]
+    return True
+
+
+@jit
+def _border_steps(w, nb):
+    """The bottom tension's step [N] (returned) and the boundaries' (``w.d_bnd``, m)."""
+    dtb = 0.0
+    w.d_bnd[:] = 0.0
+    for j in range(nb):
+        if w.kind[j] == 0:
+            dtb = w.dz[j]
+        else:
+            w.d_bnd[w.kind[j] - 2] = w.dz[j]
+    return dtb
+
+
+@jit
+def _reactions(nd, w, nb, react):
+    """Phase 6: the linearised reactions on the constrained rows, R_c = G_c +
+    K_cf du_f + K_cc du_c + the border columns' share, in physical units."""
+    ndn = 2 * nd + 1
+    kl = 2 * ndn - 1
+    kv = 2 * kl
+    n = w.g.shape[0]
+    for i in range(n):
+        react[i] = 0.0
+    for i in range(n):
+        if not w.cmask[i]:
+            continue
+        acc = 0.0
+        for j in range(max(0, i - kl), min(n - 1, i + kl) + 1):
+            acc += w.ab0[kv + i - j, j] * w.du[j]
+        react[i] = w.g[i] + acc / w.scale[i % ndn]
+        for j in range(nb):
+            react[i] += w.cols[j, i] * w.dz[j]
+
+
+@jit
+def _step_length(nd, u, mesh, sup, w, hold, href):
+    """Phase 7: the longest fraction of the step the contact boundaries allow,
+    and the status that stops the call (-1: none).
+
+    A boundary stays inside its zone (no element there shrinks below a
+    tenth), moves at most MAX_BOUNDARY_STEP href; touchdown stays on the
+    modelled laid pipe (SHORT_LAID past half way to the lower end); the span
+    between re-contact and a bearing tip at most halves or doubles (it grows
+    like sqrt(a - a_switch) past the change of regime: a step in its
+    logarithm follows that), SPAN_CLOSED when there is no bearing solution;
+    lift-off goes at most half way to the tip, PAST_TIP when Newton moves it
+    past."""
+    ndn = 2 * nd + 1
+    nn = sup.phi_r.shape[0]
+    bnodes = mesh.bnodes
+    s_b = mesh.s_b
+    s_bd = mesh.s_bd
+    s_el = mesh.s_el
+    d_bnd = w.d_bnd
+    has_td = bnodes[0] >= 0
+    has_lo = bnodes[1] >= 0
+    has_tipn = bnodes[2] >= 0
+    alpha = 1.0
+    if has_td or has_lo:
+        for e in range(nn - 1):
+            rate = 0.0
+            for b in range(N_BND):
+                rate += (s_b[b, e + 1] - s_b[b, e]) * d_bnd[b]
+            if rate < -0.9 * s_el[e]:
+                alpha = min(alpha, 0.9 * s_el[e] / abs(rate))
+    for b in range(N_BND):
+        if abs(d_bnd[b]) * alpha > MAX_BOUNDARY_STEP * href:
+            alpha = MAX_BOUNDARY_STEP * href / abs(d_bnd[b])
+    if has_td and not hold and d_bnd[0] < 0.0:
+        if -d_bnd[0] * alpha > 0.5 * (s_bd[0] - mesh.s_a[0]):
+            return alpha, L.SHORT_LAID
+    if has_lo and has_tipn and not hold:
+        gap_s = s_bd[1] - s_bd[2]
+        d_gap_s = (d_bnd[1] - d_bnd[2]) * alpha
+        if d_gap_s < -0.5 * gap_s:
+            if gap_s < href and sup.tip[0] != 0.0:
+                # Bearing, the span's square goes like a - a_switch: from
+                # d0 Newton asks d0 / 2 + (a - a_switch) / (2 k d0), so a
+                # step that more than halves the span says there is no
+                # bearing solution (d = 0 is then the bearing equations'
+                # limit, which Newton approaches only linearly). Once the
+                # span is shorter than an element the two regimes differ
+                # by less than the mesh resolves: the pipe lifts off
+                # above the tip.
+                return alpha, L.SPAN_CLOSED
+            alpha *= 0.5 * gap_s / -d_gap_s
+        elif d_gap_s > gap_s:
+            alpha *= gap_s / d_gap_s
+    if has_lo and not hold:
+        # lift-off stays above the tip (the curve continued past it is no
+        # support)
+        base = bnodes[1] * ndn
+        room = u[base + nd - 1] - sup.stinger[ST_ZL]
+        dz_lo = w.du_free[base + nd - 1]  # the node's own z slides it along the curve
+        if room < 1e-3 * href and dz_lo < 0.0:
+            return alpha, L.PAST_TIP
+        if dz_lo * alpha < -0.5 * room:
+            alpha = 0.5 * room / -dz_lo
+    return alpha, -1
+
+
+@jit
+def _trial_merit(nd, u, mesh, model, sup, ends, w, settings, hold):
+    """The merit (sum of squared weighted residuals, the top tension's and the
+    boundaries' equations unless held) at the trial state in ``u``."""
+    kl = 4 * nd + 1
+    _system(nd, mesh.s_el, u, model, w.torques, w.no_ab, kl, kl, w.g_trial, ends,
+            sup.phi_r, sup.phi_rp, False)
+    node_arcs(mesh.s_el, w.s_nd)
+    friction_forces(nd, u, w.g_trial, w.no_ab, 0, model, sup.bed_active, sup.fric, w.fr_out,
+                    w.s_nd)
+    tr = 0.0
+    if _solves_tb(ends):
+        tr = (_top_te(nd, w.g_trial, u, ends.top_node) - ends.top_target) / ends.top_target
+    bnodes = mesh.bnodes
+    tdr = 0.0
+    if bnodes[0] >= 0 and not hold:
+        v, _d = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[0], mesh.s_b[0],
+                             w.no_row)
+        tdr += (v / (settings.fref * settings.href)) ** 2
+    if bnodes[1] >= 0 and not hold:
+        tdr += _tangency(nd, u, sup.stinger, 1, bnodes[1], w.row_t) ** 2
+    if bnodes[2] >= 0 and not hold:
+        tdr += (_over_tip(nd, u, sup.stinger, bnodes[2], w.row_t) / settings.href) ** 2
+    _to_nodal_frames(nd, w.g_trial, u, sup, w)
+    _rm, rs = _weighted_max(nd, w.g_trial, w.cmask, settings.fref, settings.href)
+    return rs + tr * tr + tdr
+
+
+@jit
+def _line_search(nd, u, mesh, model, sup, ends, w, settings, alpha0, dtb, hold, merit0):
+    """Phase 8: backtracking on the merit from ``alpha0``; the state is left
+    at the step taken.
+
+    With the boundaries unknowns the (limited) full step is taken: the
+    weighted residual rises across good steps there, as the element lengths
+    move with the boundaries (cut by Armijo to 1/8 .. 1/32 on S67 and S125,
+    2 to 5 times the iterations, and some cases never converged); a
+    diverging step is caught by the iteration's checks. A step of the
+    stinger's boundaries from equilibrium (not held) is taken as limited: the
+    merit there rises by up to 1e7 across good steps (the short elements of a
+    closing gap span); cut, the span crept by 6 % a step (S125 2D, full grid:
+    at most 82 iterations at 4 m and 344 at 1 m; taken so, 42 and 58). Where
+    no trial is accepted the limited step is taken anyway (the merit is flat:
+    a change of constraint, a constraint correction)."""
+    has_bnd = mesh.bnodes[0] >= 0 or mesh.bnodes[1] >= 0
+    has_lo = mesh.bnodes[1] >= 0
+    tb_old = ends.tb[0]
+    alpha = alpha0
+    for _ls in range(12):
+        _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
+                   tb_old, dtb, has_bnd, mesh, w)
+        m1 = _trial_merit(nd, u, mesh, model, sup, ends, w, settings, hold)
+        if (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < (settings.tol * settings.tol)
+                or m1 < 1e-300 or (has_bnd and m1 <= MERIT_RISE * merit0)
+                or (has_lo and not hold and m1 < 1e300)):
+            return
+        if not (m1 < 1e300) and alpha < 1e-3:
+            break
+        alpha *= 0.5
+    _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
+               tb_old, dtb, has_bnd, mesh, w)
+
+
+@jit
+def _tip_update(nd, u, mesh, sup, w, react, settings):
+    """Phase 9: the tip's contact by the complementarity min(R, c g) = 0
+    (semismooth Newton: the branch that the present normal reaction R and gap
+    g select): it bears when R - c g > 0, the node then held on it, else
+    R = 0. Returns True when the branch changed."""
+    kt = mesh.bnodes[2]
+    if kt < 0:
+        return False
+    ndn = 2 * nd + 1
+    bearing = sup.tip[0] != 0.0
+    r_n = react[kt * ndn] if bearing else 0.0
+    g_n = _tip_gap_normal(nd, u, sup.stinger, kt, sup.phi_r[kt])
+    bears = r_n - (settings.fref / settings.href) * g_n > 0.0
+    sup.tip[0] = 1.0 if bears else 0.0
+    sup.tip[1] = r_n if bears else 0.0
+    return bears != bearing
+
+
+@jit
+def _same_hold(nd, u, mesh, sup, ends, w):
+    """True when the lateral hold the iteration used is the one of the nodes
+    where they now are (a node that slid below the tip during the call is
+    released, one that rose over it held); else takes the new one."""
+    lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, w.y_now)
+    same = True
+    for node in range(w.y_now.shape[0]):
+        if w.y_now[node] != w.y_held[node]:
+            same = False
+            w.y_held[node] = w.y_now[node]
+    return same
+
+
+@jit
+def newton(nd, u, mesh, model, sup, ends, settings, react, info):
+    """Solve G(u) = reactions for one load level; see the module docstring.
+
+    Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
+    ----------
+    nd : 2 or 3
+    u : (ndof,) nodal unknowns, global frame; updated in place
+    mesh : :data:`.types.Mesh`, s_el (nel,) element lengths [m], updated with
+        the boundaries; s_a (nn,), s_b (N_BND, nn) the map onto the boundaries'
+        arc lengths s_bd (N_BND,) [m], updated; bnodes (N_BND,) int64, the
+        boundaries' nodes (-1: none)
+    model : :data:`.types.Model`, props (N_PROPS,), the current table, factors
+        (N_FACTORS,)
+    sup : :data:`.types.Supports`
+        fix_mask (ndof,) int8, 1 where the unknown (nodal frame) is prescribed;
+        fix_val (ndof,) its value; phi_r, phi_rp (nn,) rotation angles of the
+        nodal frames of r and r' [rad]; bed_active (nn,) int8, the seabed
+        contacts (the lower end to touchdown); stinger (N_STINGER,) the curve
+        x = a z^2 + b z + c on [zL, zU] (``ST_*``); st_active (nn,) int8, the
+        stinger contacts (lift-off, or re-contact, to the top); tip (2,)
+        [bearing (0/1), normal reaction [N]], updated; fric (nn, N_FRIC) the
+        seabed friction springs (``FR_*``), anchors moved by the return
+        mapping when the call converges
+    ends : :data:`.types.Ends`
+        f_node (ndof,) nodal loads [N]; g_off (ndof,) residual offset (load-path
+        homotopy); tb (1,) bottom tension [N], an unknown when top_target > 0,
+        pulling the sliding lower end's dof slide_dof (-1: none) along -z;
+        top_node, top_target: the top's node and effective tension [N] (0: not
+        given)
+    settings : :data:`.types.Settings`, tol, fref [N], href [m], maxit
+    react : (ndof,) output, reactions on the pipe in the nodal frames [N, N m]
+    info : (N_INFO,) output, see ``I_*``
+    """
+    ndn = 2 * nd + 1
+    nn = sup.phi_r.shape[0]
+    n = u.shape[0]
+    w = _work(nd, n, nn, mesh.s_el.shape[0], model.props, settings.href)
+    href = settings.href
     for k in range(N_INFO):
         info[k] = 0.0
     status = L.MAX_ITERATIONS
     changed = True
-    rows = np.zeros((N_BORDER, n))
-    cols = np.zeros((N_BORDER, n))
-    ys = np.zeros((N_BORDER, n))
-    res_b = np.zeros(N_BORDER)
-    d_b = np.zeros((N_BORDER, N_BORDER))  # border equations by border unknowns, fixed u
-    dz = np.zeros(N_BORDER)
-    sm = np.zeros((N_BORDER, N_BORDER))
-    rh = np.zeros(N_BORDER)
-    # 0: bottom tension, 2 + b: boundary b (touchdown, lift-off, the tip's point)
-    kind = np.zeros(N_BORDER, dtype=np.int64)
-    has_td = bnodes[0] >= 0
-    has_lo = bnodes[1] >= 0
-    has_tipn = bnodes[2] >= 0  # the tip's material point on a node of its own
-    has_bnd = has_td or has_lo
-    col_t = np.zeros(n)
-    bcols = np.zeros((N_BND, n))  # dG/ds_b of each boundary, global frame
-    row_t = np.zeros(n)
-    res_bnd = np.zeros(N_BND)
-    d_top = np.zeros(N_BND)  # the top tension by each boundary's arc length [N/m]
-    d_bnd = np.zeros(N_BND)
-    bnd_old = np.zeros(N_BND)
-    bnd_res = 0.0
-    s_nd = np.zeros(nn)  # node arc lengths [m]
-    if has_bnd:
-        mesh_lengths(s_a, s_b, s_bd, s_el)
-    has_stinger = stinger[ST_ON] != 0.0
+    if mesh.bnodes[0] >= 0 or mesh.bnodes[1] >= 0:
+        mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
     last_step = np.inf
     r_max = 0.0
     changes_total = 0
     it = 0
     res_start = 1.0
-    fr_out = np.zeros(n)
     # nodes held laterally by the stinger, fixed during the step
-    y_held = np.zeros(nn, dtype=np.bool_)
-    lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, y_held)
-    y_now = np.zeros(nn, dtype=np.bool_)
-    for it in range(1, maxit + 1):
-        # ---- 0: stinger contacts in curve coordinates, not rotated frames --
-        if has_stinger:
-            for node in range(1, nn):
-                if node != top_node:
-                    phi_r[node] = 0.0
-                    phi_rp[node] = 0.0
-        if has_tipn:
-            # the node over the tip: its frame along the pipe (normal, tangent)
-            base = bnodes[2] * ndn
-            phi_r[bnodes[2]] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
-        # ---- 1-2: system in nodal frames --------------------------------
-        _system(nd, s_el, u, props, table, torques, ab, kl, ku, g, f_node, g_off,
-                slide_dof, tb, phi_r, phi_rp, True)
-        node_arcs(s_el, s_nd)
-        friction_forces(nd, u, g, ab, kl + ku, props, bed_active, fric, fr_out, s_nd)
-        te_top = 0.0
-        if solve_tb:
-            te_top = _top_tension_row(nd, ab, kl, ku, g, u, top_node, d)
-        for b in range(N_BND):
-            if bnodes[b] >= 0:
-                _boundary_column(nd, s_el, u, props, table, torques, s_b[b],
-                                 bcols[b], bed_active, fric, s_nd)
-                d_top[b] = _top_te(nd, bcols[b], u, top_node)
-        _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, True)
-        _curve_all(nd, ab, kl, ku, g, u, stinger, st_active, True)
-        # border unknowns: rows (constraint gradients) and columns (dG/dz)
-        nb = 0
-        d_b[:, :] = 0.0
-        if solve_tb:
-            _rotate_all(nd, dummy_ab, kl, ku, d, phi_r, phi_rp, False)
-            _curve_all(nd, dummy_ab, kl, ku, d, u, stinger, st_active, False)
-            rows[nb, :] = d
-            cols[nb, :] = 0.0
-            cols[nb, slide_dof] = 1.0
-            res_b[nb] = te_top - top_target
-            kind[nb] = 0
-            nb += 1
-        nb_fixed = nb  # the border unknowns other than the boundaries
-        for b in range(N_BND):
-            if bnodes[b] < 0:
-                continue
-            col_t[:] = bcols[b]
-            d_own = 0.0
-            if b == 0:
-                res_bnd[b], d_own = _free_moment(nd, s_el, u, props, table, torques, bnodes[b],
-                                                 s_b[b], row_t)
-            elif b == 1:
-                res_bnd[b] = _tangency(nd, u, stinger, b, bnodes[b], row_t)
-            else:
-                res_bnd[b] = _over_tip(nd, u, stinger, bnodes[b], row_t)
-            _rotate_all(nd, dummy_ab, kl, ku, col_t, phi_r, phi_rp, False)
-            _curve_all(nd, dummy_ab, kl, ku, col_t, u, stinger, st_active, False)
-            _rotate_all(nd, dummy_ab, kl, ku, row_t, phi_r, phi_rp, False)
-            _curve_all(nd, dummy_ab, kl, ku, row_t, u, stinger, st_active, False)
-            rows[nb, :] = row_t
-            cols[nb, :] = col_t
-            res_b[nb] = res_bnd[b]
-            # the earlier border equations by s_b at fixed u: the top tension
-            for j in range(nb):
-                if kind[j] == 0:
-                    d_b[j, nb] = d_top[b]
-            d_b[nb, nb] = d_own
-            kind[nb] = 2 + b
-            nb += 1
-        # ---- constrained set and prescribed increments -----------------
-        max_delta = 0.0
-        for i in range(n):
-            cmask[i] = fix_mask[i] != 0
-            delta[i] = 0.0
-        for node in range(nn):
-            base = node * ndn
-            for slot in range(ndn):
-                i = base + slot
-                if fix_mask[i] != 0:
-                    delta[i] = fix_val[i] - _local_value(nd, u, node, slot, phi_r, phi_rp)
-            if bed_active[node] != 0 and fix_mask[base] == 0:
-                cmask[base] = True
-                delta[base] = -_local_value(nd, u, node, 0, phi_r, phi_rp)
-            # a pipe lying on the flat seabed is tangent to it: the slope is held
-            # at every contact node, touchdown's included, and at the lower end
-            # (resting on a rigid seabed, or on an elastic one's foundation)
-            on_bed = bed_active[node] != 0 or node == 0
-            if on_bed and fix_mask[base + nd] == 0:
-                cmask[base + nd] = True
-                delta[base + nd] = -u[base + nd]
-            if has_stinger and node != top_node and fix_mask[base] == 0:
-                x_n = u[base]
-                z_n = u[base + nd - 1]
-                if st_active[node] != 0:
-                    # on the stinger: on the curve, and tangent to it except at
-                    # lift-off (the contact node with free pipe below it)
-                    fp = 2.0 * stinger[ST_A] * z_n + stinger[ST_B]
-                    cmask[base] = True
-                    delta[base] = -(x_n - ((stinger[ST_A] * z_n + stinger[ST_B]) * z_n
-                                           + stinger[ST_C]))
-                    # (with lift-off an unknown, its tangency is lift-off's equation)
-                    if node > 0 and st_active[node - 1] != 0:
-                        cmask[base + nd] = True
-                        delta[base + nd] = -(u[base + nd] - fp * u[base + 2 * nd - 1])
-                if y_held[node]:  # on the stinger's plane and tangent to it
-                    cmask[base + 1] = True
-                    delta[base + 1] = -u[base + 1]
-                    cmask[base + nd + 1] = True
-                    delta[base + nd + 1] = -u[base + nd + 1]
-        if has_tipn and tip[0] != 0.0:
-            # bearing on the tip: the node on it along the pipe's normal
-            j = bnodes[2] * ndn
-            cmask[j] = True
-            delta[j] = -_tip_gap_normal(nd, u, stinger, bnodes[2], phi_r[bnodes[2]])
-        for i in range(n):
-            slot = i % ndn
-            lim = href if slot < nd else 1.0
-            if cmask[i] and abs(delta[i]) / lim > max_delta:
-                max_delta = abs(delta[i]) / lim
-        # ---- convergence check at the current point --------------------
-        res_max, res_ssq = _weighted_max(nd, g, cmask, fref, href)
-        top_res = 0.0
-        if solve_tb:
-            top_res = abs(te_top - top_target) / top_target
-        bnd_res = 0.0
-        for b in range(N_BND):
-            if bnodes[b] >= 0:
-                bnd_res = max(bnd_res, abs(res_bnd[b]) / _bnd_scale(b, fref, href))
+    lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, w.y_held)
+    for it in range(1, settings.maxit + 1):
+        te_top = _linearise(nd, u, mesh, model, sup, ends, w)
+        nb, nb_fixed = _border(nd, u, mesh, model, sup, ends, w, te_top)
+        max_delta = _constraint_set(nd, u, mesh, sup, ends, w, href)
+        res_max, res_ssq, top_res, bnd_res = _imbalance(nd, mesh, ends, w, settings, te_top)
         if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
             status = L.NOT_FINITE
             break
@@ -738,255 +1085,45 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed_acti
         # Converged: residual below the tolerance, or the last Newton correction
         # at round-off level (the residual floor grows like EI |r| eps / h^3, so a
         # fine mesh far from the origin cannot reach every tolerance).
+        tol = settings.tol
         at_roundoff = last_step <= 1e3 * 2.2e-16 * (r_max + href) and res_max <= 1e-4
         if (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
                 and (top_res <= tol or at_roundoff) and (bnd_res <= tol or at_roundoff)
-                and not changed):
-            # converged with the lateral hold of the nodes over the stinger's
-            # z range where they now are (a node that slid below the tip
-            # during the call is released, one that rose over it held)
-            lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, y_now)
-            same = True
-            for node in range(nn):
-                if y_now[node] != y_held[node]:
-                    same = False
-                    y_held[node] = y_now[node]
-            if same:
-                status = L.OK
-                it -= 1
-                break
-        # ---- the boundaries move only from equilibrium ------------------
-        # A step of the boundaries from a state out of equilibrium (u not yet
-        # in balance on the present mesh) follows a linearisation that may
-        # point the wrong way (re-contact above a bearing tip ran away from a
-        # guess one flexural length off). Until the pipe is nearer equilibrium,
-        # with the boundaries where they are, than the boundaries are to
-        # theirs (INNER_RATIO), the step holds them;
-        # from equilibrium the bordered step is the reduced Newton step of the
-        # boundaries' own equations.
-        hold = False
-        if has_lo:
-            # (touchdown alone moves with the pipe: J125 with 20 kN at the
-            # bottom took 16 iterations held so, 12 without)
-            j_lo = bnodes[1] * ndn + nd  # lift-off's slope
-            # the boundaries' own imbalance: their equations, and the moment
-            # on lift-off's slope that its tangency would hold
-            own = max(bnd_res, abs(g[j_lo]) / (fref * href))
-            keep = cmask[j_lo]
-            cmask[j_lo] = True  # as held: lift-off's slope constrained
-            res_eq, _rs = _weighted_max(nd, g, cmask, fref, href)
-            hold = res_eq > INNER_RATIO * own
-            if hold:
-                nb = nb_fixed
-                delta[j_lo] = -_tangency(nd, u, stinger, 1, bnodes[1], row_t)
-            else:
-                cmask[j_lo] = keep
-        # ---- 3: scale, condense, factor, solve --------------------------
-        for j in range(n):
-            sj = scale[j % ndn]
-            for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
-                ab[kv + r - j, j] *= scale[r % ndn] * sj
-        ab0[:, :] = ab
-        for i in range(n):
-            du[i] = -g[i] * scale[i % ndn]
-        for j in range(n):
-            if not cmask[j]:
-                continue
-            dj = delta[j] / scale[j % ndn]
-            for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
-                if not cmask[r]:
-                    du[r] -= ab[kv + r - j, j] * dj
-        for j in range(n):
-            if not cmask[j]:
-                continue
-            for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
-                ab[kv + r - j, j] = 0.0
-            for c in range(max(0, j - kl), min(n - 1, j + ku) + 1):
-                ab[kv + j - c, c] = 0.0
-            ab[kv, j] = 1.0
-            du[j] = delta[j] / scale[j % ndn]
-        if band_factor(ab, kl, ku, ipiv) != 0:
+                and not changed and _same_hold(nd, u, mesh, sup, ends, w)):
+            status = L.OK
+            it -= 1
+            break
+        hold = _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res)
+        if hold:
+            nb = nb_fixed
+        if not _condensed_solve(nd, w, nb):
             status = L.SINGULAR
             break
-        band_solve(ab, kl, ku, ipiv, du)
-        # bordered unknowns: du = y0 - sum_j dz_j Y_j with S dz = rows . y0 + res
-        for j in range(nb):
-            for i in range(n):
-                ys[j, i] = 0.0 if cmask[i] else cols[j, i] * scale[i % ndn]
-            band_solve(ab, kl, ku, ipiv, ys[j])
-        # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz
-        for i2 in range(nb):
-            acc = 0.0
-            for k in range(n):
-                acc += rows[i2, k] * scale[k % ndn] * du[k]
-            rh[i2] = acc + res_b[i2]
-            for j in range(nb):
-                acc = 0.0
-                for k in range(n):
-                    acc += rows[i2, k] * scale[k % ndn] * ys[j, k]
-                sm[i2, j] = acc - d_b[i2, j]
-        if nb > 0 and not _solve_dense(nb, sm, rh, dz):
-            status = L.SINGULAR
-            break
-        for j in range(nb):
-            for i in range(n):
-                du[i] -= dz[j] * ys[j, i]
-        dtb = 0.0
-        d_bnd[:] = 0.0
-        for j in range(nb):
-            if kind[j] == 0:
-                dtb = dz[j]
-            else:
-                d_bnd[kind[j] - 2] = dz[j]
-        # reactions (linearised) on the constrained rows, physical units
+        dtb = _border_steps(w, nb)
+        _reactions(nd, w, nb, react)
         for i in range(n):
-            react[i] = 0.0
-        for i in range(n):
-            if not cmask[i]:
-                continue
-            acc = 0.0
-            for j in range(max(0, i - ku), min(n - 1, i + kl) + 1):
-                acc += ab0[kv + i - j, j] * du[j]
-            react[i] = g[i] + acc / scale[i % ndn]
-            for j in range(nb):
-                react[i] += cols[j, i] * dz[j]
-        # ---- 4: line search ---------------------------------------------
-        for i in range(n):
-            du_free[i] = du[i] * scale[i % ndn]
-        _to_global(nd, du_free, phi_r, phi_rp)
-        u_old[:] = u
-        tb_old = tb[0]
+            w.du_free[i] = w.du[i] * w.scale[i % ndn]
+        _to_global(nd, w.du_free, sup.phi_r, sup.phi_rp)
+        w.u_old[:] = u
         merit0 = res_ssq + top_res * top_res
         for b in range(N_BND):
-            if bnodes[b] >= 0 and not hold:
-                merit0 += (res_bnd[b] / _bnd_scale(b, fref, href)) ** 2
-            bnd_old[b] = s_bd[b]
-        alpha = 1.0
-        if has_bnd:
-            # each boundary stays inside its zone: no element there shrinks to
-            # under a tenth of its length
-            for e in range(nn - 1):
-                rate = 0.0
-                for b in range(N_BND):
-                    rate += (s_b[b, e + 1] - s_b[b, e]) * d_bnd[b]
-                if rate < -0.9 * s_el[e]:
-                    alpha = min(alpha, 0.9 * s_el[e] / abs(rate))
-        for b in range(N_BND):
-            # a boundary moves at most MAX_BOUNDARY_STEP reference lengths a step
-            if abs(d_bnd[b]) * alpha > MAX_BOUNDARY_STEP * href:
-                alpha = MAX_BOUNDARY_STEP * href / abs(d_bnd[b])
-        if has_td and not hold and d_bnd[0] < 0.0:
-            # touchdown stays on the modelled laid pipe: a step that takes it
-            # more than half way to the lower end stops, for more laid pipe
-            if -d_bnd[0] * alpha > 0.5 * (s_bd[0] - s_a[0]):
-                status = L.SHORT_LAID
-                break
-        if has_lo and has_tipn and not hold:
-            # the span between re-contact and the tip at most halves or doubles
-            # a step: near the regime change it grows like sqrt(a - a_switch),
-            # which a step in its logarithm follows
-            gap_s = s_bd[1] - s_bd[2]
-            d_gap_s = (d_bnd[1] - d_bnd[2]) * alpha
-            if d_gap_s < -0.5 * gap_s:
-                if gap_s < href and tip[0] != 0.0:
-                    # Bearing, the span's square goes like a - a_switch: from
-                    # d0 Newton asks d0 / 2 + (a - a_switch) / (2 k d0), so a
-                    # step that more than halves the span says there is no
-                    # bearing solution (d = 0 is then the bearing equations'
-                    # limit, which Newton approaches only linearly). Once the
-                    # span is shorter than an element the two regimes differ
-                    # by less than the mesh resolves: the pipe lifts off
-                    # above the tip.
-                    status = L.SPAN_CLOSED
-                    break
-                alpha *= 0.5 * gap_s / -d_gap_s
-            elif d_gap_s > gap_s:
-                alpha *= gap_s / d_gap_s
-        if has_lo and not hold:
-            # lift-off stays above the tip (the curve continued past it is no
-            # support): a step goes at most half way there
-            base = bnodes[1] * ndn
-            room = u[base + nd - 1] - stinger[ST_ZL]
-            dz_lo = du_free[base + nd - 1]  # the node's own z slides it along the curve
-            if room < 1e-3 * href and dz_lo < 0.0:
-                status = L.PAST_TIP
-                break
-            if dz_lo * alpha < -0.5 * room:
-                alpha = 0.5 * room / -dz_lo
-        alpha0 = alpha
-        accepted = False
-        for _ls in range(12):
-            _take_step(nd, alpha, u, u_old, du_free, stinger, st_active, tb, tb_old, dtb,
-                       has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el)
-            _system(nd, s_el, u, props, table, torques, dummy_ab, kl, ku, g_trial, f_node,
-                    g_off, slide_dof, tb, phi_r, phi_rp, False)
-            node_arcs(s_el, s_nd)
-            friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out, s_nd)
-            tr = 0.0
-            if solve_tb:
-                tr = (_top_te(nd, g_trial, u, top_node) - top_target) / top_target
-            tdr = 0.0
-            no_row = np.zeros(0)
-            if has_td and not hold:
-                v, _d = _free_moment(nd, s_el, u, props, table, torques, bnodes[0], s_b[0],
-                                     no_row)
-                tdr += (v / (fref * href)) ** 2
-            if has_lo and not hold:
-                tdr += _tangency(nd, u, stinger, 1, bnodes[1], row_t) ** 2
-            if has_tipn and not hold:
-                tdr += (_over_tip(nd, u, stinger, bnodes[2], row_t) / href) ** 2
-            _rotate_all(nd, dummy_ab, kl, ku, g_trial, phi_r, phi_rp, False)
-            _curve_all(nd, dummy_ab, kl, ku, g_trial, u, stinger, st_active, False)
-            _rm, rs = _weighted_max(nd, g_trial, cmask, fref, href)
-            m1 = rs + tr * tr + tdr
-            # with the boundaries unknowns the (limited) full step is taken: the
-            # weighted residual rises across good steps there, as the element
-            # lengths move with the boundaries (cut by Armijo to 1/8 .. 1/32 on
-            # S67 and S125, 2 to 5 times the iterations, and some cases never
-            # converged); a diverging step is caught by the iteration's checks.
-            # A step of the stinger's boundaries from equilibrium (not held) is
-            # taken as limited: the merit there rises by up to 1e7 across
-            # good steps (the short elements of a closing gap span); cut, the
-            # span crept by 6 % a step (S125 2D, full grid: at most 82
-            # iterations at 4 m and 344 at 1 m; taken so, 42 and 58)
-            if (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < (tol * tol) or m1 < 1e-300
-                    or (has_bnd and m1 <= MERIT_RISE * merit0)
-                    or (has_lo and not hold and m1 < 1e300)):
-                accepted = True
-                break
-            if not (m1 < 1e300) and alpha < 1e-3:
-                break
-            alpha *= 0.5
-        if not accepted:
-            # take the full step anyway when the merit is flat (active-set change,
-            # constraint correction); a diverging step is caught above
-            _take_step(nd, alpha0, u, u_old, du_free, stinger, st_active, tb, tb_old, dtb,
-                       has_bnd, s_bd, bnd_old, d_bnd, s_a, s_b, s_el)
+            if mesh.bnodes[b] >= 0 and not hold:
+                merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, href)) ** 2
+            w.bnd_old[b] = mesh.s_bd[b]
+        alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href)
+        if stop >= 0:
+            status = stop
+            break
+        _line_search(nd, u, mesh, model, sup, ends, w, settings, alpha, dtb, hold, merit0)
         last_step = 0.0
         r_max = 0.0
         for i in range(n):
             if i % ndn < nd:
-                v = abs(u[i] - u_old[i])
-                if v > last_step:
-                    last_step = v
-                if abs(u[i]) > r_max:
-                    r_max = abs(u[i])
-        # ---- 5: the tip's contact -----------------------------------------
-        changed = False
-        node_arcs(s_el, s_nd)
-        friction_track(nd, u, react, props, bed_active, fric, s_nd)
-        if has_tipn:
-            # the tip by the complementarity min(R, c g) = 0 (semismooth Newton:
-            # the branch that the present normal reaction R and gap g select):
-            # it bears when R - c g > 0, the node then held on it, else R = 0
-            kt = bnodes[2]
-            r_n = react[kt * ndn] if tip[0] != 0.0 else 0.0
-            g_n = _tip_gap_normal(nd, u, stinger, kt, phi_r[kt])
-            bears = r_n - (fref / href) * g_n > 0.0
-            if bears != (tip[0] != 0.0):
-                changed = True
-                tip[0] = 1.0 if bears else 0.0
-            tip[1] = r_n if bears else 0.0
+                last_step = max(last_step, abs(u[i] - w.u_old[i]))
+                r_max = max(r_max, abs(u[i]))
+        node_arcs(mesh.s_el, w.s_nd)
+        friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
+        changed = _tip_update(nd, u, mesh, sup, w, react, settings)
         if changed:
             changes_total += 1
             if changes_total > 2 * nn:
@@ -994,14 +1131,15 @@ def newton(nd, s_el, u, props, table, fix_mask, fix_val, phi_r, phi_rp, bed_acti
                 break
     if status == L.OK:
         # the friction forces join the reactions; slipping springs' anchors follow
-        fr_out[:] = 0.0
-        node_arcs(s_el, s_nd)
-        friction_forces(nd, u, g_trial, dummy_ab, 0, props, bed_active, fric, fr_out, s_nd)
+        w.fr_out[:] = 0.0
+        node_arcs(mesh.s_el, w.s_nd)
+        friction_forces(nd, u, w.g_trial, w.no_ab, 0, model, sup.bed_active, sup.fric,
+                        w.fr_out, w.s_nd)
         for i in range(n):
-            react[i] += fr_out[i]
-        friction_commit(nd, u, props, bed_active, fric, s_nd)
-    if has_stinger:
-        _curve_reactions(nd, u, stinger, st_active, phi_r, phi_rp, react)
+            react[i] += w.fr_out[i]
+        friction_commit(nd, u, model, sup.bed_active, sup.fric, w.s_nd)
+    if sup.stinger[ST_ON] != 0.0:
+        _curve_reactions(nd, u, sup.stinger, sup.st_active, sup.phi_r, sup.phi_rp, react)
     info[I_STATUS] = status
     info[I_ITER] = it
     return status

@@ -1,0 +1,31 @@
+"""The named tuples of arrays the kernels take, one per concern.
+
+A kernel's inputs are grouped by what they describe instead of passed as a
+long positional list. Each field is a float64 array (int8 for masks, int64
+for node indices) or a scalar; numba compiles one specialisation per tuple
+type, and the tuples are rebuilt by the Python layer for every call (cheap:
+they hold references, not copies).
+
+* :data:`Model`: what an element reads, the case's data (``props``, the
+  current ``table``) and the load path's ``factors`` (:mod:`.layout`, ``F_*``).
+* :data:`Mesh`: the element lengths and the mesh's map onto the contact
+  boundaries (node i at s_a[i] + sum_b s_b[b, i] s_bd[b]; ``bnodes[b]`` the
+  node on boundary b, -1 none).
+* :data:`Supports`: the constraints and contacts: prescribed unknowns, nodal
+  frames, the seabed and stinger contact sets, the tip, the friction springs.
+* :data:`Ends`: the nodal loads, the load path's residual offset, and the ends'
+  tensions: the bottom tension (an unknown when the top tension is given) and
+  the top's target.
+* :data:`Settings`: tolerance, reference force and length, iteration cap.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+Model = namedtuple("Model", ["props", "table", "factors"])
+Mesh = namedtuple("Mesh", ["s_el", "s_a", "s_b", "s_bd", "bnodes"])
+Supports = namedtuple("Supports", ["fix_mask", "fix_val", "phi_r", "phi_rp", "bed_active",
+                                   "stinger", "st_active", "tip", "fric"])
+Ends = namedtuple("Ends", ["f_node", "g_off", "tb", "slide_dof", "top_node", "top_target"])
+Settings = namedtuple("Settings", ["tol", "fref", "href", "maxit"])
