@@ -90,7 +90,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from .._jit import jit
+from .._jit import jit, phase
 from . import layout as L
 from .assembly import assemble, curve_node, distribute_torque, rotate_node
 from .element import WORK_SIZE, element_force_ws
@@ -513,10 +513,10 @@ Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
     "scale", "torques", "rows", "cols", "ys", "res_b", "d_b", "kind", "dz", "sm", "rh",
     "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
-    "y_held", "y_now", "no_row", "no_ab"])
+    "y_held", "y_now", "no_row", "no_ab", "row_td", "own_td"])
 
 
-@jit
+@phase
 def _work(nd, n, nn, nel, props, href):
     """The iteration's work arrays, allocated once per call (:data:`Work`)."""
     ndn = 2 * nd + 1
@@ -540,51 +540,91 @@ def _work(nd, n, nn, nel, props, href):
         np.zeros((N_BND, n)), np.zeros(n), np.zeros(n), np.zeros(N_BND), np.zeros(N_BND),
         np.zeros(N_BND), np.zeros(N_BND), np.zeros(nn), np.zeros(n),
         np.zeros(nn, dtype=np.bool_), np.zeros(nn, dtype=np.bool_), np.zeros(0),
-        np.zeros((1, 1)))
+        np.zeros((1, 1)), np.zeros(n), np.zeros(1))
 
 
-@jit
+@phase
 def _solves_tb(ends):
     """True when the bottom tension is an unknown (the top tension given)."""
     return ends.top_target > 0.0 and ends.slide_dof >= 0
 
 
-@jit
-def _linearise(nd, u, mesh, model, sup, ends, w):
-    """Phase 1: residual and tangent in the nodal frames (stinger contacts in
-    curve coordinates), the friction springs, the top tension's row and each
-    boundary's column dG/ds_b. Returns the top's effective tension [N]."""
+@phase
+def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
+    """Phase 1, every term that needs the element kernel: the residual ``g``
+    (global frame) with the friction springs and, with ``want_tangent``, the
+    tangent ``w.ab``, the top tension's row ``w.d``, each boundary's column
+    dG/ds_b (``w.bcols``, with its top-tension rate ``w.d_top``) and
+    touchdown's row (``w.row_td``, ``w.own_td``). The line search calls it
+    for its trial states without the tangent.
+
+    (The only kernel above the element's but newton: numba optimises each
+    kernel with all its callees linked in, so every kernel above the
+    element's adds the element's compile time again; measured on S67, two
+    more of them cost 18 % more compile time.)
+
+    Returns (the top's effective tension [N], touchdown's equation [N m])."""
     ndn = 2 * nd + 1
     kl = 2 * ndn - 1
-    nn = sup.phi_r.shape[0]
     bnodes = mesh.bnodes
+    ab = w.ab if want_tangent else w.no_ab
+    _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, sup.phi_r, sup.phi_rp,
+            want_tangent)
+    node_arcs(mesh.s_el, w.s_nd)
+    friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model, sup.bed_active,
+                    sup.fric, w.fr_out, w.s_nd)
+    te_top = 0.0
+    if _solves_tb(ends):
+        if want_tangent:
+            te_top = _top_tension_row(nd, w.ab, kl, kl, g, u, ends.top_node, w.d)
+        else:
+            te_top = _top_te(nd, g, u, ends.top_node)
+    if want_tangent:
+        for b in range(N_BND):
+            if bnodes[b] >= 0:
+                _boundary_column(nd, mesh.s_el, u, model, w.torques, mesh.s_b[b], w.bcols[b],
+                                 sup.bed_active, sup.fric, w.s_nd)
+                w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
+    m_td = 0.0
+    if bnodes[0] >= 0:
+        row = w.row_td if want_tangent else w.no_row
+        m_td, own = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[0], mesh.s_b[0],
+                                 row)
+        if want_tangent:
+            w.own_td[0] = own
+    return te_top, m_td
+
+
+@phase
+def _nodal_frames(nd, u, mesh, sup, ends):
+    """The nodal frames of the iteration: none on the stinger's contacts (they
+    are in curve coordinates) and, over the tip, the pipe's (normal, tangent)."""
+    ndn = 2 * nd + 1
+    nn = sup.phi_r.shape[0]
     if sup.stinger[ST_ON] != 0.0:
         for node in range(1, nn):
             if node != ends.top_node:
                 sup.phi_r[node] = 0.0
                 sup.phi_rp[node] = 0.0
-    if bnodes[2] >= 0:
-        # the node over the tip: its frame along the pipe (normal, tangent)
-        base = bnodes[2] * ndn
-        sup.phi_r[bnodes[2]] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
-    _system(nd, mesh.s_el, u, model, w.torques, w.ab, kl, kl, w.g, ends, sup.phi_r, sup.phi_rp,
-            True)
-    node_arcs(mesh.s_el, w.s_nd)
-    friction_forces(nd, u, w.g, w.ab, 2 * kl, model, sup.bed_active, sup.fric, w.fr_out, w.s_nd)
-    te_top = 0.0
-    if _solves_tb(ends):
-        te_top = _top_tension_row(nd, w.ab, kl, kl, w.g, u, ends.top_node, w.d)
-    for b in range(N_BND):
-        if bnodes[b] >= 0:
-            _boundary_column(nd, mesh.s_el, u, model, w.torques, mesh.s_b[b], w.bcols[b],
-                             sup.bed_active, sup.fric, w.s_nd)
-            w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
+    kt = mesh.bnodes[2]
+    if kt >= 0:
+        base = kt * ndn
+        sup.phi_r[kt] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
+
+
+@phase
+def _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td):
+    """Phase 2: the linear system in the nodal frames (stinger contacts in
+    curve coordinates) and the bordered unknowns (:func:`_border`).
+    Returns (the border unknowns, those of them other than the boundaries)."""
+    kl = 4 * nd + 1
     _rotate_all(nd, w.ab, kl, kl, w.g, sup.phi_r, sup.phi_rp, True)
     _curve_all(nd, w.ab, kl, kl, w.g, u, sup.stinger, sup.st_active, True)
-    return te_top
+    w.res_bnd[0] = m_td
+    return _border(nd, u, mesh, sup, ends, w, te_top)
 
 
-@jit
+@phase
 def _to_nodal_frames(nd, v, u, sup, w):
     """A global-frame row or column into the nodal frames and curve coordinates."""
     kl = 4 * nd + 1
@@ -592,9 +632,9 @@ def _to_nodal_frames(nd, v, u, sup, w):
     _curve_all(nd, w.no_ab, kl, kl, v, u, sup.stinger, sup.st_active, False)
 
 
-@jit
-def _border(nd, u, mesh, model, sup, ends, w, te_top):
-    """Phase 2: the bordered unknowns' rows (their equations' gradients),
+@phase
+def _border(nd, u, mesh, sup, ends, w, te_top):
+    """The bordered unknowns' rows (their equations' gradients),
     columns (dG/dz) and residuals: the bottom tension (its equation the top
     tension) and each boundary (its continuum condition). Returns (nb, the
     count of border unknowns other than the boundaries)."""
@@ -615,9 +655,9 @@ def _border(nd, u, mesh, model, sup, ends, w, te_top):
             continue
         w.col_t[:] = w.bcols[b]
         d_own = 0.0
-        if b == 0:
-            w.res_bnd[b], d_own = _free_moment(nd, mesh.s_el, u, model, w.torques, node,
-                                               mesh.s_b[b], w.row_t)
+        if b == 0:  # (evaluated by _evaluate)
+            w.row_t[:] = w.row_td
+            d_own = w.own_td[0]
         elif b == 1:
             w.res_bnd[b] = _tangency(nd, u, sup.stinger, b, node, w.row_t)
         else:
@@ -637,7 +677,7 @@ def _border(nd, u, mesh, model, sup, ends, w, te_top):
     return nb, nb_fixed
 
 
-@jit
+@phase
 def _constraint_set(nd, u, mesh, sup, ends, w, href):
     """Phase 3: the constrained unknowns (``w.cmask``) and their prescribed
     increments (``w.delta``, nodal frames): fixed ends, the seabed contacts
@@ -702,7 +742,7 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
     return max_delta
 
 
-@jit
+@phase
 def _imbalance(nd, mesh, ends, w, settings, te_top):
     """The residuals convergence is judged on: (weighted max and sum of
     squares of the free rows, the top tension's relative residual, the
@@ -719,7 +759,7 @@ def _imbalance(nd, mesh, ends, w, settings, te_top):
     return res_max, res_ssq, top_res, bnd_res
 
 
-@jit
+@phase
 def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     """Phase 4: whether this iteration holds the boundaries where they are.
 
@@ -749,7 +789,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     return False
 
 
-@jit
+@phase
 def _condensed_solve(nd, w, nb):
     """Phase 5: the Newton step by condensation and the bordered solve.
 
@@ -817,7 +857,7 @@ def _condensed_solve(nd, w, nb):
     return True
 
 
-@jit
+@phase
 def _border_steps(w, nb):
     """The bottom tension's step [N] (returned) and the boundaries' (``w.d_bnd``, m)."""
     dtb = 0.0
@@ -830,7 +870,7 @@ def _border_steps(w, nb):
     return dtb
 
 
-@jit
+@phase
 def _reactions(nd, w, nb, react):
     """Phase 6: the linearised reactions on the constrained rows, R_c = G_c +
     K_cf du_f + K_cc du_c + the border columns' share, in physical units."""
@@ -851,7 +891,7 @@ def _reactions(nd, w, nb, react):
             react[i] += w.cols[j, i] * w.dz[j]
 
 
-@jit
+@phase
 def _step_length(nd, u, mesh, sup, w, hold, href):
     """Phase 7: the longest fraction of the step the contact boundaries allow,
     and the status that stops the call (-1: none).
@@ -918,38 +958,32 @@ def _step_length(nd, u, mesh, sup, w, hold, href):
     return alpha, -1
 
 
-@jit
-def _trial_merit(nd, u, mesh, model, sup, ends, w, settings, hold):
-    """The merit (sum of squared weighted residuals, the top tension's and the
-    boundaries' equations unless held) at the trial state in ``u``."""
-    kl = 4 * nd + 1
-    _system(nd, mesh.s_el, u, model, w.torques, w.no_ab, kl, kl, w.g_trial, ends,
-            sup.phi_r, sup.phi_rp, False)
-    node_arcs(mesh.s_el, w.s_nd)
-    friction_forces(nd, u, w.g_trial, w.no_ab, 0, model, sup.bed_active, sup.fric, w.fr_out,
-                    w.s_nd)
+@phase
+def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td):
+    """The merit at a trial state (its residual in ``w.g_trial`` from
+    :func:`_evaluate`): the sum of squared weighted residuals, the top
+    tension's and the boundaries' equations (unless held)."""
+    bnodes = mesh.bnodes
+    fref = settings.fref
+    href = settings.href
     tr = 0.0
     if _solves_tb(ends):
-        tr = (_top_te(nd, w.g_trial, u, ends.top_node) - ends.top_target) / ends.top_target
-    bnodes = mesh.bnodes
+        tr = (te_top - ends.top_target) / ends.top_target
     tdr = 0.0
     if bnodes[0] >= 0 and not hold:
-        v, _d = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[0], mesh.s_b[0],
-                             w.no_row)
-        tdr += (v / (settings.fref * settings.href)) ** 2
+        tdr += (m_td / (fref * href)) ** 2
     if bnodes[1] >= 0 and not hold:
         tdr += _tangency(nd, u, sup.stinger, 1, bnodes[1], w.row_t) ** 2
     if bnodes[2] >= 0 and not hold:
-        tdr += (_over_tip(nd, u, sup.stinger, bnodes[2], w.row_t) / settings.href) ** 2
+        tdr += (_over_tip(nd, u, sup.stinger, bnodes[2], w.row_t) / href) ** 2
     _to_nodal_frames(nd, w.g_trial, u, sup, w)
-    _rm, rs = _weighted_max(nd, w.g_trial, w.cmask, settings.fref, settings.href)
+    _rm, rs = _weighted_max(nd, w.g_trial, w.cmask, fref, href)
     return rs + tr * tr + tdr
 
 
-@jit
-def _line_search(nd, u, mesh, model, sup, ends, w, settings, alpha0, dtb, hold, merit0):
-    """Phase 8: backtracking on the merit from ``alpha0``; the state is left
-    at the step taken.
+@phase
+def _accepts(m1, merit0, alpha, tol, mesh, hold):
+    """Phase 8's test: whether the line search takes the trial step.
 
     With the boundaries unknowns the (limited) full step is taken: the
     weighted residual rises across good steps there, as the element lengths
@@ -959,29 +993,14 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, alpha0, dtb, hold, 
     stinger's boundaries from equilibrium (not held) is taken as limited: the
     merit there rises by up to 1e7 across good steps (the short elements of a
     closing gap span); cut, the span crept by 6 % a step (S125 2D, full grid:
-    at most 82 iterations at 4 m and 344 at 1 m; taken so, 42 and 58). Where
-    no trial is accepted the limited step is taken anyway (the merit is flat:
-    a change of constraint, a constraint correction)."""
+    at most 82 iterations at 4 m and 344 at 1 m; taken so, 42 and 58)."""
     has_bnd = mesh.bnodes[0] >= 0 or mesh.bnodes[1] >= 0
     has_lo = mesh.bnodes[1] >= 0
-    tb_old = ends.tb[0]
-    alpha = alpha0
-    for _ls in range(12):
-        _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-                   tb_old, dtb, has_bnd, mesh, w)
-        m1 = _trial_merit(nd, u, mesh, model, sup, ends, w, settings, hold)
-        if (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < (settings.tol * settings.tol)
-                or m1 < 1e-300 or (has_bnd and m1 <= MERIT_RISE * merit0)
-                or (has_lo and not hold and m1 < 1e300)):
-            return
-        if not (m1 < 1e300) and alpha < 1e-3:
-            break
-        alpha *= 0.5
-    _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-               tb_old, dtb, has_bnd, mesh, w)
+    return (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < tol * tol or m1 < 1e-300
+            or (has_bnd and m1 <= MERIT_RISE * merit0) or (has_lo and not hold and m1 < 1e300))
 
 
-@jit
+@phase
 def _tip_update(nd, u, mesh, sup, w, react, settings):
     """Phase 9: the tip's contact by the complementarity min(R, c g) = 0
     (semismooth Newton: the branch that the present normal reaction R and gap
@@ -1000,7 +1019,7 @@ def _tip_update(nd, u, mesh, sup, w, react, settings):
     return bears != bearing
 
 
-@jit
+@phase
 def _same_hold(nd, u, mesh, sup, ends, w):
     """True when the lateral hold the iteration used is the one of the nodes
     where they now are (a node that slid below the tip during the call is
@@ -1067,8 +1086,9 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     # nodes held laterally by the stinger, fixed during the step
     lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, w.y_held)
     for it in range(1, settings.maxit + 1):
-        te_top = _linearise(nd, u, mesh, model, sup, ends, w)
-        nb, nb_fixed = _border(nd, u, mesh, model, sup, ends, w, te_top)
+        _nodal_frames(nd, u, mesh, sup, ends)
+        te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, True)
+        nb, nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
         max_delta = _constraint_set(nd, u, mesh, sup, ends, w, href)
         res_max, res_ssq, top_res, bnd_res = _imbalance(nd, mesh, ends, w, settings, te_top)
         if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
@@ -1114,7 +1134,27 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         if stop >= 0:
             status = stop
             break
-        _line_search(nd, u, mesh, model, sup, ends, w, settings, alpha, dtb, hold, merit0)
+        # ---- phase 8: backtracking from the limited step; where no trial is
+        # accepted the limited step is taken anyway (the merit is flat: a
+        # change of constraint, a constraint correction)
+        has_bnd = mesh.bnodes[0] >= 0 or mesh.bnodes[1] >= 0
+        tb_old = ends.tb[0]
+        alpha0 = alpha
+        accepted = False
+        for _ls in range(12):
+            _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
+                       tb_old, dtb, has_bnd, mesh, w)
+            te_t, m_t = _evaluate(nd, u, mesh, model, sup, ends, w, w.g_trial, False)
+            m1 = _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_t, m_t)
+            if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
+                accepted = True
+                break
+            if not (m1 < 1e300) and alpha < 1e-3:
+                break
+            alpha *= 0.5
+        if not accepted:
+            _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
+                       tb_old, dtb, has_bnd, mesh, w)
         last_step = 0.0
         r_max = 0.0
         for i in range(n):
