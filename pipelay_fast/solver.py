@@ -44,7 +44,7 @@ from .kernels.contact import (
     tip_geometry,
 )
 from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_BND, N_INFO, _system, newton
-from .kernels.types import Ends, Mesh, Model, Settings, Supports
+from .kernels.types import Ends, Mesh, Model, Settings, Supports, load_factors
 from .limits import IterationBudget, check_mesh_size, strain_beyond_line
 from .mesh import graded_nodes
 from .model import build_props, dimension_of, pin_jump
@@ -401,15 +401,6 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
                    stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof,
                    np.array([float(tb)]), top,
                    top_target, fref, stats["h_max"], stats=stats)
-
-
-def load_factors(current: float, friction: bool) -> np.ndarray:
-    """The load path's factors (layout ``F_*``): the current's drag factor and
-    whether seabed friction acts."""
-    f = np.zeros(L.N_FACTORS)
-    f[L.F_CURRENT] = current
-    f[L.F_FRICTION] = 1.0 if friction else 0.0
-    return f
 
 
 def _run_newton(pb: Problem, g_off, tol, maxit):

@@ -51,7 +51,7 @@ import numpy as np
 from .._jit import jit
 from . import layout as L
 from .loads import drag_force, effective_weight, wall_minus_effective
-from .types import Model
+from .types import Model, load_factors
 
 _G = np.sqrt(3.0 / 7.0 - 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
 _H = np.sqrt(3.0 / 7.0 + 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
@@ -151,9 +151,8 @@ def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=No
     calls; it always calls the kernel with the same argument types.
     """
     want_dle = dfe is not None
-    factors = np.zeros(L.N_FACTORS)
-    factors[L.F_CURRENT] = current_factor
-    element_force_ws(nd, le, ue, Model(props, table, factors), torque, fe, ke, want_tangent,
+    model = Model(props, table, load_factors(current_factor, False))
+    element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent,
                      dfe if want_dle else np.empty(0), want_dle,
                      np.empty(WORK_SIZE), np.empty((3, 3)))
 

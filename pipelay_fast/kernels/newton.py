@@ -558,10 +558,11 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     touchdown's row (``w.row_td``, ``w.own_td``). The line search calls it
     for its trial states without the tangent.
 
-    (The only kernel above the element's but newton: numba optimises each
-    kernel with all its callees linked in, so every kernel above the
-    element's adds the element's compile time again; measured on S67, two
-    more of them cost 18 % more compile time.)
+    (The one phase that calls the element kernel's callers: numba optimises
+    each kernel with all its callees linked in, so a kernel of its own above
+    the element's adds the element's compile time again. The phases are
+    inlined into newton (:func:`pipelay_fast._jit.phase`), and this keeps the
+    element's callers in one place.)
 
     Returns (the top's effective tension [N], touchdown's equation [N m])."""
     ndn = 2 * nd + 1

@@ -23,9 +23,22 @@ from __future__ import annotations
 
 from collections import namedtuple
 
+import numpy as np
+
+from . import layout as L
+
 Model = namedtuple("Model", ["props", "table", "factors"])
 Mesh = namedtuple("Mesh", ["s_el", "s_a", "s_b", "s_bd", "bnodes"])
 Supports = namedtuple("Supports", ["fix_mask", "fix_val", "phi_r", "phi_rp", "bed_active",
                                    "stinger", "st_active", "tip", "fric"])
 Ends = namedtuple("Ends", ["f_node", "g_off", "tb", "slide_dof", "top_node", "top_target"])
 Settings = namedtuple("Settings", ["tol", "fref", "href", "maxit"])
+
+
+def load_factors(current: float, friction: bool) -> np.ndarray:
+    """A Model's ``factors`` (layout ``F_*``): the current's drag factor and
+    whether seabed friction acts."""
+    f = np.zeros(L.N_FACTORS)
+    f[L.F_CURRENT] = current
+    f[L.F_FRICTION] = 1.0 if friction else 0.0
+    return f
