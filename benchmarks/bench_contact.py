@@ -75,7 +75,7 @@ GRID = {"quick": {"a_step": 1e-4, "tension_step": 200e3, "lengths": (2.0, 4.0),
         "full": {"a_step": 1e-5, "tension_step": 50e3, "lengths": (1.0, 2.0, 4.0, 8.0),
                  "warm_a": tuple(np.round(np.arange(-0.0021, -0.00089, 1e-4), 6))}}
 ITERATION_TARGET = 10  # Newton iterations per solve (2D) or per current step (3D)
-# Today's engine raises the current in at least 4 steps of 0.25 (solver.apply_current)
+# Today's engine raises the current in at least 4 steps of 0.25 (continuation.apply_current)
 # and reports only the total: total / 4 bounds the mean per current step from above.
 # A summary key "n_current_steps", if the engine adds one, is used instead.
 ASSUMED_CURRENT_STEPS = 4

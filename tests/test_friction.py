@@ -14,7 +14,7 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.guess import free_span
-from pipelay_fast.solver import slipping_length_bound
+from pipelay_fast.problem import slipping_length_bound
 from tests.helpers import EXAMPLES
 
 

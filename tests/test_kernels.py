@@ -9,13 +9,14 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
+from pipelay_fast.continuation import run_newton
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.banded import band_factor, band_matvec, band_solve, dense_to_band
 from pipelay_fast.kernels.contact import N_STINGER, friction_track
 from pipelay_fast.kernels.newton import I_RES
 from pipelay_fast.model import build_props
+from pipelay_fast.problem import Problem
 from pipelay_fast.results import foundation_force
-from pipelay_fast.solver import Problem, _run_newton
 
 
 @pytest.mark.parametrize("n,kl,ku", [(4, 1, 1), (7, 2, 3), (60, 9, 9), (200, 13, 13)])
@@ -76,7 +77,7 @@ def laid_pipe(case, nd, n_el=40, length=50.0, tension=2e5, lift=0.3):
 @pytest.mark.parametrize("nd", [2, 3])
 def test_pipe_laid_on_seabed_under_its_weight(j125, nd):
     pb = laid_pipe(j125, nd)
-    status, react, info = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
+    status, react, info = run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
     assert status == L.OK
     ndn = pb.ndn
     w = float(j125.effective_weight(0.0))
@@ -112,9 +113,9 @@ def test_newton_converges_quadratically(j125):
     for eps in (0.01, 0.005, 0.0025, 0.00125):
         pb = copy.deepcopy(state)
         pb.u[0::ndn] += eps * bump
-        _, _, info = _run_newton(pb, np.zeros_like(pb.u), 1e-14, 1)
+        _, _, info = run_newton(pb, np.zeros_like(pb.u), 1e-14, 1)
         before.append(info[I_RES])
-        _, _, info = _run_newton(pb, np.zeros_like(pb.u), 1e-14, 1)
+        _, _, info = run_newton(pb, np.zeros_like(pb.u), 1e-14, 1)
         after.append(info[I_RES])
     before, after = np.array(before), np.array(after)
     assert min(after) > 1e-8  # above the round-off floor, so the rates are meaningful
@@ -170,13 +171,13 @@ def test_lateral_friction_on_laid_pipe(j125, ratio):
     ndn = pb.ndn
     pb.fix_mask[(pb.nn - 1) * ndn + 1] = 1  # far end held laterally too
     pb.factors[L.F_CURRENT] = 0.0  # gravity first ...
-    status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
+    status, react, _ = run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
     assert status == L.OK
     pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, react[0::ndn], 0.0)
     pb.factors[L.F_FRICTION] = 1.0  # ... then the current, against friction
     for factor in (0.25, 0.5, 0.75, 1.0):
         pb.factors[L.F_CURRENT] = factor
-        status, react, _ = _run_newton(pb, np.zeros_like(pb.u), 1e-10, 80)
+        status, react, _ = run_newton(pb, np.zeros_like(pb.u), 1e-10, 80)
         assert status == L.OK
     y = pb.u[1::ndn]
     h = length / 200

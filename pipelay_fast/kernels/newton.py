@@ -73,7 +73,7 @@ change of regime); the merit may rise up to MERIT_RISE times (the weighted
 residual rises across good steps while the element lengths move with the
 boundaries). When lift-off reaches the tip from above and Newton moves it
 further, the kernel stops with PAST_TIP and the caller switches to bearing on
-the tip (:func:`pipelay_fast.solver.newton_with_fallback`); bearing, when a
+the tip (:func:`pipelay_fast.continuation.newton_in_regime`); bearing, when a
 step would more than halve a gap span already shorter than an element (no
 bearing solution: Newton would only creep towards a span of zero), it stops
 with SPAN_CLOSED and the caller switches to lifting off; when a step would

@@ -1,0 +1,482 @@
+"""A solve's problem as arrays: the mesh, its constraints and its state.
+
+:class:`Problem` holds what the Newton kernel reads (the case's data, the
+mesh that follows the contact boundaries, the supports, the ends, the
+state). It is built from the first guess (:func:`build_problem`), carried
+over from a solved neighbour (:func:`warm_problem`), or graded anew with the
+state interpolated onto the new mesh (:func:`remesh`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .boundaries import follow_boundaries, follow_nodes, touchdown_position
+from .case import Case
+from .guess import first_guess, shape
+from .kernels import layout as L
+from .kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
+from .kernels.newton import N_BND
+from .kernels.types import Ends, Model, Supports, load_factors
+from .limits import check_mesh_size
+from .mesh import graded_nodes
+from .model import build_props, dimension_of, pin_jump
+
+
+@dataclass
+class Problem:
+    """Everything a Newton solve needs, as arrays (one mesh, one set of constraints)."""
+
+    nd: int
+    s: np.ndarray  # node arc lengths [m]
+    props: np.ndarray
+    table: np.ndarray
+    u: np.ndarray  # nodal unknowns (global frame)
+    fix_mask: np.ndarray
+    fix_val: np.ndarray
+    phi_r: np.ndarray
+    phi_rp: np.ndarray
+    bed_active: np.ndarray
+    stinger: np.ndarray
+    st_active: np.ndarray
+    tip: np.ndarray
+    fric: np.ndarray
+    f_node: np.ndarray
+    slide_dof: int
+    tb: np.ndarray
+    top_node: int
+    top_target: float
+    fref: float
+    href: float
+    stats: dict = field(default_factory=dict)
+    before_current: list | None = None  # state snapshot before the current (friction path)
+    warm: bool = False  # started from a neighbour's answer (no load path: the cold start is)
+    tolerance: float | None = None  # Newton's tolerance when not solver.tolerance
+    # the mesh follows the contact boundaries: node i at s_a[i] + sum_b
+    # s_b[b, i] s_bd[b], touchdown on node bnodes[0], lift-off from (or
+    # re-contact with) the stinger on bnodes[1], the material point over the
+    # stinger's tip on bnodes[2] while it bears (-1: none; until the mesh is
+    # mapped, all -1)
+    bnodes: np.ndarray = field(default_factory=lambda: np.full(N_BND, -1, dtype=np.int64))
+    s_a: np.ndarray | None = None
+    s_b: np.ndarray | None = None
+    s_bd: np.ndarray = field(default_factory=lambda: np.zeros(N_BND))
+    # the load path's factors (layout F_*): the current's, full unless the
+    # friction path raises it in steps, and friction, off until that path
+    factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
+
+    def model(self) -> Model:
+        """What the element kernels read: the case's data and the load path's factors."""
+        return Model(self.props, self.table, self.factors)
+
+    def supports(self) -> Supports:
+        return Supports(self.fix_mask, self.fix_val, self.phi_r, self.phi_rp, self.bed_active,
+                        self.stinger, self.st_active, self.tip, self.fric)
+
+    def ends(self, g_off) -> Ends:
+        return Ends(self.f_node, g_off, self.tb, self.slide_dof, self.top_node,
+                    float(self.top_target))
+
+    def on_gravity_path(self):
+        """No current and no friction: the friction path's first stage."""
+        self.factors[:] = load_factors(0.0, False)
+
+    @property
+    def td_node(self) -> int:
+        return int(self.bnodes[0])
+
+    @property
+    def lo_node(self) -> int:
+        return int(self.bnodes[1])
+
+    @property
+    def tip_node(self) -> int:
+        return int(self.bnodes[2])
+
+    def follow(self, nodes, zones):
+        """Map the mesh onto the contact boundaries at ``nodes`` (touchdown,
+        lift-off or re-contact on the stinger, the stinger's tip; -1: none).
+
+        Anchors are the boundary nodes, the ends of the pipe and, for boundary
+        b, the nodes ``zones[b]`` = (below, above) [m] away from it, unless
+        another boundary lies nearer; every node between two anchors keeps its
+        share of the span between them, so each span's mesh is mapped onto its
+        present ends with its grading, and nodes outside every zone stay put.
+        """
+        s = self.s
+        nn = s.size
+        kind = {0: -1, nn - 1: -1}  # anchor node -> boundary (-1: a fixed material point)
+        for b, k in enumerate(nodes):
+            if k >= 0:
+                kind[int(k)] = b
+        bnd = sorted(int(k) for k in nodes if k >= 0)
+        for b, k in enumerate(nodes):
+            if k < 0:
+                continue
+            z_lo, z_hi = zones[b]
+            lower = max([j for j in bnd if j < k], default=0)
+            upper = min([j for j in bnd if j > k], default=nn - 1)
+            lo = int(np.searchsorted(s, s[k] - z_lo)) - 1
+            hi = int(np.searchsorted(s, s[k] + z_hi))
+            if lower < lo < k:
+                kind.setdefault(lo, -1)
+            if k < hi < upper:
+                kind.setdefault(hi, -1)
+        anchors = sorted(kind)
+        s_a = s.copy()
+        s_b = np.zeros((N_BND, nn))
+        for a0, a1 in zip(anchors[:-1], anchors[1:], strict=True):
+            i = np.arange(a0, a1 + 1)
+            f = (s[i] - s[a0]) / (s[a1] - s[a0])
+            s_a[i] = 0.0
+            for end, share in ((a0, 1.0 - f), (a1, f)):
+                if kind[end] < 0:
+                    s_a[i] += share * s[end]
+                else:
+                    s_b[kind[end], i] = share
+        for k, b in kind.items():  # the anchors themselves (counted twice above)
+            s_a[k] = s[k] if b < 0 else 0.0
+            s_b[:, k] = 0.0
+            if b >= 0:
+                s_b[b, k] = 1.0
+                self.s_bd[b] = s[k]
+        self.s_a, self.s_b = s_a, np.ascontiguousarray(s_b)
+        self.bnodes = np.asarray(nodes, dtype=np.int64)
+
+    def update_nodes(self):
+        """Node arc lengths from the boundary unknowns (after a solve)."""
+        if self.s_a is not None:
+            self.s[:] = self.s_a + self.s_bd @ self.s_b
+
+    @property
+    def ndn(self) -> int:
+        return 2 * self.nd + 1
+
+    @property
+    def nn(self) -> int:
+        return self.s.size
+
+    @property
+    def s_el(self) -> np.ndarray:
+        return np.diff(self.s)
+
+
+def _mesh_sizes(case: Case, h_bottom: float):
+    """h_max, h_min [m] and the flexural length sqrt(EI/T) [m] at touchdown."""
+    h_max = case.solver.element_length
+    lam = math.sqrt(case.pipe.bending_stiffness / h_bottom)
+    if case.solver.min_element_length is not None:
+        h_min = case.solver.min_element_length
+    else:
+        h_min = min(h_max, max(h_max / 8.0, 0.02 * lam))
+    return h_max, min(h_min, h_max), lam
+
+
+def build_problem(case: Case) -> Problem:
+    """First guess, graded mesh and constraints of a case."""
+    nd = dimension_of(case)
+    ndn = 2 * nd + 1
+    h_max = case.solver.element_length
+
+    def laid_default(cat):
+        return (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
+                + slipping_length_bound(case, cat))
+
+    g = first_guess(case, laid_default)
+    h_max, h_min, lam = _mesh_sizes(case, g.cat.h)
+    # A stiff pipe touches down about one flexural length before the catenary
+    # does (boundary-layer asymptotics): the mesh is finest there and the
+    # initial seabed contact ends there.
+    s_focus = max(g.laid - lam, 0.25 * g.laid)
+    foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
+    s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading,
+                     check=lambda n: check_mesh_size(case, n, g.total, g.laid,
+                                                     _laid_source(case, g.cat, lam)))
+    x, z, th, te, kappa = shape(case, g, s)
+    u = np.zeros(s.size * ndn)
+    u[0::ndn] = x
+    u[nd - 1::ndn] = z
+    u[nd::ndn] = np.sin(th)
+    u[2 * nd - 1::ndn] = np.cos(th)
+    u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
+    stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
+             "focus": s_focus,
+             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
+             "at_tip": g.at_tip}
+    fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
+               case.lay.top_tension or 0.0)
+    pb = _problem(case, nd, s, u, g.cat.h, fref, stats)
+    follow_boundaries(case, pb, s_focus)
+    return pb
+
+
+def _laid_source(case: Case, cat, lam: float) -> str:
+    """What set the laid length of the first mesh (for the mesh-size check)."""
+    if case.lay.pipe_length is not None:
+        return f"lay.pipe_length = {case.lay.pipe_length!r} m less the suspended span"
+    if case.solver.laid_length is not None:
+        return f"solver.laid_length = {case.solver.laid_length!r} m"
+    text = (f"the default of solver.laid_length: two flexural lengths sqrt(EI/T) = {lam:.4g} m "
+            "at touchdown, five elements")
+    slip = slipping_length_bound(case, cat)
+    if slip > 0.0:
+        text += (f" and {slip:.4g} m for seabed friction to take up the lateral drag "
+                 "(environment.current.speed, seabed.lateral_friction)")
+    return text
+
+
+def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
+    """Constraint arrays for nodes ``s`` with state ``u``. The contact sets
+    start empty: the mapping of the mesh onto the boundaries sets them
+    (:func:`follow_boundaries`, :func:`remesh`), or a warm start copies them."""
+    ndn = 2 * nd + 1
+    nn = s.size
+    lay = case.lay
+    x_top, z_top = lay.top
+    fix_mask = np.zeros(nn * ndn, dtype=np.int8)
+    fix_val = np.zeros(nn * ndn)
+    phi_r = np.zeros(nn)
+    phi_rp = np.zeros(nn)
+    top = nn - 1
+    base = top * ndn
+    for i, val in enumerate((x_top, 0.0, z_top) if nd == 3 else (x_top, z_top)):
+        fix_mask[base + i] = 1
+        fix_val[base + i] = val
+    stinger = np.zeros(N_STINGER)
+    st = lay.stinger
+    pinned = lay.top_angle == "pinned"
+    top_angle = None if pinned else lay.top_angle
+    if st is not None:
+        stinger[:] = (st.a, st.b, st.c, st.lower[1], st.upper[1], 1.0)
+        if top_angle is None:
+            # the firing line, and below a pinned top (the pipe conforms up to
+            # the pin, model.pin_jump): held along the stinger's tangent
+            top_angle = float(st.angle(st.upper[1]))
+    if top_angle is not None:
+        phi_rp[top] = math.radians(top_angle)
+        fix_mask[base + nd] = 1  # r' normal to the prescribed direction = 0
+        if nd == 3 and not pinned:
+            fix_mask[base + nd + 1] = 1  # r'_y = 0
+    # lower end: on the seabed with y held; z held only with a given pipe length
+    fix_mask[0] = 1
+    if nd == 3:
+        fix_mask[1] = 1
+    zi = nd - 1
+    slide_dof, top_target = zi, 0.0
+    if lay.pipe_length is not None:
+        fix_mask[zi] = 1
+        fix_val[zi] = u[zi]
+        slide_dof, tb = -1, 0.0
+    elif lay.top_tension is not None:
+        top_target = lay.top_tension - pin_jump(case)  # Te below a pinned top
+    else:
+        tb = lay.bottom_tension
+    if not case.seabed.is_rigid:  # a foundation: the lower end's x free
+        fix_mask[0] = 0
+    bed_active = np.zeros(nn, dtype=np.int8)
+    st_active = np.zeros(nn, dtype=np.int8)
+    props, table = build_props(case)
+    fric = np.zeros((nn, L.N_FRIC))
+    anchor_friction(fric, u, nd, s)
+    return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed_active,
+                   stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof,
+                   np.array([float(tb)]), top,
+                   top_target, fref, stats["h_max"], stats=stats)
+
+
+STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp", "s", "s_bd")
+
+
+def snapshot(pb: Problem):
+    return [getattr(pb, name).copy() for name in STATE]
+
+
+def restore(pb: Problem, snap):
+    for name, arr in zip(STATE, snap, strict=True):
+        getattr(pb, name)[:] = arr
+
+
+def warm_problem(case: Case, old: Problem) -> Problem:
+    """The problem of ``case`` on the mesh of a solved neighbouring case, its
+    state (shape, contacts, tension) the starting point. On the friction path
+    the state before the current is taken, so that the slip path is followed
+    from gravity alone again."""
+    nd = dimension_of(case)
+    if nd != old.nd:
+        raise ValueError(f"warm: a {old.nd}D solution cannot start a {nd}D case")
+    if (old.stinger[ST_ON] != 0.0) != (case.lay.stinger is not None):
+        raise ValueError(f"warm: lay.method {case.lay.method!r} differs from the warm case's")
+    state = dict(zip(STATE, old.before_current or snapshot(old), strict=True))
+    new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0], old.fref,
+                   dict(old.stats))
+    new.warm = True
+    for name in ("bed_active", "st_active", "tip", "fric"):
+        getattr(new, name)[:] = state[name]
+    if old.s_a is not None:
+        new.bnodes, new.s_a, new.s_b = old.bnodes.copy(), old.s_a.copy(), old.s_b.copy()
+        new.s_bd = state["s_bd"].copy()
+        new.s[:] = state["s"]
+    _onto_stinger(new, old.stinger)
+    return new
+
+
+def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
+    """Carry a warm state over to a changed stinger: every node over the
+    stinger's z range moves in x by the change of the curve there (which
+    vanishes at both ends when only ``a`` changed), its slope with it, so the
+    contacts start on the new curve and the free span keeps its shape."""
+    if pb.stinger[ST_ON] == 0.0 or old_stinger[ST_ON] == 0.0:
+        return
+    nd, ndn = pb.nd, pb.ndn
+    z = pb.u[nd - 1::ndn].copy()
+    zp = pb.u[2 * nd - 1::ndn].copy()
+    over = (z >= pb.stinger[ST_ZL]) & (z <= pb.stinger[ST_ZU])
+
+    def curve(st, zz):
+        return (st[ST_A] * zz + st[ST_B]) * zz + st[ST_C], 2.0 * st[ST_A] * zz + st[ST_B]
+
+    x_new, dx_new = curve(pb.stinger, z[over])
+    x_old, dx_old = curve(old_stinger, z[over])
+    shift, slope = x_new - x_old, dx_new - dx_old
+    # below the tip, down to touchdown: a shift that continues the slope
+    # change at the tip and vanishes at touchdown (no kink at the tip)
+    z_l = pb.stinger[ST_ZL]
+    z_td = float(np.interp(touchdown_position(pb), pb.s, z))
+    span = (z < z_l) & (z > z_td)
+    if span.any() and z_l > z_td:
+        k = curve(pb.stinger, np.array([z_l]))[1][0] - curve(old_stinger, np.array([z_l]))[1][0]
+        zs = z[span]
+        shift = np.concatenate([shift, k * (zs - z_l) * (zs - z_td) / (z_l - z_td)])
+        slope = np.concatenate([slope, k * (2.0 * zs - z_l - z_td) / (z_l - z_td)])
+        over = np.concatenate([np.flatnonzero(over), np.flatnonzero(span)])
+    else:
+        over = np.flatnonzero(over)
+    idx = over * ndn
+    pb.u[idx] += shift
+    rp = pb.u[(idx + nd)[:, None] + np.arange(nd)]
+    stretch = np.linalg.norm(rp, axis=1)  # kept: the axial strain is unchanged
+    rp[:, 0] += slope * zp[over]
+    rp *= (stretch / np.linalg.norm(rp, axis=1))[:, None]
+    pb.u[(idx + nd)[:, None] + np.arange(nd)] = rp
+
+
+def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
+           laid: float | None = None) -> Problem:
+    """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
+    state interpolated onto it.
+
+    Laid pipe is prepended when touchdown came closer to the lower end than one
+    flexural length (to two of them), or to ``laid`` [m] behind touchdown when
+    that is given.
+    """
+    nd, ndn = pb.nd, pb.ndn
+    lam = pb.stats["flexural_length"]
+    extra = 0.0
+    if case.lay.pipe_length is None and s_tdp < lam:
+        extra = 2.0 * lam - s_tdp
+    if laid is not None:
+        extra = max(extra, laid - s_tdp)
+    total = pb.s[-1] + extra
+    focus = s_tdp + extra
+    held = [f + extra for f in stinger_foci]
+    foci = [focus, total, *held]
+    source = (f"remeshed, {extra:.4g} m of it prepended to keep two flexural lengths "
+              f"sqrt(EI/T) = {lam:.4g} m behind touchdown, which a lower tension T there "
+              "lengthens")
+    s = graded_nodes(total, foci, pb.stats["h_max"], pb.stats["h_min"],
+                     check=lambda n: check_mesh_size(case, n, total, focus, source))
+    u = interpolate_state(pb.s + extra, pb.u, nd, s)
+    first = s < extra
+    if first.any():
+        u[0::ndn][first] = 0.0
+        u[nd - 1::ndn][first] = pb.u[nd - 1] - (extra - s[first])
+        u[nd::ndn][first] = 0.0
+        u[2 * nd - 1::ndn][first] = 1.0
+        u[2 * nd::ndn][first] = pb.u[2 * nd]
+        if nd == 3:
+            u[1::ndn][first] = pb.u[1]
+            u[nd + 1::ndn][first] = 0.0
+    stats = dict(pb.stats, focus=focus, stinger_foci=held)
+    new = _problem(case, nd, s, u, pb.tb[0], pb.fref, stats)
+    new.warm, new.tolerance = pb.warm, pb.tolerance
+    # the new mesh follows the same boundaries, each on the node graded onto it
+    def at(k):
+        return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))
+    new.bed_active[:] = 0
+    new.bed_active[1:at(pb.td_node) + 1] = 1
+    if pb.lo_node >= 0:
+        new.st_active[:] = 0
+        new.st_active[at(pb.lo_node):-1] = 1
+    follow_nodes(case, new, (at(pb.td_node), at(pb.lo_node), at(pb.tip_node)))
+    new.tip[:] = pb.tip  # a bearing tip keeps bearing (its point moves with the pipe)
+    return new
+
+
+def slipping_length_bound(case: Case, cat) -> float:
+    """Laid length [m] over which friction takes up the lateral drag's share at
+    touchdown, so that the held lower end carries none (0 off the friction
+    path or without a lateral current).
+
+    The suspended span, the natural catenary ``cat`` (:mod:`.catenary`), as a
+    taut string from touchdown to its top, straight in height: the lateral
+    drag q(t) on it puts a share int q (1 - t) ds on touchdown, which friction
+    mu w carries over its slipping length. The string ignores the pipe's
+    lateral bending and the drag's fall as the pipe swings, so this bounds the
+    slipping length found (about twice it in J125, 1 and 2 m/s).
+    """
+    ey = case.current_direction[0]
+    if not (friction_path(case) and dimension_of(case) == 3 and ey != 0.0):
+        return 0.0
+    t = np.linspace(0.0, 1.0, 65)
+    pipe = case.pipe
+    speed = np.asarray(case.current_speed_at(t * cat.x_top)) * ey
+    q = (0.5 * case.environment.water_density * pipe.drag_coefficient
+         * pipe.hydrodynamic_diameter * speed**2) * (1.0 - t)
+    share = cat.length * float(np.sum(0.5 * (q[1:] + q[:-1]) * np.diff(t)))
+    return share / (case.seabed.lateral_friction * float(case.effective_weight(0.0)))
+
+
+def friction_path(case: Case) -> bool:
+    """True when seabed friction meets the current: its load path is followed."""
+    lateral = dimension_of(case) == 3 and case.seabed.lateral_friction > 0.0
+    return (lateral or case.seabed.axial_friction > 0.0) and case.environment.current.speed > 0.0
+
+
+def anchor_friction(fric, u, nd, s):
+    """Friction springs unstretched: anchors at the nodes' present positions
+    and material points (arc lengths ``s`` [m])."""
+    ndn = 2 * nd + 1
+    fric[:, L.FR_S] = s
+    fric[:, L.FR_Z] = u[nd - 1::ndn]
+    if nd == 3:
+        fric[:, L.FR_Y] = u[1::ndn]
+    fric[:, L.FR_DIR] = 0.0
+    fric[:, L.FR_DIRZ] = 0.0
+
+
+def interpolate_state(s_old, u_old, nd, s_new):
+    """Hermite interpolation of (r, r') and linear interpolation of lambda."""
+    ndn = 2 * nd + 1
+    idx = np.clip(np.searchsorted(s_old, s_new, side="right") - 1, 0, s_old.size - 2)
+    le = s_old[idx + 1] - s_old[idx]
+    xi = np.clip((s_new - s_old[idx]) / le, 0.0, 1.0)
+    n1 = 1 - 3 * xi**2 + 2 * xi**3
+    n2 = le * (xi - 2 * xi**2 + xi**3)
+    n3 = 3 * xi**2 - 2 * xi**3
+    n4 = le * (-(xi**2) + xi**3)
+    d1 = (-6 * xi + 6 * xi**2) / le
+    d2 = 1 - 4 * xi + 3 * xi**2
+    d3 = (6 * xi - 6 * xi**2) / le
+    d4 = -2 * xi + 3 * xi**2
+    u = np.zeros(s_new.size * ndn)
+    for i in range(nd):
+        ra, rb = u_old[i::ndn][idx], u_old[i::ndn][idx + 1]
+        pa, pbv = u_old[nd + i::ndn][idx], u_old[nd + i::ndn][idx + 1]
+        u[i::ndn] = n1 * ra + n2 * pa + n3 * rb + n4 * pbv
+        u[nd + i::ndn] = d1 * ra + d2 * pa + d3 * rb + d4 * pbv
+    la, lb = u_old[2 * nd::ndn][idx], u_old[2 * nd::ndn][idx + 1]
+    u[2 * nd::ndn] = (1 - xi) * la + xi * lb
+    return u
