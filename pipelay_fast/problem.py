@@ -67,6 +67,12 @@ class Problem:
     # the load path's factors (layout F_*): the current's, full unless the
     # friction path raises it in steps, and friction, off until that path
     factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
+    # the nodes the stinger holds laterally (3D), as the last Newton call held them
+    y_held: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.y_held is None:
+            self.y_held = np.zeros(self.s.size, dtype=np.bool_)
 
     def model(self) -> Model:
         """What the element kernels read: the case's data and the load path's factors."""
@@ -74,7 +80,7 @@ class Problem:
 
     def supports(self) -> Supports:
         return Supports(self.fix_mask, self.fix_val, self.phi_r, self.phi_rp, self.bed_active,
-                        self.stinger, self.st_active, self.tip, self.fric)
+                        self.stinger, self.st_active, self.tip, self.fric, self.y_held)
 
     def ends(self, g_off) -> Ends:
         return Ends(self.f_node, g_off, self.tb, self.slide_dof, self.top_node,

@@ -17,9 +17,9 @@ import pandas as pd
 
 from .case import Case
 from .design import DESIGN_UNITS, design_columns
-from .model import pin_jump
 from .kernels import layout as L
-from .kernels.contact import ST_ON, lateral_hold, tip_geometry
+from .kernels.contact import ST_ON
+from .model import pin_jump
 
 PROFILE_UNITS = {
     "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
@@ -127,15 +127,6 @@ def nodal_fields(nd, s, u, clamped=None):
     return r, rp, rpp
 
 
-def lateral_clamp(pb) -> np.ndarray | None:
-    """Nodes the stinger holds laterally (3D S-lay), as the Newton kernel holds them."""
-    if pb.nd != 3 or pb.stinger[ST_ON] == 0.0:
-        return None
-    held = np.zeros(pb.nn, dtype=np.bool_)
-    lateral_hold(pb.nd, pb.s_el, pb.u, pb.stinger, pb.top_node, pb.fix_mask, held)
-    return held
-
-
 def signed_curvature_vector(nd, rp, rpp):
     """Curvature vector (r' x r'')/|r'|^3 in (x, y, z) [1/m]; 2D embeds y = 0."""
     if nd == 2:
@@ -221,30 +212,13 @@ def constraint_forces(nd, pb, react):
 
 
 def tip_force(pb):
-    """The stinger tip's reaction, or None when the tip does not bear.
-
-    Returns (the element's two nodes, their shares N_a, N_b of the point load,
-    the normal reaction [N], the (x, z) force on the pipe [N]); with a node on
-    the tip, that node, share 1, the reaction and None.
-    """
+    """The stinger tip's reaction: (the node over the tip, its normal reaction
+    [N]), or None when the tip does not bear. Bearing, a node follows the
+    material point over the tip (:mod:`.boundaries`), and the reaction is the
+    multiplier of its contact."""
     if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
         return None
-    if pb.tip_node >= 0:  # a node on the tip (the boundaries mode): its normal reaction
-        k = pb.tip_node
-        return np.array([k]), np.array([1.0]), float(pb.tip[1]), None
-    grad = np.zeros_like(pb.u)
-    found, _gap, cos_t, _s = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger, grad)
-    if not found:
-        return None
-    ndn, zi = pb.ndn, pb.nd - 1
-    x_part = grad[0::ndn]
-    nodes = np.flatnonzero(x_part != 0.0)[:2]
-    mu = float(pb.tip[1])
-    shares = x_part[nodes]
-    z_part = grad[zi::ndn][nodes]
-    k = 0 if shares[0] != 0 else 1
-    force = np.array([mu, mu * z_part[k] / shares[k]])
-    return nodes, shares, mu / cos_t, force
+    return int(pb.tip_node), float(pb.tip[1])
 
 
 def build_profile(case: Case, pb, react) -> dict:
@@ -252,7 +226,7 @@ def build_profile(case: Case, pb, react) -> dict:
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
     pipe = case.pipe
     ei = pipe.bending_stiffness
-    r, rp, rpp = nodal_fields(nd, s, u, lateral_clamp(pb))
+    r, rp, rpp = nodal_fields(nd, s, u, pb.y_held)
     kvec, t3 = signed_curvature_vector(nd, rp, rpp)
     jump = pin_jump(case)
     if jump:  # a pinned S-lay top: the pin's own values, past the moment's fall
@@ -304,14 +278,11 @@ def build_profile(case: Case, pb, react) -> dict:
     contact[-1] = "fixed"
     reaction = constraint_forces(nd, pb, react)
     tip = tip_force(pb)
-    if tip is not None:
-        # the tip's point force shared by the two nodes of its element
-        nodes, shares, normal, force = tip
-        stinger[nodes] += normal * shares
-        if force is not None:  # a node on the tip has it among its constraint forces
-            reaction[nodes, 0] += force[0] * shares
-            reaction[nodes, 2] += force[1] * shares
-        contact[nodes] = np.where(contact[nodes] == "free", "tip", contact[nodes])
+    if tip is not None:  # the node over the tip (its force is among the constraint forces)
+        k, normal = tip
+        stinger[k] += normal
+        if contact[k] == "free":
+            contact[k] = "tip"
     return {
         "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,
         "effective_tension": te, "wall_tension": tw,
@@ -362,7 +333,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         sag_m = interior_peak(mom[beyond])
         suspended = float(s[-1] - s_tdp)
     bearing = tip_force(pb)
-    tip = 0.0 if bearing is None else float(bearing[2])
+    tip = 0.0 if bearing is None else bearing[1]
     r, rp, _ = nodal_fields(pb.nd, s, pb.u)
     departure = liftoff_angle if stinger is not None else float(cols["angle_deg"][-1])
     design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure)

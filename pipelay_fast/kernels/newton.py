@@ -513,7 +513,7 @@ Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
     "scale", "torques", "rows", "cols", "ys", "res_b", "d_b", "kind", "dz", "sm", "rh",
     "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
-    "y_held", "y_now", "no_row", "no_ab", "row_td", "own_td"])
+    "y_now", "no_row", "no_ab", "row_td", "own_td"])
 
 
 @phase
@@ -539,7 +539,7 @@ def _work(nd, n, nn, nel, props, href):
         np.zeros(N_BORDER), np.zeros((N_BORDER, N_BORDER)), np.zeros(N_BORDER),
         np.zeros((N_BND, n)), np.zeros(n), np.zeros(n), np.zeros(N_BND), np.zeros(N_BND),
         np.zeros(N_BND), np.zeros(N_BND), np.zeros(nn), np.zeros(n),
-        np.zeros(nn, dtype=np.bool_), np.zeros(nn, dtype=np.bool_), np.zeros(0),
+        np.zeros(nn, dtype=np.bool_), np.zeros(0),
         np.zeros((1, 1)), np.zeros(n), np.zeros(1))
 
 
@@ -725,7 +725,7 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
                 if node > 0 and sup.st_active[node - 1] != 0:
                     w.cmask[base + nd] = True
                     w.delta[base + nd] = -(u[base + nd] - fp * u[base + 2 * nd - 1])
-            if w.y_held[node]:  # on the stinger's plane and tangent to it
+            if sup.y_held[node]:  # on the stinger's plane and tangent to it
                 w.cmask[base + 1] = True
                 w.delta[base + 1] = -u[base + 1]
                 w.cmask[base + nd + 1] = True
@@ -1028,9 +1028,9 @@ def _same_hold(nd, u, mesh, sup, ends, w):
     lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, w.y_now)
     same = True
     for node in range(w.y_now.shape[0]):
-        if w.y_now[node] != w.y_held[node]:
+        if w.y_now[node] != sup.y_held[node]:
             same = False
-            w.y_held[node] = w.y_now[node]
+            sup.y_held[node] = w.y_now[node]
     return same
 
 
@@ -1057,7 +1057,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         stinger contacts (lift-off, or re-contact, to the top); tip (2,)
         [bearing (0/1), normal reaction [N]], updated; fric (nn, N_FRIC) the
         seabed friction springs (``FR_*``), anchors moved by the return
-        mapping when the call converges
+        mapping when the call converges; y_held (nn,) bool, output, the nodes
+        the stinger holds laterally (3D), the converged set on OK
     ends : :data:`.types.Ends`
         f_node (ndof,) nodal loads [N]; g_off (ndof,) residual offset (load-path
         homotopy); tb (1,) bottom tension [N], an unknown when top_target > 0,
@@ -1085,7 +1086,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     it = 0
     res_start = 1.0
     # nodes held laterally by the stinger, fixed during the step
-    lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, w.y_held)
+    lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, sup.y_held)
     for it in range(1, settings.maxit + 1):
         _nodal_frames(nd, u, mesh, sup, ends)
         te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, True)
