@@ -48,7 +48,8 @@ def _residual(pb: Problem):
     g = np.zeros_like(pb.u)
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
     _system(pb.nd, pb.s_el, pb.u, pb.model(), torques, np.zeros((1, 1)), 1, 1, g,
-            pb.ends(np.zeros_like(pb.u)), pb.phi_r, pb.phi_rp, False)
+            pb.ends(np.zeros_like(pb.u)), False, np.zeros((N_BND, pb.nn)),
+            np.full(N_BND, -1, dtype=np.int64), np.zeros((N_BND, 1)))
     friction_forces(pb.nd, pb.u, g, np.zeros((1, 1)), 0, pb.model(), pb.bed_active, pb.fric,
                     np.zeros_like(pb.u), pb.s)
     g[pb.fix_mask != 0] = 0.0

@@ -13,32 +13,55 @@ from .element import WORK_SIZE, element_force_ws
 
 
 @jit
-def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent):
+def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes, bcols):
     """Global residual ``g`` (= internal - distributed external forces) and tangent.
 
     ``u`` holds the nodal unknowns node by node, so element ``e`` owns the
     contiguous slice ``u[e*ndn : e*ndn + 2*ndn]`` and its block lands inside the
     band. Nodal loads, rotations and constraints are applied afterwards.
+
+    With the tangent, each contact boundary b that is an unknown
+    (``bnodes[b] >= 0``) gets its column dG/ds_b at fixed ``u`` in ``bcols[b]``,
+    in the same pass: the mesh maps node i to s_a[i] + sum_b s_b[b, i] s_bd[b],
+    so s_b changes element e's length at the rate s_b[b, e+1] - s_b[b, e], and
+    the column is the sum of the elements' dG/dle times those rates.
     """
     ndn = 2 * nd + 1
     ne = 2 * ndn
     nel = s_el.shape[0]
+    nbnd = bnodes.shape[0]
     fe = np.empty(ne)
     ke = np.empty((ne, ne))
+    dfe = np.empty(ne)
     ws = np.empty(WORK_SIZE)
     wm = np.empty((3, 3))
-    no_dfe = np.empty(0)
     g[:] = 0.0
+    any_bnd = False
     if want_tangent:
         ab[:, :] = 0.0
+        for b in range(nbnd):
+            if bnodes[b] >= 0:
+                any_bnd = True
+                bcols[b, :] = 0.0
     for e in range(nel):
         g0 = e * ndn
+        want_dle = False
+        if any_bnd:
+            for b in range(nbnd):
+                if bnodes[b] >= 0 and s_b[b, e + 1] != s_b[b, e]:
+                    want_dle = True
         element_force_ws(nd, s_el[e], u[g0:g0 + ne], model, torques[e], fe, ke,
-                         want_tangent, no_dfe, False, ws, wm)
+                         want_tangent, dfe, want_dle, ws, wm)
         for a in range(ne):
             g[g0 + a] += fe[a]
         if want_tangent:
             band_add_block(ab, kl, ku, g0, ke)
+        if want_dle:
+            for b in range(nbnd):
+                rate = s_b[b, e + 1] - s_b[b, e]
+                if bnodes[b] >= 0 and rate != 0.0:
+                    for a in range(ne):
+                        bcols[b, g0 + a] += rate * dfe[a]
 
 
 @jit

@@ -52,8 +52,9 @@ by its continuum condition:
   present reaction R and gap g select, each iteration).
 
 Their columns dG/ds_b are the elements' analytic dG/dle times the length
-rates (:func:`_boundary_column`) plus the friction springs' anchor derivative
-(anchors belong to material points, :func:`.contact.anchor_at`). All border
+rates (:func:`.assembly.assemble`, in the tangent's pass) plus the friction
+springs' anchor derivative (anchors belong to material points,
+:func:`.contact.anchor_at`). All border
 unknowns (bottom tension, the boundaries) are eliminated by one dense Schur complement (:func:`_solve_dense`).
 
 The boundaries move only from equilibrium: while the weighted residual of
@@ -120,13 +121,14 @@ N_INFO = 5
 
 
 @jit
-def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, phi_r, phi_rp, want_tangent):
-    """Residual (+ tangent, global frame) with the nodal loads, the load
-    path's offset and the bottom tension on the sliding lower end."""
+def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b, bnodes, bcols):
+    """Residual (+ tangent, global frame, and the boundaries' columns dG/ds_b
+    of the elements, :func:`.assembly.assemble`) with the nodal loads, the
+    load path's offset and the bottom tension on the sliding lower end."""
     props = model.props
     if props[L.MOM_X] != 0.0 or props[L.MOM_Y] != 0.0 or props[L.MOM_Z] != 0.0:
         distribute_torque(nd, s_el, u, props, torques)
-    assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent)
+    assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes, bcols)
     n = g.shape[0]
     for i in range(n):
         g[i] += ends.g_off[i] - ends.f_node[i]
@@ -458,39 +460,6 @@ def _over_tip(nd, u, stinger, node, row):
 
 
 @jit
-def _boundary_column(nd, s_el, u, model, torques, rate_b, col, bed_active, fric, s_nd):
-    """Column dG/ds_b of a boundary's arc length at fixed nodal unknowns.
-
-    s_b changes only the element lengths, by d le_e / d s_b = rate_b[e+1] -
-    rate_b[e], and the material points the friction anchors are read at: the
-    column is the sum of the elements' analytic dG/dle
-    (:func:`.element.element_force_ws`) times those rates, plus the springs'
-    :func:`.contact.friction_length_derivative`.
-    """
-    ndn = 2 * nd + 1
-    ne = 2 * ndn
-    nel = s_el.shape[0]
-    fe = np.zeros(ne)
-    ke = np.zeros((1, 1))
-    dfe = np.zeros(ne)
-    ws = np.empty(WORK_SIZE)
-    wm = np.empty((3, 3))
-    for i in range(col.shape[0]):
-        col[i] = 0.0
-    for e in range(nel):
-        rate = rate_b[e + 1] - rate_b[e]
-        if rate == 0.0:
-            continue
-        g0 = e * ndn
-        element_force_ws(nd, s_el[e], u[g0:g0 + ne], model, torques[e], fe, ke,
-                         False, dfe, True, ws, wm)
-        for a in range(ne):
-            col[g0 + a] += rate * dfe[a]
-    node_arcs(s_el, s_nd)
-    friction_length_derivative(nd, u, model, bed_active, fric, s_nd, rate_b, col)
-
-
-@jit
 def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has_bnd, mesh, w):
     """The state a fraction ``alpha`` along the Newton step: nodal unknowns
     (stinger contacts along their curve), bottom tension and boundary arc
@@ -569,8 +538,8 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     kl = 2 * ndn - 1
     bnodes = mesh.bnodes
     ab = w.ab if want_tangent else w.no_ab
-    _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, sup.phi_r, sup.phi_rp,
-            want_tangent)
+    _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, want_tangent, mesh.s_b,
+            bnodes, w.bcols)
     node_arcs(mesh.s_el, w.s_nd)
     friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model, sup.bed_active,
                     sup.fric, w.fr_out, w.s_nd)
@@ -583,8 +552,10 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     if want_tangent:
         for b in range(N_BND):
             if bnodes[b] >= 0:
-                _boundary_column(nd, mesh.s_el, u, model, w.torques, mesh.s_b[b], w.bcols[b],
-                                 sup.bed_active, sup.fric, w.s_nd)
+                # the springs' anchors are read at material points, which move
+                # with the boundary too (:func:`.contact.anchor_at`)
+                friction_length_derivative(nd, u, model, sup.bed_active, sup.fric, w.s_nd,
+                                           mesh.s_b[b], w.bcols[b])
                 w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
     m_td = 0.0
     if bnodes[0] >= 0:
