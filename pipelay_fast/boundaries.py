@@ -94,8 +94,7 @@ def lateral_hold_start(case: Case, pb: Problem):
     node then begins the hold, that close to the tip)."""
     if pb.nd != 3 or case.is_planar or pb.lo_node < 0 or pb.tip_node >= 0:
         return None
-    found, _gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger,
-                                          np.zeros_like(pb.u))
+    found, _gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger)
     if not found or s_tip > pb.s[pb.lo_node] - HOLD_SPLIT * pb.stats["h_min"]:
         return None
     return float(s_tip)
@@ -152,8 +151,7 @@ def passes_below_tip(pb: Problem) -> bool:
     the stinger's tip (the complementarity at the tip then asks it to bear)."""
     if pb.lo_node < 0 or pb.tip_node >= 0:
         return False
-    found, gap, _c, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger,
-                                         np.zeros_like(pb.u))
+    found, gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger)
     return bool(found and s_tip < pb.s[pb.lo_node] and gap < -1e-9 * pb.href)
 
 

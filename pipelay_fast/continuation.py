@@ -25,10 +25,14 @@ from .problem import Problem, restore, snapshot
 
 class ShortLaid(Exception):
     """Newton stopped with SHORT_LAID: touchdown runs toward the modelled lower
-    end, and the mesh needs more laid pipe (:func:`_solve_gravity`)."""
+    end, and the mesh needs more laid pipe (:func:`.solver._solve_gravity`)."""
 
 
 def run_newton(pb: Problem, g_off, tol, maxit):
+    """One call of the Newton kernel on ``pb`` (updated in place: state,
+    boundaries, node arc lengths), with residual offset ``g_off`` (ndof,),
+    tolerance ``tol`` [-] and at most ``maxit`` iterations. Returns (status,
+    reactions (ndof,) [N, N m], info (N_INFO,))."""
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
     if pb.s_a is not None:
@@ -138,8 +142,8 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         trial = min(1.0, level + step)
         where = f"{name} {trial:.4f} (load step {stats['load_steps'] + 1})"
         if stats["load_steps"] >= max_steps:
-            _fail(case, where, info, status, f"; {max_steps} load steps taken, the most "
-                  "solver.max_load_steps allows")
+            _fail(case, where, info, status, f"; {max_steps} load steps taken, the limit "
+                  "that solver.max_load_steps sets")
         saved = snapshot(pb)
         status, react, info, used, _start = newton_in_regime(case, pb, load(trial), budget,
                                                              where)

@@ -67,20 +67,14 @@ def lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, held):
 
 
 @jit
-def tip_geometry(nd, s_el, u, stinger, grad):
-    """The pipe over the stinger tip (x_L, z_L): point against element.
-
-    Finds the material point whose z equals z_L (the element spanning it and
-    xi there), and returns (found, gap, cos theta): the vertical clearance
-    x - x_L [m] and the pipe's inclination there. ``grad`` (length ndof) gets
-    d(gap)/du, whose x part is N_k(xi) and z part -(x'/z') N_k(xi): it points
-    along the pipe's normal, so the tip's reaction mu * grad is frictionless.
-    """
+def tip_geometry(nd, s_el, u, stinger):
+    """The pipe over the stinger tip (x_L, z_L): the material point whose z
+    equals z_L (on the element spanning it). Returns (found, the vertical
+    clearance x - x_L there [m], its arc length [m])."""
     ndn = 2 * nd + 1
     nel = s_el.shape[0]
     z_l = stinger[ST_ZL]
     x_l = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
-    grad[:] = 0.0
     zi = nd - 1
     e = -1
     for k in range(nel):
@@ -88,7 +82,7 @@ def tip_geometry(nd, s_el, u, stinger, grad):
             e = k
             break
     if e < 0:
-        return False, 0.0, 1.0, 0.0
+        return False, 0.0, 0.0
     a = e * ndn
     b = a + ndn
     le = s_el[e]
@@ -97,27 +91,12 @@ def tip_geometry(nd, s_el, u, stinger, grad):
     xi = 0.0 if za == z_l else hermite_crossing(za, pa, zb, pb, le, z_l)
     x2 = xi * xi
     x3 = x2 * xi
-    n0 = 1 - 3 * x2 + 2 * x3
-    n1 = le * (xi - 2 * x2 + x3)
-    n2 = 3 * x2 - 2 * x3
-    n3 = le * (-x2 + x3)
-    d0 = (-6 * xi + 6 * x2) / le
-    d1 = 1 - 4 * xi + 3 * x2
-    d2 = (6 * xi - 6 * x2) / le
-    d3 = -2 * xi + 3 * x2
-    x = n0 * u[a] + n1 * u[a + nd] + n2 * u[b] + n3 * u[b + nd]
-    xs = d0 * u[a] + d1 * u[a + nd] + d2 * u[b] + d3 * u[b + nd]
-    zs = d0 * za + d1 * pa + d2 * zb + d3 * pb
-    ratio = xs / zs
-    offs = (a, a + nd, b, b + nd)
-    shapes = (n0, n1, n2, n3)
-    for k in range(4):
-        grad[offs[k]] = shapes[k]
-        grad[offs[k] + zi] = -ratio * shapes[k]
+    x = ((1 - 3 * x2 + 2 * x3) * u[a] + le * (xi - 2 * x2 + x3) * u[a + nd]
+         + (3 * x2 - 2 * x3) * u[b] + le * (-x2 + x3) * u[b + nd])
     s_tip = 0.0
     for k in range(e):
         s_tip += s_el[k]
-    return True, x - x_l, zs / math.sqrt(xs * xs + zs * zs), s_tip + xi * le
+    return True, x - x_l, s_tip + xi * le
 
 
 @jit
