@@ -72,16 +72,19 @@ HOLD_SPLIT = 0.1  # the shortest element [h_min] between lift-off and the tip's 
 
 
 def graded_on_boundaries(case: Case, pb: Problem) -> bool:
-    """True when the mesh that follows the boundaries is graded at each of
-    them: touchdown and every point of :func:`stinger_foci` lie within
-    ON_FOCUS h_min of a point the mesh was graded at. Regrading until it is
-    makes the answer the mesh's at the boundaries the solve found, whatever
-    the path (cold, warm, a target solve's trials) that led there."""
+    """True when the mesh that follows the boundaries is graded at them and
+    only at them: touchdown and every point of :func:`stinger_foci` lie
+    within ON_FOCUS h_min of a point the mesh was graded at, and every such
+    point within ON_FOCUS h_min of one of them. Regrading until it is makes
+    the answer the mesh's at the boundaries the solve found, whatever the
+    path (cold, warm, a target solve's trials) that led there."""
     near = ON_FOCUS * pb.stats["h_min"]
     held = pb.stats.get("stinger_foci", [])
     if abs(touchdown_position(pb) - pb.stats["focus"]) > near:
         return False
-    return all(any(abs(p - f) <= near for f in held) for p in stinger_foci(case, pb))
+    found = stinger_foci(case, pb)
+    return (all(any(abs(p - f) <= near for f in held) for p in found)
+            and all(any(abs(p - f) <= near for p in found) for f in held))
 
 
 def lateral_hold_start(case: Case, pb: Problem):
@@ -155,6 +158,14 @@ def passes_below_tip(pb: Problem) -> bool:
     return bool(found and s_tip < pb.s[pb.lo_node] and gap < -1e-9 * pb.href)
 
 
+def tip_released(pb: Problem) -> bool:
+    """True when a node follows the point over the stinger's tip but the
+    tip's complementarity has released it (it carries nothing): the pipe
+    then lifts off above the tip, and the node over the tip is not a
+    boundary of the answer (:func:`lift_off_above_tip`)."""
+    return pb.tip_node >= 0 and pb.tip[0] == 0.0
+
+
 def bear_on_tip(case: Case, pb: Problem):
     """The regime switch the complementarity at the tip makes as lift-off
     reaches it from above: the pipe now bears on the tip and regains the
@@ -174,7 +185,8 @@ def bear_on_tip(case: Case, pb: Problem):
 
 def lift_off_above_tip(case: Case, pb: Problem):
     """The regime switch back: bearing on the tip, Newton closes the gap span
-    (status SPAN_CLOSED), so the pipe lifts off the stinger above the tip,
+    (status SPAN_CLOSED), or the tip carries nothing at the answer
+    (:func:`tip_released`), so the pipe lifts off the stinger above the tip,
     at re-contact's node, with no node over the tip."""
     pb.tip[0], pb.tip[1] = 0.0, 0.0
     follow_nodes(case, pb, (pb.td_node, pb.lo_node, -1))

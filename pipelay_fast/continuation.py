@@ -12,7 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .boundaries import MAX_TIP_SWITCHES, bear_on_tip, lift_off_above_tip, passes_below_tip
+from .boundaries import (
+    MAX_TIP_SWITCHES,
+    bear_on_tip,
+    lift_off_above_tip,
+    passes_below_tip,
+    tip_released,
+)
 from .case import Case
 from .errors import SolveError
 from .kernels import layout as L
@@ -112,6 +118,8 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
                                               switch=can_switch)
         if status == L.OK and can_switch and passes_below_tip(pb):
             status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
+        elif status == L.OK and can_switch and tip_released(pb):
+            status = L.SPAN_CLOSED  # the tip carries nothing: lifting off above it
         if status not in (L.PAST_TIP, L.SPAN_CLOSED):
             break
         spent += int(info[I_ITER])

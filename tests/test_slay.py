@@ -126,6 +126,25 @@ def test_s67_matches_planar_elastica(s67, name):
         assert sm["tip_reaction"] == 0.0
 
 
+def test_a_warm_start_out_of_the_tip_regime_gives_the_cold_answer(s67):
+    """From a solution bearing on the tip (a = -0.00105) to one lifting off
+    above it (-0.0012, 2 m elements): the warm solve's tip contact lets go on
+    the way, so it must end lifting off with no node over the tip and the
+    mesh graded only at the boundaries found, as the cold solve does (ending
+    with an unloaded node over the tip, lift-off came out 0.28 m up the
+    stinger and the peak stress 4.6e-6 off the cold one's)."""
+    case = s67.with_changes({"solver.element_length": 2.0})
+    bearing = pf.solve(case.with_changes({"lay.stinger.a": -0.00105}))
+    assert bearing.summary["tip_reaction"] > 0.0
+    cold = pf.solve(case).summary
+    warm = pf.solve(case, warm=bearing)
+    assert warm.state.tip_node < 0 and warm.summary["tip_reaction"] == 0.0
+    for key in ("max_von_mises", "overbend_max_moment", "sagbend_max_moment", "tdp_z",
+                "bottom_tension"):
+        assert warm.summary[key] == pytest.approx(cold[key], rel=1e-7), key
+    assert warm.summary["liftoff_z"] == pytest.approx(cold["liftoff_z"], abs=1e-3)
+
+
 @pytest.mark.parametrize("a", [-0.00125, -0.0015, -0.0009])
 def test_warm_start_gives_the_cold_answer(s67, still, a):
     """Started from the solution at a = -0.0012 (lift-off regime), including a

@@ -72,7 +72,9 @@ goes at most half way to the tip, the span between re-contact and a bearing
 tip at most halves or doubles (it grows like sqrt(a - a_switch) past the
 change of regime); the merit may rise up to MERIT_RISE times (the weighted
 residual rises across good steps while the element lengths move with the
-boundaries). When lift-off reaches the tip from above and Newton moves it
+boundaries); the nodes a step of the stinger's boundaries moves along the
+pipe are carried along its curve (:func:`_take_step`). When lift-off
+reaches the tip from above and Newton moves it
 further, the kernel stops with PAST_TIP and the caller switches to bearing on
 the tip (:func:`pipelay_fast.continuation.newton_in_regime`); bearing, when a
 step would more than halve a gap span already shorter than an element (no
@@ -173,8 +175,8 @@ def _onto_curve(nd, u, u_old, dv, alpha, stinger, st_active):
         z0 = u_old[q]
         c0 = u_old[p] - ((a * z0 + b) * z0 + cc)
         cp0 = u_old[p + nd] - (2.0 * a * z0 + b) * u_old[q + nd]
-        z1 = z0 + alpha * dv[q]
-        zp1 = u_old[q + nd] + alpha * dv[q + nd]
+        z1 = u[q]  # u_old + alpha dv, or where a boundary's move carried it
+        zp1 = u[q + nd]
         u[q] = z1
         u[q + nd] = zp1
         u[p] = (a * z1 + b) * z1 + cc + c0 + alpha * dv[p]
@@ -460,12 +462,90 @@ def _over_tip(nd, u, stinger, node, row):
 
 
 @jit
+def _along_pipe(nd, u_old, s_old, node, t, out):
+    """The nodal unknowns (r, r', lambda) of the pipe of state ``u_old`` on
+    nodes ``s_old`` [m] at material point ``t`` [m]: cubic Hermite in r,
+    linear in lambda, on the element that holds t (searched from ``node``)."""
+    ndn = 2 * nd + 1
+    nn = s_old.shape[0]
+    e = min(node, nn - 2)
+    while e > 0 and t < s_old[e]:
+        e -= 1
+    while e < nn - 2 and t > s_old[e + 1]:
+        e += 1
+    le = s_old[e + 1] - s_old[e]
+    xi = (t - s_old[e]) / le
+    xi2 = xi * xi
+    xi3 = xi2 * xi
+    n1 = le * (xi - 2.0 * xi2 + xi3)
+    n2 = 3.0 * xi2 - 2.0 * xi3
+    n3 = le * (-xi2 + xi3)
+    d1 = 1.0 - 4.0 * xi + 3.0 * xi2
+    d2 = (6.0 * xi - 6.0 * xi2) / le
+    d3 = -2.0 * xi + 3.0 * xi2
+    a = e * ndn
+    b = a + ndn
+    for i in range(nd):
+        chord = u_old[b + i] - u_old[a + i]
+        out[i] = u_old[a + i] + n1 * u_old[a + nd + i] + n2 * chord + n3 * u_old[b + nd + i]
+        out[nd + i] = d1 * u_old[a + nd + i] + d2 * chord + d3 * u_old[b + nd + i]
+    out[2 * nd] = (1.0 - xi) * u_old[a + 2 * nd] + xi * u_old[b + 2 * nd]
+
+
+@jit
+def _rate_along_pipe(nd, u_old, s_old, node, up, out):
+    """d/dt of :func:`_along_pipe` at t = s_old[node], on the element above
+    the node (``up``) or below it: (r', r'', lambda')."""
+    ndn = 2 * nd + 1
+    e = node if up else node - 1
+    xi = 0.0 if up else 1.0
+    le = s_old[e + 1] - s_old[e]
+    a = e * ndn
+    b = a + ndn
+    dd1 = (-4.0 + 6.0 * xi) / le
+    dd2 = (6.0 - 12.0 * xi) / (le * le)
+    dd3 = (-2.0 + 6.0 * xi) / le
+    for i in range(nd):
+        chord = u_old[b + i] - u_old[a + i]
+        out[i] = u_old[node * ndn + nd + i]
+        out[nd + i] = dd1 * u_old[a + nd + i] + dd2 * chord + dd3 * u_old[b + nd + i]
+    out[2 * nd] = (u_old[b + 2 * nd] - u_old[a + 2 * nd]) / le
+
+
+@jit
 def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has_bnd, mesh, w):
     """The state a fraction ``alpha`` along the Newton step: nodal unknowns
     (stinger contacts along their curve), bottom tension and boundary arc
-    lengths (from ``w.bnd_old`` by ``w.d_bnd``) with the element lengths they give."""
+    lengths (from ``w.bnd_old`` by ``w.d_bnd``) with the element lengths they give.
+
+    A node that the stinger's boundaries (lift-off or re-contact, the tip's
+    point) move along the pipe by sigma is carried along the pipe's present
+    curve: it takes the curve's values at its new material point
+    (:func:`_along_pipe`), plus the Newton step's increment less the part of
+    it that this transport makes to first order (:func:`_rate_along_pipe`
+    times sigma). To first order this is the Newton step; beyond it the pipe
+    keeps its strains where the mesh slides along it, instead of being
+    stretched between nodes held in place (its axial stiffness EA, some 1e4
+    times the tension, made that stretch the largest residual after a long
+    step of re-contact). Touchdown's zone is not carried: where touchdown
+    moves, suspended pipe comes to lie on the seabed (carried, J125 took 21
+    iterations instead of 6)."""
+    ndn = 2 * nd + 1
+    nn = st_active.shape[0]
     for i in range(u.shape[0]):
         u[i] = u_old[i] + alpha * du[i]
+    if has_bnd:
+        for node in range(nn):
+            rate = 0.0
+            for b in range(1, N_BND):
+                rate += mesh.s_b[b, node] * w.d_bnd[b]
+            if rate == 0.0:
+                continue
+            _along_pipe(nd, u_old, w.s_old, node, w.s_old[node] + alpha * rate, w.at)
+            _rate_along_pipe(nd, u_old, w.s_old, node, rate > 0.0, w.at_rate)
+            base = node * ndn
+            for i in range(ndn):
+                u[base + i] += w.at[i] - u_old[base + i] - alpha * w.at_rate[i] * rate
     _onto_curve(nd, u, u_old, du, alpha, stinger, st_active)
     tb[0] = tb_old + alpha * dtb
     if has_bnd:
@@ -482,7 +562,7 @@ Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
     "scale", "torques", "rows", "cols", "ys", "res_b", "d_b", "kind", "dz", "sm", "rh",
     "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
-    "y_now", "no_row", "no_ab", "row_td", "own_td"])
+    "y_now", "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate"])
 
 
 @phase
@@ -509,7 +589,8 @@ def _work(nd, n, nn, nel, props, href):
         np.zeros((N_BND, n)), np.zeros(n), np.zeros(n), np.zeros(N_BND), np.zeros(N_BND),
         np.zeros(N_BND), np.zeros(N_BND), np.zeros(nn), np.zeros(n),
         np.zeros(nn, dtype=np.bool_), np.zeros(0),
-        np.zeros((1, 1)), np.zeros(n), np.zeros(1))
+        np.zeros((1, 1)), np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
+        np.zeros(ndn))
 
 
 @phase
@@ -1103,6 +1184,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
             if mesh.bnodes[b] >= 0 and not hold:
                 merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, href)) ** 2
             w.bnd_old[b] = mesh.s_bd[b]
+        node_arcs(mesh.s_el, w.s_old)
         alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href)
         if stop >= 0:
             status = stop
