@@ -120,6 +120,8 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
             status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
         elif status == L.OK and can_switch and tip_released(pb):
             status = L.SPAN_CLOSED  # the tip carries nothing: lifting off above it
+        elif status == L.TIP_CYCLE and can_switch and pb.tip_node >= 0:
+            status = L.SPAN_CLOSED  # the tip cannot decide to bear: lifting off above it
         if status not in (L.PAST_TIP, L.SPAN_CLOSED):
             break
         spent += int(info[I_ITER])

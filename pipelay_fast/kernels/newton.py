@@ -314,6 +314,10 @@ MERIT_RISE = 1e8  # boundaries mode: the largest rise of the merit a step may br
 RUNAWAY = 1e6
 INNER_RATIO = 1.0  # the boundaries move once the pipe's imbalance is below this times theirs
 MAX_BOUNDARY_STEP = 2.0  # largest move of a contact boundary per Newton step, in href
+# the tip's branch may change this often in one call; past it the call stops
+# with TIP_CYCLE, and the caller lets the pipe lift off above the tip (bearing
+# there with no bearing solution, the branch flipped at every other step)
+MAX_TIP_CHANGES = 4
 N_BND = 3  # boundaries that can be unknowns: touchdown (0), lift-off (1), the tip's point (2)
 N_BORDER = 1 + N_BND  # bordered unknowns: bottom tension, the boundaries
 
@@ -1221,7 +1225,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         changed = _tip_update(nd, u, mesh, sup, w, react, settings)
         if changed:
             changes_total += 1
-            if changes_total > 2 * nn:
+            if changes_total > MAX_TIP_CHANGES:
                 status = L.TIP_CYCLE
                 break
     if status == L.OK:
