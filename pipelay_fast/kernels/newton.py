@@ -54,8 +54,8 @@ by its continuum condition:
 Their columns dG/ds_b are the elements' analytic dG/dle times the length
 rates (:func:`.assembly.assemble`, in the tangent's pass) plus the friction
 springs' anchor derivative (anchors belong to material points,
-:func:`.contact.anchor_at`). All border
-unknowns (bottom tension, the boundaries) are eliminated by one dense Schur complement (:func:`_solve_dense`).
+:func:`.contact.anchor_at`). All border unknowns (bottom tension, the
+boundaries) are eliminated by one dense Schur complement (:func:`_solve_dense`).
 
 The boundaries move only from equilibrium: while the weighted residual of
 the pipe with the boundaries where they are exceeds INNER_RATIO times the
@@ -74,14 +74,16 @@ change of regime); the merit may rise up to MERIT_RISE times (the weighted
 residual rises across good steps while the element lengths move with the
 boundaries); the nodes a step of the stinger's boundaries moves along the
 pipe are carried along its curve (:func:`_take_step`). When lift-off
-reaches the tip from above and Newton moves it
-further, the kernel stops with PAST_TIP and the caller switches to bearing on
-the tip (:func:`pipelay_fast.continuation.newton_in_regime`); bearing, when a
-step would more than halve a gap span already shorter than an element (no
-bearing solution: Newton would only creep towards a span of zero), it stops
-with SPAN_CLOSED and the caller switches to lifting off; when a step would
-take touchdown more than half way to the modelled lower end, it stops with
-SHORT_LAID and the caller prepends laid pipe (:func:`pipelay_fast.solver._solve_gravity`).
+reaches the tip from above and Newton moves it further, the kernel stops
+with PAST_TIP and the caller switches to bearing on the tip
+(:func:`pipelay_fast.continuation.newton_in_regime`); bearing, when a step
+would more than halve a gap span already shorter than an element (no
+bearing solution: Newton would only creep towards a span of zero), or when
+the tip's branch has changed MAX_TIP_CHANGES times, it stops with
+SPAN_CLOSED or TIP_CYCLE and the caller switches to lifting off; when a step
+would take touchdown more than half way to the modelled lower end, it stops
+with SHORT_LAID and the caller prepends laid pipe
+(:func:`pipelay_fast.solver._solve_gravity`).
 
 The kernel never raises: it writes a status code (:mod:`.layout`) into ``info``.
 """
@@ -177,8 +179,6 @@ def _onto_curve(nd, u, u_old, dv, alpha, stinger, st_active):
         cp0 = u_old[p + nd] - (2.0 * a * z0 + b) * u_old[q + nd]
         z1 = u[q]  # u_old + alpha dv, or where a boundary's move carried it
         zp1 = u[q + nd]
-        u[q] = z1
-        u[q + nd] = zp1
         u[p] = (a * z1 + b) * z1 + cc + c0 + alpha * dv[p]
         u[p + nd] = (2.0 * a * z1 + b) * zp1 + cp0 + alpha * dv[p + nd]
 
