@@ -104,8 +104,11 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
 def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str):
     """:func:`_budgeted_newton`, switching between lifting off and bearing on
     the stinger's tip (at most MAX_TIP_SWITCHES times) when the kernel stops
-    at the change of regime (PAST_TIP, SPAN_CLOSED) or, lifting off, the
-    answer passes below the tip.
+    at the change of regime (PAST_TIP, SPAN_CLOSED), when, lifting off, the
+    answer passes below the tip, and, with a node over the tip, when the
+    answer leaves that node unloaded (:func:`.boundaries.tip_released`) or
+    the tip's branch kept changing (TIP_CYCLE): the pipe then lifts off
+    above the tip.
 
     Returns (status, reactions, info, iterations of every call, the state
     the last call started from).

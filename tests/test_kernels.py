@@ -297,12 +297,13 @@ def test_friction_normal_force_on_an_elastic_seabed(j125):
 
 @pytest.mark.parametrize("nd", [2, 3])
 def test_carrying_a_node_along_the_pipe_is_its_hermite_interpolation(nd):
-    """``_along_pipe`` (the state of a node the stinger's boundaries move
-    along the pipe) against the NumPy Hermite interpolation of a state
-    (``problem.interpolate_state``) on a solved S67, at points inside
-    elements, on nodes and in the graded elements; ``_rate_along_pipe``
-    against a central difference of it on each side of a node."""
-    from pipelay_fast.kernels.newton import _along_pipe, _rate_along_pipe
+    """``_pipe_at`` (the state a node the stinger's boundaries move along the
+    pipe takes, at the point ``_element_at`` finds) against the NumPy Hermite
+    interpolation of a state (``problem.interpolate_state``) on a solved S67,
+    at points inside elements, on nodes and in the graded elements; its
+    derivative along the pipe at a node, on each side, against a one-sided
+    difference of it."""
+    from pipelay_fast.kernels.newton import _element_at, _pipe_at
     from pipelay_fast.problem import interpolate_state
 
     case = pf.load_case("pipelay_fast/examples/s67.toml").with_changes(
@@ -312,18 +313,25 @@ def test_carrying_a_node_along_the_pipe_is_its_hermite_interpolation(nd):
     rng = np.random.default_rng(nd)
     targets = np.concatenate([rng.uniform(s[1], s[-2], 40), s[5:8], s[pb.lo_node] + [-0.3, 0.3]])
     expected = interpolate_state(s, u, nd, targets).reshape(-1, ndn)
-    out = np.zeros(ndn)
+    out, scratch, sh = np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4))
+
+    def along(node, t, value):
+        e, xi = _element_at(s, node, t)  # searched from a neighbouring node
+        _pipe_at(nd, u, s, e, xi, sh, value, scratch)
+
     for t, want in zip(targets, expected, strict=True):
-        node = int(np.searchsorted(s, t))  # searched from a neighbouring node
-        _along_pipe(nd, u, s, min(node + 2, s.size - 1), t, out)
+        along(min(int(np.searchsorted(s, t)) + 2, s.size - 1), t, out)
         np.testing.assert_allclose(out, want, rtol=1e-12, atol=1e-10)
     rate, left, right = np.zeros(ndn), np.zeros(ndn), np.zeros(ndn)
     for node in (pb.lo_node, pb.lo_node - 3, 20):
         for up, sign in ((True, 1.0), (False, -1.0)):
             h = 1e-4 * (s[node + 1] - s[node - 1])
-            _rate_along_pipe(nd, u, s, node, up, rate)
-            _along_pipe(nd, u, s, node, s[node] + sign * h, right)
-            _along_pipe(nd, u, s, node, s[node] + sign * 2.0 * h, left)
+            e, xi = (node, 0.0) if up else (node - 1, 1.0)
+            _pipe_at(nd, u, s, e, xi, sh, out, rate)
+            np.testing.assert_allclose(out, u[node * ndn:(node + 1) * ndn], rtol=1e-12,
+                                       atol=1e-12)
+            along(node, s[node] + sign * h, right)
+            along(node, s[node] + sign * 2.0 * h, left)
             # one-sided second-order difference: (4 f(h) - f(2h) - 3 f(0)) / 2h
             fd = sign * (4.0 * right - left - 3.0 * u[node * ndn:(node + 1) * ndn]) / (2.0 * h)
             np.testing.assert_allclose(rate, fd, rtol=1e-5, atol=1e-7)

@@ -98,7 +98,7 @@ import numpy as np
 from .._jit import jit, phase
 from . import layout as L
 from .assembly import assemble, curve_node, distribute_torque, rotate_node
-from .element import WORK_SIZE, element_force_ws
+from .element import WORK_SIZE, element_force_ws, hermite
 from .banded import band_factor, band_solve
 from .contact import (
     ST_A,
@@ -468,54 +468,40 @@ def _over_tip(nd, u, stinger, node, row):
 
 
 @jit
-def _along_pipe(nd, u_old, s_old, node, t, out):
-    """The nodal unknowns (r, r', lambda) of the pipe of state ``u_old`` on
-    nodes ``s_old`` [m] at material point ``t`` [m]: cubic Hermite in r,
-    linear in lambda, on the element that holds t (searched from ``node``)."""
-    ndn = 2 * nd + 1
+def _element_at(s_old, node, t):
+    """(element, xi) of material point ``t`` [m] on nodes ``s_old`` [m],
+    searched from node ``node``."""
     nn = s_old.shape[0]
     e = min(node, nn - 2)
     while e > 0 and t < s_old[e]:
         e -= 1
     while e < nn - 2 and t > s_old[e + 1]:
         e += 1
-    le = s_old[e + 1] - s_old[e]
-    xi = (t - s_old[e]) / le
-    xi2 = xi * xi
-    xi3 = xi2 * xi
-    n1 = le * (xi - 2.0 * xi2 + xi3)
-    n2 = 3.0 * xi2 - 2.0 * xi3
-    n3 = le * (-xi2 + xi3)
-    d1 = 1.0 - 4.0 * xi + 3.0 * xi2
-    d2 = (6.0 * xi - 6.0 * xi2) / le
-    d3 = -2.0 * xi + 3.0 * xi2
-    a = e * ndn
-    b = a + ndn
-    for i in range(nd):
-        chord = u_old[b + i] - u_old[a + i]
-        out[i] = u_old[a + i] + n1 * u_old[a + nd + i] + n2 * chord + n3 * u_old[b + nd + i]
-        out[nd + i] = d1 * u_old[a + nd + i] + d2 * chord + d3 * u_old[b + nd + i]
-    out[2 * nd] = (1.0 - xi) * u_old[a + 2 * nd] + xi * u_old[b + 2 * nd]
+    return e, (t - s_old[e]) / (s_old[e + 1] - s_old[e])
 
 
 @jit
-def _rate_along_pipe(nd, u_old, s_old, node, up, out):
-    """d/dt of :func:`_along_pipe` at t = s_old[node], on the element above
-    the node (``up``) or below it: (r', r'', lambda')."""
+def _pipe_at(nd, u_old, s_old, e, xi, sh, value, rate):
+    """The pipe of state ``u_old`` on nodes ``s_old`` at ``xi`` of element
+    ``e``: its nodal unknowns (r, r', lambda) into ``value`` and their
+    derivatives along it (r', r'', lambda') into ``rate``; cubic Hermite in r
+    (:func:`.element.hermite`, ``sh`` (3, 4) its scratch), linear in lambda."""
     ndn = 2 * nd + 1
-    e = node if up else node - 1
-    xi = 0.0 if up else 1.0
     le = s_old[e + 1] - s_old[e]
+    n, dn, ddn = sh[0], sh[1], sh[2]
+    hermite(xi, le, n, dn, ddn)
     a = e * ndn
     b = a + ndn
-    dd1 = (-4.0 + 6.0 * xi) / le
-    dd2 = (6.0 - 12.0 * xi) / (le * le)
-    dd3 = (-2.0 + 6.0 * xi) / le
     for i in range(nd):
+        pa = u_old[a + nd + i]
+        pb = u_old[b + nd + i]
         chord = u_old[b + i] - u_old[a + i]
-        out[i] = u_old[node * ndn + nd + i]
-        out[nd + i] = dd1 * u_old[a + nd + i] + dd2 * chord + dd3 * u_old[b + nd + i]
-    out[2 * nd] = (u_old[b + 2 * nd] - u_old[a + 2 * nd]) / le
+        value[i] = u_old[a + i] + n[1] * pa + n[2] * chord + n[3] * pb
+        value[nd + i] = dn[1] * pa + dn[2] * chord + dn[3] * pb
+        rate[i] = value[nd + i]
+        rate[nd + i] = ddn[1] * pa + ddn[2] * chord + ddn[3] * pb
+    value[2 * nd] = (1.0 - xi) * u_old[a + 2 * nd] + xi * u_old[b + 2 * nd]
+    rate[2 * nd] = (u_old[b + 2 * nd] - u_old[a + 2 * nd]) / le
 
 
 @jit
@@ -527,9 +513,9 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
     A node that the stinger's boundaries (lift-off or re-contact, the tip's
     point) move along the pipe by sigma is carried along the pipe's present
     curve: it takes the curve's values at its new material point
-    (:func:`_along_pipe`), plus the Newton step's increment less the part of
-    it that this transport makes to first order (:func:`_rate_along_pipe`
-    times sigma). To first order this is the Newton step; beyond it the pipe
+    (:func:`_pipe_at`), plus the Newton step's increment less the part of
+    it that this transport makes to first order (the curve's derivative at
+    the node, on the side it moves to, times sigma). To first order this is the Newton step; beyond it the pipe
     keeps its strains where the mesh slides along it, instead of being
     stretched between nodes held in place (its axial stiffness EA, some 1e4
     times the tension, made that stretch the largest residual after a long
@@ -547,8 +533,12 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
                 rate += mesh.s_b[b, node] * w.d_bnd[b]
             if rate == 0.0:
                 continue
-            _along_pipe(nd, u_old, w.s_old, node, w.s_old[node] + alpha * rate, w.at)
-            _rate_along_pipe(nd, u_old, w.s_old, node, rate > 0.0, w.at_rate)
+            if rate > 0.0:
+                _pipe_at(nd, u_old, w.s_old, node, 0.0, w.sh, w.at, w.at_rate)
+            else:
+                _pipe_at(nd, u_old, w.s_old, node - 1, 1.0, w.sh, w.at, w.at_rate)
+            e, xi = _element_at(w.s_old, node, w.s_old[node] + alpha * rate)
+            _pipe_at(nd, u_old, w.s_old, e, xi, w.sh, w.at, w.at_scratch)
             base = node * ndn
             for i in range(ndn):
                 u[base + i] += w.at[i] - u_old[base + i] - alpha * w.at_rate[i] * rate
@@ -568,7 +558,7 @@ Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
     "scale", "torques", "rows", "cols", "ys", "res_b", "d_b", "kind", "dz", "sm", "rh",
     "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
-    "y_now", "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate"])
+    "y_now", "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate", "at_scratch", "sh"])
 
 
 @phase
@@ -596,7 +586,7 @@ def _work(nd, n, nn, nel, props, href):
         np.zeros(N_BND), np.zeros(N_BND), np.zeros(nn), np.zeros(n),
         np.zeros(nn, dtype=np.bool_), np.zeros(0),
         np.zeros((1, 1)), np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
-        np.zeros(ndn))
+        np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)))
 
 
 @phase
