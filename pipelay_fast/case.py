@@ -445,7 +445,8 @@ class Stinger:
 
     def curvature(self, z):
         """Signed curvature d(theta)/ds [1/m] at z [m] (negative: hogging); vectorised."""
-        return vectorised(z, lambda z: 2.0 * self.a / (1.0 + (2.0 * self.a * z + self.b) ** 2) ** 1.5)
+        return vectorised(
+            z, lambda z: 2.0 * self.a / (1.0 + (2.0 * self.a * z + self.b) ** 2) ** 1.5)
 
 
 @dataclass(frozen=True, slots=True)
