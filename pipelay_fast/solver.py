@@ -132,7 +132,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
                 or (graded_on_boundaries(case, pb) and not short_laid)):
             if pb.tolerance is not None:  # on to the tolerance, this mesh
                 pb.tolerance = None
-                pb, react, more = _solve_gravity(case, pb, budget)
+                pb, react, more = _solve_gravity(case, pb, budget, in_balance=True)
                 stats = {key: stats[key] + more[key] for key in stats}
                 s_t = touchdown_position(pb)
                 foci = stinger_foci(case, pb)
@@ -141,7 +141,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
             pb.on_gravity_path()
-        pb, react, more = _solve_gravity(case, pb, budget)
+        pb, react, more = _solve_gravity(case, pb, budget, in_balance=True)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
     while path:
@@ -172,18 +172,21 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     return pb, react, stats, s_t, liftoff_position(case, pb)
 
 
-def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
+def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget, in_balance=False):
     """:func:`newton_with_fallback`, with laid pipe prepended each time Newton
     stops because touchdown runs toward the modelled lower end (SHORT_LAID).
+    ``in_balance``: ``pb`` holds a solution refined (newton_with_fallback's),
+    until laid pipe is prepended.
 
     Returns (problem, reactions, iteration counts).
     """
     used = budget.used
     for _ in range(MAX_LAID_DOUBLINGS + 1):
         try:
-            react, stats = newton_with_fallback(case, pb, budget)
+            react, stats = newton_with_fallback(case, pb, budget, in_balance)
         except ShortLaid:
             pb = _with_more_laid(case, pb)
+            in_balance = False
             continue
         stats["iterations"] = budget.used - used  # the stopped calls' too
         return pb, react, stats

@@ -6,8 +6,14 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.checks import (Checks, collapse_pressure, flow_stress_factor, lcc_axial_ratio,
-                                 lcc_utilisation, pressure_containment_resistance)
+from pipelay_fast.checks import (
+    Checks,
+    collapse_pressure,
+    flow_stress_factor,
+    lcc_axial_ratio,
+    lcc_utilisation,
+    pressure_containment_resistance,
+)
 from tests.helpers import EXAMPLES
 
 REQUIRED = {"overbend_strain_limit": 0.0025, "ovality": 0.01, "fabrication": "UOE"}

@@ -217,7 +217,7 @@ def test_strain_and_lcc_utilisation_by_hand():
     sm, p = result.summary, result.profile
     d, di = 0.61, 0.58
     t = (d - di) / 2
-    e, nu = 207e9, 0.3
+    e = 207e9
     area = math.pi * (d**2 - di**2) / 4
     s_tdp = np.interp(sm["tdp_z"], p["z"], p["s"])
     beyond = p["s"].to_numpy() >= s_tdp
@@ -313,5 +313,7 @@ def test_power_basis_is_the_hermite(s67):
                                    point, rtol=0, atol=1e-12 * scale)
         np.testing.assert_allclose(((3 * c3 * xi + 2 * c2) * xi + c1) / le,
                                    slope, rtol=0, atol=1e-12)
-        np.testing.assert_allclose((6 * c3 * xi + 2 * c2) / le**2,
-                                   curvature, rtol=0, atol=1e-12)
+        # c2, c3 are differences of coordinates of size `scale`: their round-off,
+        # divided by le^2, bounds the curvature's (1.1e-12 1/m on 0.5 m elements)
+        err = np.abs((6 * c3 * xi + 2 * c2) / le**2 - curvature) * le**2 / scale
+        assert err.max() < 1e-13

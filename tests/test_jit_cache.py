@@ -40,7 +40,8 @@ def _probe(root: Path, cache_dir: Path | None) -> dict:
     done = subprocess.run([sys.executable, "-c", PROBE], cwd=root, env=env, capture_output=True,
                           text=True, timeout=120, check=True)
     answer = json.loads(done.stdout.splitlines()[-1])
-    assert Path(answer["file"]).resolve().is_relative_to(root.resolve())  # the copy, not the installed package
+    # the copy, not the installed package
+    assert Path(answer["file"]).resolve().is_relative_to(root.resolve())
     return answer
 
 

@@ -9,7 +9,6 @@ import pipelay_fast as pf
 from tests.helpers import EXAMPLES, elastica_for, weights
 from tests.reference.catenary import natural_catenary_two_weights
 
-
 TENSIONS = {
     "top 580 kN": {"lay.top_tension": 580e3},
     "bottom 150 kN": {"lay.top_tension": None, "lay.bottom_tension": 150e3},

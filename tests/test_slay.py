@@ -235,7 +235,8 @@ def _pin_jump_measured(case, res):
     te, m, x = (prof[k].to_numpy() for k in ("effective_tension", "moment", "x"))
     moment_u, _ = _stinger_top_moment(case)
     ei = case.pipe.bending_stiffness
-    below = te[-2] + (m[-2] ** 2 - moment_u**2) / (2.0 * ei) + _rise(case, x[-1]) - _rise(case, x[-2])
+    below = (te[-2] + (m[-2] ** 2 - moment_u**2) / (2.0 * ei)
+             + _rise(case, x[-1]) - _rise(case, x[-2]))
     return te[-1] - below
 
 

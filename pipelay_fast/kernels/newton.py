@@ -827,7 +827,12 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     hold them again (:func:`newton` skips this test): near equilibrium it
     alternated held and unheld steps, and the residual fell by only 10 to 20
     times an iteration (S67 2D, a warm start's last 4 iterations: 1e-4,
-    9e-6, 4e-7, 1e-8); unheld, it falls quadratically."""
+    9e-6, 4e-7, 1e-8); unheld, it falls quadratically. Nor does a call that
+    starts from a state in balance (``settings.hold`` False: the pass to the
+    tolerance after the loose one, on the same mesh or one graded anew,
+    the state interpolated): there the held first step only cost an
+    iteration (S67 2D warm: 1.1e-4 held to 8e-5, then 8.8e-6, 1e-8; not
+    held, 8.8e-6 after the first)."""
     if mesh.bnodes[1] < 0:
         return False
     ndn = 2 * nd + 1
@@ -1120,7 +1125,9 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         pulling the sliding lower end's dof slide_dof (-1: none) along -z;
         top_node, top_target: the top's node and effective tension [N] (0: not
         given)
-    settings : :data:`.types.Settings`, tol, fref [N], href [m], maxit
+    settings : :data:`.types.Settings`, tol, fref [N], href [m], maxit, hold
+        (whether an iteration may hold the boundaries, :func:`_hold_boundaries`:
+        False when the call starts from a state in balance)
     react : (ndof,) output, reactions on the pipe in the nodal frames [N, N m]
     info : (N_INFO,) output, see ``I_*``
     """
@@ -1171,7 +1178,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
             status = L.OK
             it -= 1
             break
-        hold = not moved and _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res)
+        hold = (settings.hold and not moved
+                and _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res))
         if hold:
             nb = nb_fixed
         if not _condensed_solve(nd, w, nb):

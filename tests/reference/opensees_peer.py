@@ -579,7 +579,8 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
 
 
 def von_mises(case, te, moment, x):
-    """Largest fibre von Mises stress [Pa], as ``pipelay_fast.results.build_profile`` without torque.
+    """Largest fibre von Mises stress [Pa], as ``pipelay_fast.results.build_profile``
+    without torque.
 
     ``te`` effective tension [N], ``moment`` bending moment [N m], ``x`` height [m].
     """
