@@ -186,8 +186,8 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     alpha from 0 to 1 (:func:`continuation`: steps of 0.25 to 0.5, cut to
     1e-4 at most). ``budget``: the solve's Newton iterations left (None: a
     fresh one); ``in_balance``: the state is a solution refined (to the
-    tolerance after a loose pass, or interpolated onto a mesh graded anew):
-    its first Newton call does not hold the boundaries.
+    tolerance after a loose pass, or, lifting off, interpolated onto a mesh
+    graded anew): its first Newton call does not hold the boundaries.
 
     Returns the reactions and a dict of iteration counts.
     """

@@ -39,8 +39,8 @@ boundary b: node i at s_i = s_a[i] + sum_b s_b[b, i] s_bd[b], every span
 between anchors mapped onto its present ends (:func:`mesh_lengths`). The
 contact stretches are then fixed sets, no node walks: the seabed from the
 lower end to touchdown (b = 0), the stinger from lift-off (b = 1) to the
-top. Each arc length is a bordered unknown closed
-by its continuum condition:
+top. Each arc length is a bordered unknown closed by its continuum
+condition:
 
 * touchdown: on the seabed, tangent to it, no moment on the free side (the
   free element's nodal residual at the slope unknown, :func:`_free_moment`);
@@ -517,8 +517,8 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
     (:func:`_pipe_at`), plus the Newton step's increment less the part of
     it that this transport makes to first order (the curve's derivative at
     the node, on the side it moves to, times sigma). To first order this is
-    the Newton step; beyond it the pipe
-    keeps its strains where the mesh slides along it, instead of being
+    the Newton step; beyond it the pipe keeps its strains where the mesh
+    slides along it, instead of being
     stretched between nodes held in place (its axial stiffness EA, some 1e4
     times the tension, made that stretch the largest residual after a long
     step of re-contact). Touchdown's zone is not carried: where touchdown
@@ -829,10 +829,12 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     times an iteration (S67 2D, a warm start's last 4 iterations: 1e-4,
     9e-6, 4e-7, 1e-8); unheld, it falls quadratically. Nor does a call that
     starts from a state in balance (``settings.hold`` False: the pass to the
-    tolerance after the loose one, on the same mesh or one graded anew,
-    the state interpolated): there the held first step only cost an
-    iteration (S67 2D warm: 1.1e-4 held to 8e-5, then 8.8e-6, 1e-8; not
-    held, 8.8e-6 after the first)."""
+    tolerance after the loose one on the same mesh, or, lifting off, on one
+    graded anew, the state interpolated): there the held first step only
+    cost an iteration (S67 2D warm: 1.1e-4 held to 8e-5, then 8.8e-6, 1e-8;
+    not held, 8.8e-6 after the first). Re-contact above a bearing tip,
+    interpolated onto a mesh graded anew, is not in balance there: it is
+    held (:func:`pipelay_fast.solver._solve_mesh`)."""
     if mesh.bnodes[1] < 0:
         return False
     ndn = 2 * nd + 1
