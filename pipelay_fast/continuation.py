@@ -34,13 +34,13 @@ class ShortLaid(Exception):
     end, and the mesh needs more laid pipe (:func:`.solver._solve_gravity`)."""
 
 
-def run_newton(pb: Problem, g_off, tol, maxit, hold=True):
+def run_newton(pb: Problem, g_off, tol, maxit):
     """One call of the Newton kernel on ``pb`` (updated in place: state,
     boundaries, node arc lengths), with residual offset ``g_off`` (ndof,),
-    tolerance ``tol`` [-] and at most ``maxit`` iterations; ``hold``: the
-    iterations may hold the contact boundaries while the pipe is out of
-    balance (False from a state in balance). Returns (status, reactions
-    (ndof,) [N, N m], info (N_INFO,))."""
+    tolerance ``tol`` [-] and at most ``maxit`` iterations. The iterations may
+    hold the contact boundaries while the pipe is out of balance, unless
+    ``pb.in_balance`` (which the call clears: it holds for its start only).
+    Returns (status, reactions (ndof,) [N, N m], info (N_INFO,))."""
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
     if pb.s_a is not None:
@@ -48,7 +48,9 @@ def run_newton(pb: Problem, g_off, tol, maxit, hold=True):
     else:
         s_a, s_b = np.zeros(pb.nn), np.zeros((N_BND, pb.nn))
     mesh = Mesh(pb.s_el, s_a, s_b, pb.s_bd, pb.bnodes)
-    settings = Settings(float(tol), float(pb.fref), float(pb.href), int(maxit), bool(hold))
+    settings = Settings(float(tol), float(pb.fref), float(pb.href), int(maxit),
+                        not pb.in_balance)
+    pb.in_balance = False
     status = newton(pb.nd, pb.u, mesh, pb.model(), pb.supports(), pb.ends(g_off), settings,
                     react, info)
     pb.update_nodes()
@@ -83,16 +85,15 @@ def _fail(case, step, info, status, extra=""):
 
 
 def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
-                     switch: bool = False, hold: bool = True):
+                     switch: bool = False):
     """:func:`run_newton` within the solve's iteration budget; a SolveError
     naming solver.max_iterations_total when it is spent. ``switch``: a
     lift-off that reaches the stinger's tip (status PAST_TIP) is returned to
-    the caller, which switches to bearing on the tip, instead of raised;
-    ``hold``: as :func:`run_newton`'s."""
+    the caller, which switches to bearing on the tip, instead of raised."""
     if budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
     status, react, info = run_newton(pb, g_off, pb.tolerance or case.solver.tolerance,
-                                      budget.cap(case.solver.max_iterations), hold)
+                                      budget.cap(case.solver.max_iterations))
     budget.charge(info[I_ITER])
     if status == L.SHORT_LAID:
         raise ShortLaid
@@ -104,16 +105,14 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     return status, react, info
 
 
-def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
-                     in_balance: bool = False):
+def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str):
     """:func:`_budgeted_newton`, switching between lifting off and bearing on
     the stinger's tip (at most MAX_TIP_SWITCHES times) when the kernel stops
     at the change of regime (PAST_TIP, SPAN_CLOSED), when, lifting off, the
     answer passes below the tip, and, with a node over the tip, when the
     answer leaves that node unloaded (:func:`.boundaries.tip_released`) or
     the tip's branch kept changing (TIP_CYCLE): the pipe then lifts off
-    above the tip. ``in_balance``: the state is in balance (the boundaries
-    are not held, :func:`run_newton`) until a switch of regime.
+    above the tip.
 
     Returns (status, reactions, info, iterations of every call, the state
     the last call started from).
@@ -123,8 +122,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
         start = snapshot(pb)
         can_switch = pb.lo_node >= 0 and switches < MAX_TIP_SWITCHES
         status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
-                                              switch=can_switch,
-                                              hold=not (in_balance and switches == 0))
+                                              switch=can_switch)
         if status == L.OK and can_switch and passes_below_tip(pb):
             status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
         elif status == L.OK and can_switch and tip_released(pb):
@@ -179,15 +177,12 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
     return react, stats
 
 
-def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None,
-                         in_balance: bool = False):
+def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
     """Newton from the current state; on failure, the load-path homotopy
     G(u) - (1 - alpha) G(u0) = 0 from the state u0 the solve started from,
     alpha from 0 to 1 (:func:`continuation`: steps of 0.25 to 0.5, cut to
     1e-4 at most). ``budget``: the solve's Newton iterations left (None: a
-    fresh one); ``in_balance``: the state is a solution refined (to the
-    tolerance after a loose pass, or, lifting off, interpolated onto a mesh
-    graded anew): its first Newton call does not hold the boundaries.
+    fresh one).
 
     Returns the reactions and a dict of iteration counts.
     """
@@ -197,7 +192,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     # them until the pipe is in equilibrium there: an explicit solve with
     # them held first cost S67 2 to 5 more iterations)
     status, react, info, iters, start = newton_in_regime(
-        case, pb, zero, budget, "the first Newton solve on a mesh", in_balance)
+        case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
     if pb.warm:

@@ -55,6 +55,10 @@ class Problem:
     before_current: list | None = None  # state snapshot before the current (friction path)
     warm: bool = False  # started from a neighbour's answer (no load path: the cold start is)
     tolerance: float | None = None  # Newton's tolerance when not solver.tolerance
+    # the state is a solution refined (to the tolerance, or onto a mesh graded
+    # anew): the next Newton call does not hold the boundaries (run_newton
+    # reads and clears it)
+    in_balance: bool = False
     # the mesh follows the contact boundaries: node i at s_a[i] + sum_b
     # s_b[b, i] s_bd[b], touchdown on node bnodes[0], lift-off from (or
     # re-contact with) the stinger on bnodes[1], the material point over the

@@ -132,7 +132,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
                 or (graded_on_boundaries(case, pb) and not short_laid)):
             if pb.tolerance is not None:  # on to the tolerance, this mesh
                 pb.tolerance = None
-                pb, react, more = _solve_gravity(case, pb, budget, in_balance=True)
+                pb.in_balance = True  # the loose pass's solution, refined
+                pb, react, more = _solve_gravity(case, pb, budget)
                 stats = {key: stats[key] + more[key] for key in stats}
                 s_t = touchdown_position(pb)
                 foci = stinger_foci(case, pb)
@@ -144,7 +145,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         # interpolated, the state is near balance, but for re-contact above a
         # bearing tip: not holding it there cost up to 58 iterations more
         # (S125 2D 8 m, a = -0.00172: the span closed)
-        pb, react, more = _solve_gravity(case, pb, budget, in_balance=pb.tip_node < 0)
+        pb.in_balance = pb.tip_node < 0
+        pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
     while path:
@@ -175,21 +177,18 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     return pb, react, stats, s_t, liftoff_position(case, pb)
 
 
-def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget, in_balance=False):
+def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
     """:func:`newton_with_fallback`, with laid pipe prepended each time Newton
     stops because touchdown runs toward the modelled lower end (SHORT_LAID).
-    ``in_balance``: ``pb`` holds a solution refined (newton_with_fallback's),
-    until laid pipe is prepended.
 
     Returns (problem, reactions, iteration counts).
     """
     used = budget.used
     for _ in range(MAX_LAID_DOUBLINGS + 1):
         try:
-            react, stats = newton_with_fallback(case, pb, budget, in_balance)
+            react, stats = newton_with_fallback(case, pb, budget)
         except ShortLaid:
             pb = _with_more_laid(case, pb)
-            in_balance = False
             continue
         stats["iterations"] = budget.used - used  # the stopped calls' too
         return pb, react, stats
