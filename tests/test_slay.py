@@ -148,13 +148,14 @@ def test_a_warm_start_out_of_the_tip_regime_gives_the_cold_answer(s67):
 @pytest.mark.parametrize("a", [-0.00125, -0.0015, -0.0009])
 def test_warm_start_gives_the_cold_answer(s67, still, a):
     """Started from the solution at a = -0.0012 (lift-off regime), including a
-    jump into the tip regime (-0.0009): the answer of a solve from the catenary."""
+    jump into the tip regime (-0.0009): the answer of a solve from the catenary
+    (measured: 5.5e-11 in peak stress, 1.5e-11 in touchdown, 1.7e-11 in lift-off)."""
     case = s67.with_changes({"environment.current.speed": 0.0, "lay.stinger.a": a})
     cold = solve(case).summary
     warm = pf.solve(case, warm=still).summary
     for key in ("max_von_mises", "overbend_max_moment", "tdp_z", "liftoff_z", "tip_reaction",
                 "bottom_tension"):
-        assert warm[key] == pytest.approx(cold[key], rel=1e-5, abs=1e-3), key
+        assert warm[key] == pytest.approx(cold[key], rel=1e-7, abs=1e-6), key
 
 
 def test_warm_start_refuses_another_dimension(s67, still):
