@@ -39,7 +39,7 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
         pb.bed_active[1:k + 1] = 1
     lift = pb.stats.get("stinger_foci") or []
     if case.lay.stinger is None:
-        follow_nodes(case, pb, (k, -1, -1))
+        follow_nodes(case, pb, (k, -1))
         return
     # lift-off: the guess's; where the guess leaves from the tip, the pipe
     # regains the stinger further up (a gap span between, bearing on the
@@ -60,11 +60,12 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
 
 
 def follow_nodes(case: Case, pb: Problem, nodes):
-    """The mesh follows the boundaries on ``nodes`` (touchdown, lift-off, the
-    tip's point; -1: none), each with a zone of three flexural lengths."""
+    """The mesh follows the boundaries on ``nodes`` (touchdown, lift-off, then
+    one per rigid point, the stinger's tip first; -1: none), each with a zone
+    of three flexural lengths."""
     zone = 3.0 * pb.stats["flexural_length"]
-    pb.follow(nodes, ((zone, zone), (zone, min(zone, 0.9 * (pb.s[-1] - pb.s[nodes[1]]))),
-                      (zone, zone)))
+    zones = [(zone, zone), (zone, min(zone, 0.9 * (pb.s[-1] - pb.s[nodes[1]])))]
+    pb.follow(nodes, zones + [(zone, zone)] * (len(nodes) - 2))
 
 
 ON_FOCUS = 0.02  # a mesh is graded at a point within this share of h_min of it

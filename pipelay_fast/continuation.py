@@ -23,7 +23,7 @@ from .case import Case
 from .errors import SolveError
 from .kernels import layout as L
 from .kernels.contact import friction_forces
-from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_BND, N_INFO, _system, newton
+from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
 from .kernels.types import Mesh, Settings
 from .limits import IterationBudget
 from .problem import Problem, restore, snapshot
@@ -46,7 +46,7 @@ def run_newton(pb: Problem, g_off, tol, maxit):
     if pb.s_a is not None:
         s_a, s_b = pb.s_a, pb.s_b
     else:
-        s_a, s_b = np.zeros(pb.nn), np.zeros((N_BND, pb.nn))
+        s_a, s_b = np.zeros(pb.nn), np.zeros((pb.bnodes.size, pb.nn))
     mesh = Mesh(pb.s_el, s_a, s_b, pb.s_bd, pb.bnodes)
     settings = Settings(float(tol), float(pb.fref), float(pb.href), int(maxit),
                         not pb.in_balance)
@@ -62,8 +62,8 @@ def _residual(pb: Problem):
     g = np.zeros_like(pb.u)
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
     _system(pb.nd, pb.s_el, pb.u, pb.model(), torques, np.zeros((1, 1)), 1, 1, g,
-            pb.ends(np.zeros_like(pb.u)), False, np.zeros((N_BND, pb.nn)),
-            np.full(N_BND, -1, dtype=np.int64), np.zeros((N_BND, 1)))
+            pb.ends(np.zeros_like(pb.u)), False, np.zeros((pb.bnodes.size, pb.nn)),
+            np.full(pb.bnodes.size, -1, dtype=np.int64), np.zeros((pb.bnodes.size, 1)))
     friction_forces(pb.nd, pb.u, g, np.zeros((1, 1)), 0, pb.model(), pb.bed_active, pb.fric,
                     np.zeros_like(pb.u), pb.s)
     g[pb.fix_mask != 0] = 0.0

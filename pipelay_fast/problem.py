@@ -19,7 +19,7 @@ from .case import Case
 from .guess import first_guess, shape
 from .kernels import layout as L
 from .kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
-from .kernels.newton import N_BND
+from .kernels.newton import B_PT
 from .kernels.types import Ends, Model, Supports, load_factors
 from .limits import check_mesh_size
 from .mesh import graded_nodes
@@ -42,7 +42,7 @@ class Problem:
     bed_active: np.ndarray
     stinger: np.ndarray
     st_active: np.ndarray
-    tip: np.ndarray
+    points: np.ndarray  # (n_points, N_PT) the rigid points: the stinger's tip (L.PT_*)
     fric: np.ndarray
     f_node: np.ndarray
     slide_dof: int
@@ -61,13 +61,13 @@ class Problem:
     in_balance: bool = False
     # the mesh follows the contact boundaries: node i at s_a[i] + sum_b
     # s_b[b, i] s_bd[b], touchdown on node bnodes[0], lift-off from (or
-    # re-contact with) the stinger on bnodes[1], the material point over the
-    # stinger's tip on bnodes[2] while it bears (-1: none; until the mesh is
-    # mapped, all -1)
-    bnodes: np.ndarray = field(default_factory=lambda: np.full(N_BND, -1, dtype=np.int64))
+    # re-contact with) the stinger on bnodes[1], the material point over
+    # rigid point j (the stinger's tip: j = 0) on bnodes[2 + j] (-1: none;
+    # until the mesh is mapped, all -1)
+    bnodes: np.ndarray | None = None
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
-    s_bd: np.ndarray = field(default_factory=lambda: np.zeros(N_BND))
+    s_bd: np.ndarray | None = None
     # the load path's factors (layout F_*): the current's, full unless the
     # friction path raises it in steps, and friction, off until that path
     factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
@@ -77,6 +77,9 @@ class Problem:
     def __post_init__(self):
         if self.y_held is None:
             self.y_held = np.zeros(self.s.size, dtype=np.bool_)
+        if self.bnodes is None:
+            self.bnodes = np.full(B_PT + len(self.points), -1, dtype=np.int64)
+            self.s_bd = np.zeros(self.bnodes.size)
 
     def model(self) -> Model:
         """What the element kernels read: the case's data and the load path's factors."""
@@ -84,7 +87,7 @@ class Problem:
 
     def supports(self) -> Supports:
         return Supports(self.fix_mask, self.fix_val, self.phi_r, self.phi_rp, self.bed_active,
-                        self.stinger, self.st_active, self.tip, self.fric, self.y_held)
+                        self.stinger, self.st_active, self.points, self.fric, self.y_held)
 
     def ends(self, g_off) -> Ends:
         return Ends(self.f_node, g_off, self.tb, self.slide_dof, self.top_node,
@@ -104,11 +107,18 @@ class Problem:
 
     @property
     def tip_node(self) -> int:
-        return int(self.bnodes[2])
+        """The node over the stinger's tip, the first rigid point (-1: none)."""
+        return int(self.bnodes[B_PT]) if self.bnodes.size > B_PT else -1
+
+    @property
+    def tip(self) -> np.ndarray:
+        """The stinger tip's contact state, a view: [bears (0/1), normal reaction [N]]."""
+        return self.points[0, L.PT_BEAR:L.PT_R + 1]
 
     def follow(self, nodes, zones):
         """Map the mesh onto the contact boundaries at ``nodes`` (touchdown,
-        lift-off or re-contact on the stinger, the stinger's tip; -1: none).
+        lift-off or re-contact on the stinger, then one per rigid point, the
+        stinger's tip first; -1: none).
 
         Anchors are the boundary nodes, the ends of the pipe and, for boundary
         b, the nodes ``zones[b]`` = (below, above) [m] away from it, unless
@@ -116,6 +126,9 @@ class Problem:
         share of the span between them, so each span's mesh is mapped onto its
         present ends with its grading, and nodes outside every zone stay put.
         """
+        if len(nodes) != self.bnodes.size:
+            raise ValueError(f"follow: {len(nodes)} boundary nodes for {self.bnodes.size} "
+                             f"boundaries (touchdown, lift-off, {len(self.points)} points)")
         s = self.s
         nn = s.size
         kind = {0: -1, nn - 1: -1}  # anchor node -> boundary (-1: a fixed material point)
@@ -137,7 +150,7 @@ class Problem:
                 kind.setdefault(hi, -1)
         anchors = sorted(kind)
         s_a = s.copy()
-        s_b = np.zeros((N_BND, nn))
+        s_b = np.zeros((len(nodes), nn))
         for a0, a1 in zip(anchors[:-1], anchors[1:], strict=True):
             i = np.arange(a0, a1 + 1)
             f = (s[i] - s[a0]) / (s[a1] - s[a0])
@@ -292,12 +305,25 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
     fric = np.zeros((nn, L.N_FRIC))
     anchor_friction(fric, u, nd, s)
     return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed_active,
-                   stinger, st_active, np.zeros(2), fric, np.zeros(nn * ndn), slide_dof,
+                   stinger, st_active, _points(stinger), fric, np.zeros(nn * ndn), slide_dof,
                    np.array([float(tb)]), top,
                    top_target, fref, stats["h_max"], stats=stats)
 
 
-STATE = ("u", "tb", "bed_active", "st_active", "tip", "fric", "phi_r", "phi_rp", "s", "s_bd")
+STATE = ("u", "tb", "bed_active", "st_active", "points", "fric", "phi_r", "phi_rp", "s",
+         "s_bd")
+
+
+def _points(stinger: np.ndarray) -> np.ndarray:
+    """The rigid points of a case (rows ``L.PT_*``): the quadratic stinger's
+    tip (x_L, z_L), none in J-lay."""
+    if stinger[ST_ON] == 0.0:
+        return np.zeros((0, L.N_PT))
+    pts = np.zeros((1, L.N_PT))
+    z_l = stinger[ST_ZL]
+    pts[0, L.PT_X] = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
+    pts[0, L.PT_Z] = z_l
+    return pts
 
 
 def snapshot(pb: Problem):
@@ -323,8 +349,10 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0], old.fref,
                    dict(old.stats))
     new.warm = True
-    for name in ("bed_active", "st_active", "tip", "fric"):
+    for name in ("bed_active", "st_active", "fric"):
         getattr(new, name)[:] = state[name]
+    # the points' contact states (their positions are the new case's)
+    new.points[:, L.PT_BEAR:] = state["points"][:, L.PT_BEAR:]
     if old.s_a is not None:
         new.bnodes, new.s_a, new.s_b = old.bnodes.copy(), old.s_a.copy(), old.s_b.copy()
         new.s_bd = state["s_bd"].copy()
@@ -420,8 +448,9 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     if pb.lo_node >= 0:
         new.st_active[:] = 0
         new.st_active[at(pb.lo_node):-1] = 1
-    follow_nodes(case, new, (at(pb.td_node), at(pb.lo_node), at(pb.tip_node)))
-    new.tip[:] = pb.tip  # a bearing tip keeps bearing (its point moves with the pipe)
+    follow_nodes(case, new, [at(int(k)) for k in pb.bnodes])
+    # a bearing point keeps bearing (the node over it moves with the pipe)
+    new.points[:, L.PT_BEAR:] = pb.points[:, L.PT_BEAR:]
     return new
 
 

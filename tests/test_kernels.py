@@ -68,7 +68,8 @@ def laid_pipe(case, nd, n_el=40, length=50.0, tension=2e5, lift=0.3):
     props, table = build_props(case)
     return Problem(nd, s, props, table, u, fix, np.zeros_like(u), np.zeros(s.size),
                    np.zeros(s.size), on_bed, np.zeros(N_STINGER),
-                   np.zeros(s.size, dtype=np.int8), np.zeros(2), np.zeros((s.size, L.N_FRIC)),
+                   np.zeros(s.size, dtype=np.int8), np.zeros((0, L.N_PT)),
+                   np.zeros((s.size, L.N_FRIC)),
                    f_node,
                    -1, np.zeros(1), s.size - 1, 0.0,
                    tension, 1.0)

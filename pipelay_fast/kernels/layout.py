@@ -64,6 +64,17 @@ FR_Z = 4  # axial anchor z [m]
 FR_S = 5  # arc length [m] of the material point the anchors belong to
 N_FRIC = 6
 
+# --- rigid point contacts (rows of ``Supports.points``) ------------------------
+# A rigid point in the lay plane (the stinger's tip; later each roller) holds
+# the pipe from below by a unilateral contact: a node follows the material
+# point over it (a boundary unknown of Newton, :mod:`.newton`) and its normal
+# contact is chosen by the complementarity min(R, c g) = 0.
+PT_X = 0  # the point's x [m] (the vertical, as the nodal unknown x)
+PT_Z = 1  # the point's z [m]
+PT_BEAR = 2  # 1 while the pipe bears on it, else 0 (the complementarity's branch)
+PT_R = 3  # its normal reaction [N] while it bears
+N_PT = 4
+
 # --- current profiles ---------------------------------------------------------
 PROFILE_UNIFORM = 0
 PROFILE_LINEAR = 1

@@ -47,10 +47,16 @@ condition:
 * lift-off (or re-contact above a bearing tip): on the stinger, its node's
   slope free and the pipe tangent to the stinger there (:func:`_tangency`),
   which leaves its curvature continuous;
-* the tip (b = 2): a node follows the material point over the stinger's tip,
-  t . (r - r_tip) = 0 (:func:`_over_tip`), and its normal contact is chosen by
-  the complementarity min(R, c g) = 0, solved semismoothly (the branch the
-  present reaction R and gap g select, each iteration).
+* a rigid point (b = 2, 3, ..., one per row of ``sup.points``: the
+  stinger's tip; the rollers of a roller stinger will be more rows of the
+  same list): a node follows the material point over the point,
+  t . (r - r_p) = 0 (:func:`_over_point`), and its normal contact is chosen
+  by the complementarity min(R, c g) = 0, solved semismoothly (the branch
+  the present reaction R and gap g select, each iteration,
+  :func:`_points_update`). This is the point-against-element contact with
+  the element's end put on the contact point: the pipe's moment, which
+  kinks under a point load, is then kinked at a node, where the cubic
+  elements represent it, and the gap and its multiplier are the node's.
 
 Their columns dG/ds_b are the elements' analytic dG/dle times the length
 rates (:func:`.assembly.assemble`, in the tangent's pass) plus the friction
@@ -315,26 +321,40 @@ MERIT_RISE = 1e8  # boundaries mode: the largest rise of the merit a step may br
 RUNAWAY = 1e6
 INNER_RATIO = 1.0  # the boundaries move once the pipe's imbalance is below this times theirs
 MAX_BOUNDARY_STEP = 2.0  # largest move of a contact boundary per Newton step, in href
-# the tip's branch may change this often in one call; past it the call stops
+# the points' branches may change this often in one call; past it the call stops
 # with TIP_CYCLE, and the caller lets the pipe lift off above the tip (bearing
 # with no bearing solution, the branch flipped every few steps to the
 # iteration cap). The paper scenes' references (0.25 m, graded to 0.05 m)
 # change it more than 8 times on their way; 2 x nodes before
 MAX_TIP_CHANGES = 16
-N_BND = 3  # boundaries that can be unknowns: touchdown (0), lift-off (1), the tip's point (2)
-N_BORDER = 1 + N_BND  # bordered unknowns: bottom tension, the boundaries
+# the boundaries that can be unknowns (``mesh.bnodes``, the rows of
+# ``mesh.s_b``): touchdown, lift-off from the stinger (or re-contact above a
+# bearing tip), then one per rigid point (``sup.points``, the stinger's tip
+# first): the material point over it
+B_TD = 0
+B_LO = 1
+B_PT = 2
 
 
 @jit
 def mesh_lengths(s_a, s_b, s_bd, s_el):
     """Element lengths [m] of the mesh that follows the contact boundaries:
     node i sits at s_i = s_a[i] + sum_b s_b[b, i] s_bd[b], s_bd the arc lengths
-    of touchdown (b = 0) and lift-off from the stinger (b = 1)."""
+    of the boundaries (touchdown, lift-off, the points: ``B_*``)."""
     for e in range(s_el.shape[0]):
         le = s_a[e + 1] - s_a[e]
-        for b in range(N_BND):
+        for b in range(s_bd.shape[0]):
             le += (s_b[b, e + 1] - s_b[b, e]) * s_bd[b]
         s_el[e] = le
+
+
+@jit
+def _has_boundaries(mesh):
+    """True when some contact boundary is an unknown (the mesh follows it)."""
+    for b in range(mesh.bnodes.shape[0]):
+        if mesh.bnodes[b] >= 0:
+            return True
+    return False
 
 
 @jit
@@ -421,32 +441,32 @@ def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
 @jit
 def _bnd_scale(b, fref, href):
     """The scale of boundary b's equation: a moment (touchdown), a slope
-    (lift-off), a length (the tip's point)."""
-    if b == 0:
+    (lift-off), a length (a point's)."""
+    if b == B_TD:
         return fref * href
-    return 1.0 if b == 1 else href
+    return 1.0 if b == B_LO else href
 
 
 @jit
-def _tip_gap_normal(nd, u, stinger, node, phi):
-    """Clearance [m] of node ``node`` from the stinger's tip (x_L, z_L) along the
-    normal of a frame turned by ``phi`` (the pipe's, see :func:`_over_tip`)."""
-    ndn = 2 * nd + 1
-    base = node * ndn
-    z_l = stinger[ST_ZL]
-    x_l = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
-    return math.cos(phi) * (u[base] - x_l) - math.sin(phi) * (u[base + nd - 1] - z_l)
+def _point_gap(nd, u, point, node, phi):
+    """Clearance [m] of node ``node`` from the rigid point ``point`` (a row of
+    ``sup.points``) along the normal of a frame turned by ``phi`` (the pipe's,
+    see :func:`_over_point`)."""
+    base = node * (2 * nd + 1)
+    return (math.cos(phi) * (u[base] - point[L.PT_X])
+            - math.sin(phi) * (u[base + nd - 1] - point[L.PT_Z]))
 
 
 @jit
-def _over_tip(nd, u, stinger, node, row):
-    """The tip's boundary equation: node ``node`` is the material point over
-    the stinger's tip, t . (r - r_tip) = 0 with t = r'/|r'| the pipe's tangent
-    [m] (the tip's projection on the pipe). ``row`` gets d/du (global frame)."""
+def _over_point(nd, u, point, node, row):
+    """A point's boundary equation: node ``node`` is the material point over
+    the rigid point ``point``, t . (r - r_p) = 0 with t = r'/|r'| the pipe's
+    tangent [m] (the point's projection on the pipe). ``row`` gets d/du
+    (global frame)."""
     ndn = 2 * nd + 1
     base = node * ndn
-    z_l = stinger[ST_ZL]
-    x_l = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
+    z_l = point[L.PT_Z]
+    x_l = point[L.PT_X]
     for i in range(row.shape[0]):
         row[i] = 0.0
     a = 0.0
@@ -531,7 +551,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
     if has_bnd:
         for node in range(nn):
             rate = 0.0
-            for b in range(1, N_BND):
+            for b in range(B_LO, mesh.s_b.shape[0]):
                 rate += mesh.s_b[b, node] * w.d_bnd[b]
             if rate == 0.0:
                 continue
@@ -547,7 +567,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
     _onto_curve(nd, u, u_old, du, alpha, stinger, st_active)
     tb[0] = tb_old + alpha * dtb
     if has_bnd:
-        for b in range(N_BND):
+        for b in range(mesh.s_bd.shape[0]):
             mesh.s_bd[b] = w.bnd_old[b] + alpha * w.d_bnd[b]
         mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
 
@@ -564,9 +584,11 @@ Work = namedtuple("Work", [
 
 
 @phase
-def _work(nd, n, nn, nel, props, href):
-    """The iteration's work arrays, allocated once per call (:data:`Work`)."""
+def _work(nd, n, nn, nel, nbnd, props, href):
+    """The iteration's work arrays, allocated once per call (:data:`Work`);
+    ``nbnd`` boundaries, so 1 + nbnd bordered unknowns at most."""
     ndn = 2 * nd + 1
+    n_border = 1 + nbnd
     kl = 2 * ndn - 1
     rows_ab = 3 * kl + 1
     scale = np.empty(ndn)
@@ -581,11 +603,11 @@ def _work(nd, n, nn, nel, props, href):
         np.zeros((rows_ab, n)), np.zeros((rows_ab, n)), np.zeros(n, dtype=np.int64),
         np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n, dtype=np.bool_),
         np.zeros(n), np.zeros(n), np.zeros(n), scale, np.full(nel, props[L.TORQUE]),
-        np.zeros((N_BORDER, n)), np.zeros((N_BORDER, n)), np.zeros((N_BORDER, n)),
-        np.zeros(N_BORDER), np.zeros((N_BORDER, N_BORDER)), np.zeros(N_BORDER, dtype=np.int64),
-        np.zeros(N_BORDER), np.zeros((N_BORDER, N_BORDER)), np.zeros(N_BORDER),
-        np.zeros((N_BND, n)), np.zeros(n), np.zeros(n), np.zeros(N_BND), np.zeros(N_BND),
-        np.zeros(N_BND), np.zeros(N_BND), np.zeros(nn), np.zeros(n),
+        np.zeros((n_border, n)), np.zeros((n_border, n)), np.zeros((n_border, n)),
+        np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border, dtype=np.int64),
+        np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border),
+        np.zeros((nbnd, n)), np.zeros(n), np.zeros(n), np.zeros(nbnd), np.zeros(nbnd),
+        np.zeros(nbnd), np.zeros(nbnd), np.zeros(nn), np.zeros(n),
         np.zeros(nn, dtype=np.bool_), np.zeros(0),
         np.zeros((1, 1)), np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
         np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)))
@@ -629,7 +651,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
         else:
             te_top = _top_te(nd, g, u, ends.top_node)
     if want_tangent:
-        for b in range(N_BND):
+        for b in range(bnodes.shape[0]):
             if bnodes[b] >= 0:
                 # the springs' anchors are read at material points, which move
                 # with the boundary too (:func:`.contact.anchor_at`)
@@ -637,10 +659,10 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
                                            mesh.s_b[b], w.bcols[b])
                 w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
     m_td = 0.0
-    if bnodes[0] >= 0:
+    if bnodes[B_TD] >= 0:
         row = w.row_td if want_tangent else w.no_row
-        m_td, own = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[0], mesh.s_b[0],
-                                 row)
+        m_td, own = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[B_TD],
+                                 mesh.s_b[B_TD], row)
         if want_tangent:
             w.own_td[0] = own
     return te_top, m_td
@@ -649,7 +671,8 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
 @phase
 def _nodal_frames(nd, u, mesh, sup, ends):
     """The nodal frames of the iteration: none on the stinger's contacts (they
-    are in curve coordinates) and, over the tip, the pipe's (normal, tangent)."""
+    are in curve coordinates) and, over each rigid point, the pipe's (normal,
+    tangent)."""
     ndn = 2 * nd + 1
     nn = sup.phi_r.shape[0]
     if sup.stinger[ST_ON] != 0.0:
@@ -657,10 +680,11 @@ def _nodal_frames(nd, u, mesh, sup, ends):
             if node != ends.top_node:
                 sup.phi_r[node] = 0.0
                 sup.phi_rp[node] = 0.0
-    kt = mesh.bnodes[2]
-    if kt >= 0:
-        base = kt * ndn
-        sup.phi_r[kt] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
+    for b in range(B_PT, mesh.bnodes.shape[0]):
+        kt = mesh.bnodes[b]
+        if kt >= 0:
+            base = kt * ndn
+            sup.phi_r[kt] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
 
 
 @phase
@@ -700,19 +724,19 @@ def _border(nd, u, mesh, sup, ends, w, te_top):
         w.kind[nb] = 0
         nb += 1
     nb_fixed = nb
-    for b in range(N_BND):
+    for b in range(mesh.bnodes.shape[0]):
         node = mesh.bnodes[b]
         if node < 0:
             continue
         w.col_t[:] = w.bcols[b]
         d_own = 0.0
-        if b == 0:  # (evaluated by _evaluate)
+        if b == B_TD:  # (evaluated by _evaluate)
             w.row_t[:] = w.row_td
             d_own = w.own_td[0]
-        elif b == 1:
+        elif b == B_LO:
             w.res_bnd[b] = _tangency(nd, u, sup.stinger, b, node, w.row_t)
         else:
-            w.res_bnd[b] = _over_tip(nd, u, sup.stinger, node, w.row_t)
+            w.res_bnd[b] = _over_point(nd, u, sup.points[b - B_PT], node, w.row_t)
         _to_nodal_frames(nd, w.col_t, u, sup, w)
         _to_nodal_frames(nd, w.row_t, u, sup, w)
         w.rows[nb, :] = w.row_t
@@ -733,8 +757,8 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
     """Phase 3: the constrained unknowns (``w.cmask``) and their prescribed
     increments (``w.delta``, nodal frames): fixed ends, the seabed contacts
     (on it and tangent), the stinger contacts (on the curve and tangent, but
-    lift-off's slope, which its equation closes), the lateral hold, the tip's
-    node when it bears. Returns the largest violation [href, rad]."""
+    lift-off's slope, which its equation closes), the lateral hold, the node
+    over each rigid point that bears. Returns the largest violation [href, rad]."""
     ndn = 2 * nd + 1
     nn = sup.phi_r.shape[0]
     n = u.shape[0]
@@ -780,11 +804,13 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
                 w.delta[base + 1] = -u[base + 1]
                 w.cmask[base + nd + 1] = True
                 w.delta[base + nd + 1] = -u[base + nd + 1]
-    kt = mesh.bnodes[2]
-    if kt >= 0 and sup.tip[0] != 0.0:
-        # bearing on the tip: the node on it along the pipe's normal
-        w.cmask[kt * ndn] = True
-        w.delta[kt * ndn] = -_tip_gap_normal(nd, u, stinger, kt, sup.phi_r[kt])
+    for b in range(B_PT, mesh.bnodes.shape[0]):
+        kt = mesh.bnodes[b]
+        point = sup.points[b - B_PT]
+        if kt >= 0 and point[L.PT_BEAR] != 0.0:
+            # bearing on a point: the node on it along the pipe's normal
+            w.cmask[kt * ndn] = True
+            w.delta[kt * ndn] = -_point_gap(nd, u, point, kt, sup.phi_r[kt])
     max_delta = 0.0
     for i in range(n):
         lim = href if i % ndn < nd else 1.0
@@ -803,7 +829,7 @@ def _imbalance(nd, mesh, ends, w, settings, te_top):
     if _solves_tb(ends):
         top_res = abs(te_top - ends.top_target) / ends.top_target
     bnd_res = 0.0
-    for b in range(N_BND):
+    for b in range(mesh.bnodes.shape[0]):
         if mesh.bnodes[b] >= 0:
             bnd_res = max(bnd_res, abs(w.res_bnd[b]) / _bnd_scale(b, settings.fref,
                                                                   settings.href))
@@ -835,10 +861,10 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     not held, 8.8e-6 after the first). Re-contact above a bearing tip,
     interpolated onto a mesh graded anew, is not in balance there: it is
     held (:func:`pipelay_fast.solver._solve_mesh`)."""
-    if mesh.bnodes[1] < 0:
+    if mesh.bnodes[B_LO] < 0:
         return False
     ndn = 2 * nd + 1
-    j_lo = mesh.bnodes[1] * ndn + nd  # lift-off's slope
+    j_lo = mesh.bnodes[B_LO] * ndn + nd  # lift-off's slope
     # the boundaries' own imbalance: their equations, and the moment on
     # lift-off's slope that its tangency would hold
     own = max(bnd_res, abs(w.g[j_lo]) / (settings.fref * settings.href))
@@ -846,7 +872,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     w.cmask[j_lo] = True  # as held: lift-off's slope constrained
     res_eq, _rs = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
     if res_eq > INNER_RATIO * own:
-        w.delta[j_lo] = -_tangency(nd, u, sup.stinger, 1, mesh.bnodes[1], w.row_t)
+        w.delta[j_lo] = -_tangency(nd, u, sup.stinger, B_LO, mesh.bnodes[B_LO], w.row_t)
         return True
     w.cmask[j_lo] = keep
     return False
@@ -974,28 +1000,30 @@ def _step_length(nd, u, mesh, sup, w, hold, href):
     s_bd = mesh.s_bd
     s_el = mesh.s_el
     d_bnd = w.d_bnd
-    has_td = bnodes[0] >= 0
-    has_lo = bnodes[1] >= 0
-    has_tipn = bnodes[2] >= 0
+    nbnd = bnodes.shape[0]
+    has_td = bnodes[B_TD] >= 0
+    has_lo = bnodes[B_LO] >= 0
+    # the tip: the first rigid point, where the stinger's curve ends
+    has_tipn = nbnd > B_PT and bnodes[B_PT] >= 0
     alpha = 1.0
-    if has_td or has_lo:
+    if _has_boundaries(mesh):
         for e in range(nn - 1):
             rate = 0.0
-            for b in range(N_BND):
+            for b in range(nbnd):
                 rate += (s_b[b, e + 1] - s_b[b, e]) * d_bnd[b]
             if rate < -0.9 * s_el[e]:
                 alpha = min(alpha, 0.9 * s_el[e] / abs(rate))
-    for b in range(N_BND):
+    for b in range(nbnd):
         if abs(d_bnd[b]) * alpha > MAX_BOUNDARY_STEP * href:
             alpha = MAX_BOUNDARY_STEP * href / abs(d_bnd[b])
-    if has_td and not hold and d_bnd[0] < 0.0:
-        if -d_bnd[0] * alpha > 0.5 * (s_bd[0] - mesh.s_a[0]):
+    if has_td and not hold and d_bnd[B_TD] < 0.0:
+        if -d_bnd[B_TD] * alpha > 0.5 * (s_bd[B_TD] - mesh.s_a[0]):
             return alpha, L.SHORT_LAID
     if has_lo and has_tipn and not hold:
-        gap_s = s_bd[1] - s_bd[2]
-        d_gap_s = (d_bnd[1] - d_bnd[2]) * alpha
+        gap_s = s_bd[B_LO] - s_bd[B_PT]
+        d_gap_s = (d_bnd[B_LO] - d_bnd[B_PT]) * alpha
         if d_gap_s < -0.5 * gap_s:
-            if gap_s < href and sup.tip[0] != 0.0:
+            if gap_s < href and sup.points[0, L.PT_BEAR] != 0.0:
                 # Bearing, the span's square goes like a - a_switch: from
                 # d0 Newton asks d0 / 2 + (a - a_switch) / (2 k d0), so a
                 # step that more than halves the span says there is no
@@ -1011,7 +1039,7 @@ def _step_length(nd, u, mesh, sup, w, hold, href):
     if has_lo and not hold:
         # lift-off stays above the tip (the curve continued past it is no
         # support)
-        base = bnodes[1] * ndn
+        base = bnodes[B_LO] * ndn
         room = u[base + nd - 1] - sup.stinger[ST_ZL]
         dz_lo = w.du_free[base + nd - 1]  # the node's own z slides it along the curve
         if room < 1e-3 * href and dz_lo < 0.0:
@@ -1033,12 +1061,13 @@ def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td):
     if _solves_tb(ends):
         tr = (te_top - ends.top_target) / ends.top_target
     tdr = 0.0
-    if bnodes[0] >= 0 and not hold:
+    if bnodes[B_TD] >= 0 and not hold:
         tdr += (m_td / (fref * href)) ** 2
-    if bnodes[1] >= 0 and not hold:
-        tdr += _tangency(nd, u, sup.stinger, 1, bnodes[1], w.row_t) ** 2
-    if bnodes[2] >= 0 and not hold:
-        tdr += (_over_tip(nd, u, sup.stinger, bnodes[2], w.row_t) / href) ** 2
+    if bnodes[B_LO] >= 0 and not hold:
+        tdr += _tangency(nd, u, sup.stinger, B_LO, bnodes[B_LO], w.row_t) ** 2
+    for b in range(B_PT, bnodes.shape[0]):
+        if bnodes[b] >= 0 and not hold:
+            tdr += (_over_point(nd, u, sup.points[b - B_PT], bnodes[b], w.row_t) / href) ** 2
     _to_nodal_frames(nd, w.g_trial, u, sup, w)
     _rm, rs = _weighted_max(nd, w.g_trial, w.cmask, fref, href)
     return rs + tr * tr + tdr
@@ -1057,29 +1086,34 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
     merit there rises by up to 1e7 across good steps (the short elements of a
     closing gap span); cut, the span crept by 6 % a step (S125 2D, full grid:
     at most 82 iterations at 4 m and 344 at 1 m; taken so, 42 and 58)."""
-    has_bnd = mesh.bnodes[0] >= 0 or mesh.bnodes[1] >= 0
-    has_lo = mesh.bnodes[1] >= 0
+    has_bnd = _has_boundaries(mesh)
+    has_lo = mesh.bnodes[B_LO] >= 0
     return (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < tol * tol or m1 < 1e-300
             or (has_bnd and m1 <= MERIT_RISE * merit0) or (has_lo and not hold and m1 < 1e300))
 
 
 @phase
-def _tip_update(nd, u, mesh, sup, w, react, settings):
-    """Phase 9: the tip's contact by the complementarity min(R, c g) = 0
-    (semismooth Newton: the branch that the present normal reaction R and gap
-    g select): it bears when R - c g > 0, the node then held on it, else
-    R = 0. Returns True when the branch changed."""
-    kt = mesh.bnodes[2]
-    if kt < 0:
-        return False
+def _points_update(nd, u, mesh, sup, react, settings):
+    """Phase 9: each rigid point's contact by the complementarity
+    min(R, c g) = 0 (semismooth Newton: the branch that the present normal
+    reaction R and gap g select): it bears when R - c g > 0, its node then
+    held on it, else R = 0. Returns how many branches changed."""
     ndn = 2 * nd + 1
-    bearing = sup.tip[0] != 0.0
-    r_n = react[kt * ndn] if bearing else 0.0
-    g_n = _tip_gap_normal(nd, u, sup.stinger, kt, sup.phi_r[kt])
-    bears = r_n - (settings.fref / settings.href) * g_n > 0.0
-    sup.tip[0] = 1.0 if bears else 0.0
-    sup.tip[1] = r_n if bears else 0.0
-    return bears != bearing
+    changes = 0
+    for b in range(B_PT, mesh.bnodes.shape[0]):
+        kt = mesh.bnodes[b]
+        if kt < 0:
+            continue
+        point = sup.points[b - B_PT]
+        bearing = point[L.PT_BEAR] != 0.0
+        r_n = react[kt * ndn] if bearing else 0.0
+        g_n = _point_gap(nd, u, point, kt, sup.phi_r[kt])
+        bears = r_n - (settings.fref / settings.href) * g_n > 0.0
+        point[L.PT_BEAR] = 1.0 if bears else 0.0
+        point[L.PT_R] = r_n if bears else 0.0
+        if bears != bearing:
+            changes += 1
+    return changes
 
 
 @phase
@@ -1105,9 +1139,10 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     nd : 2 or 3
     u : (ndof,) nodal unknowns, global frame; updated in place
     mesh : :data:`.types.Mesh`, s_el (nel,) element lengths [m], updated with
-        the boundaries; s_a (nn,), s_b (N_BND, nn) the map onto the boundaries'
-        arc lengths s_bd (N_BND,) [m], updated; bnodes (N_BND,) int64, the
-        boundaries' nodes (-1: none)
+        the boundaries; s_a (nn,), s_b (nbnd, nn) the map onto the boundaries'
+        arc lengths s_bd (nbnd,) [m], updated; bnodes (nbnd,) int64, the
+        boundaries' nodes (-1: none): touchdown, lift-off, then one per rigid
+        point (``B_*``), nbnd = 2 + the points
     model : :data:`.types.Model`, props (N_PROPS,), the current table, factors
         (N_FACTORS,)
     sup : :data:`.types.Supports`
@@ -1116,8 +1151,9 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         nodal frames of r and r' [rad]; bed_active (nn,) int8, the seabed
         contacts (the lower end to touchdown); stinger (N_STINGER,) the curve
         x = a z^2 + b z + c on [zL, zU] (``ST_*``); st_active (nn,) int8, the
-        stinger contacts (lift-off, or re-contact, to the top); tip (2,)
-        [bearing (0/1), normal reaction [N]], updated; fric (nn, N_FRIC) the
+        stinger contacts (lift-off, or re-contact, to the top); points
+        (n_points, N_PT) the rigid points (the stinger's tip first): position
+        [m], bearing (0/1), normal reaction [N] (``L.PT_*``), updated; fric (nn, N_FRIC) the
         seabed friction springs (``FR_*``), anchors moved by the return
         mapping when the call converges; y_held (nn,) bool, output, the nodes
         the stinger holds laterally (3D), the converged set on OK
@@ -1136,13 +1172,14 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     ndn = 2 * nd + 1
     nn = sup.phi_r.shape[0]
     n = u.shape[0]
-    w = _work(nd, n, nn, mesh.s_el.shape[0], model.props, settings.href)
+    nbnd = mesh.bnodes.shape[0]
+    w = _work(nd, n, nn, mesh.s_el.shape[0], nbnd, model.props, settings.href)
     href = settings.href
     for k in range(N_INFO):
         info[k] = 0.0
     status = L.MAX_ITERATIONS
     changed = True
-    if mesh.bnodes[0] >= 0 or mesh.bnodes[1] >= 0:
+    if _has_boundaries(mesh):
         mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
     last_step = np.inf
     r_max = 0.0
@@ -1194,7 +1231,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         _to_global(nd, w.du_free, sup.phi_r, sup.phi_rp)
         w.u_old[:] = u
         merit0 = res_ssq + top_res * top_res
-        for b in range(N_BND):
+        for b in range(nbnd):
             if mesh.bnodes[b] >= 0 and not hold:
                 merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, href)) ** 2
             w.bnd_old[b] = mesh.s_bd[b]
@@ -1206,7 +1243,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         # ---- phase 8: backtracking from the limited step; where no trial is
         # accepted the limited step is taken anyway (the merit is flat: a
         # change of constraint, a constraint correction)
-        has_bnd = mesh.bnodes[0] >= 0 or mesh.bnodes[1] >= 0
+        has_bnd = _has_boundaries(mesh)
         tb_old = ends.tb[0]
         alpha0 = alpha
         accepted = False
@@ -1234,9 +1271,10 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
                 r_max = max(r_max, abs(u[i]))
         node_arcs(mesh.s_el, w.s_nd)
         friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
-        changed = _tip_update(nd, u, mesh, sup, w, react, settings)
+        n_changed = _points_update(nd, u, mesh, sup, react, settings)
+        changed = n_changed > 0
         if changed:
-            changes_total += 1
+            changes_total += n_changed
             if changes_total > MAX_TIP_CHANGES:
                 status = L.TIP_CYCLE
                 break
