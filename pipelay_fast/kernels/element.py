@@ -137,7 +137,8 @@ _Q, _QD, _DQ_DX = 21, 24, 27  # load, drag, d(drag)/dx
 _RP3, _RPP3, _M3, _C3, _E3 = 30, 33, 36, 39, 42  # 3-vectors of the torque terms
 _CUTS, _DWORK = 45, 49  # crossing abscissae; drag_force's scratch (15)
 _DRP, _DRPP, _DQ = 64, 67, 70  # d/dle of r', r'', q
-WORK_SIZE = 73
+_KA, _KX = 73, 89  # (4, 4) sums over the Gauss points: EI N''N'' + lam N'N', N dqx/dx N
+WORK_SIZE = 105
 _P = (0.0, 1.0, 0.0, 1.0)  # power of le in each shape function
 
 
@@ -200,10 +201,18 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
     use_moment = mx != 0.0 or my != 0.0 or mz != 0.0
     for a in range(ne):
         fe[a] = 0.0
+    # the tangent's blocks that are the same for each component i (the
+    # bending and lam terms, and the seabed's x-x stiffness), summed over the
+    # Gauss points as 4 x 4 scalars and spread onto ke once, after the loop
+    ka = ws[_KA:_KA + 16]
+    kx = ws[_KX:_KX + 16]
     if want_tangent:
         for a in range(ne):
             for b in range(ne):
                 ke[a, b] = 0.0
+        for a in range(16):
+            ka[a] = 0.0
+            kx[a] = 0.0
     if want_dle:
         for a in range(ne):
             dfe[a] = 0.0
@@ -336,14 +345,20 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
             continue
 
         # --- tangent ------------------------------------------------------
+        wei = wl * ei
+        wlam = wl * lam
         for k in range(4):
-            for l in range(4):
-                kb = wl * (ei * ddn[k] * ddn[l] + lam * dn[k] * dn[l])
-                for i in range(nd):
-                    ke[off[k] + i, off[l] + i] += kb
-                # load stiffness: -N_k dq_i/du_(l,j)
-                ke[off[k], off[l]] -= wl * n[k] * dqx_dx * n[l]
-                if has_drag:
+            for l in range(k, 4):
+                ka[4 * k + l] += wei * ddn[k] * ddn[l] + wlam * dn[k] * dn[l]
+        if dqx_dx != 0.0:
+            wq = wl * dqx_dx
+            for k in range(4):
+                for l in range(k, 4):
+                    kx[4 * k + l] += wq * n[k] * n[l]
+        if has_drag:
+            # load stiffness: -N_k dq_i/du_(l,j)
+            for k in range(4):
+                for l in range(4):
                     for i in range(nd):
                         for j in range(nd):
                             ke[off[k] + i, off[l] + j] -= wl * n[k] * dq_drp[i, j] * dn[l]
@@ -391,6 +406,14 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
                     for k in range(4):
                         for i in range(nd):
                             ke[off[k] + i, off[l] + j] += wl * dn[k] * dv[slot3[i]]
+
+    if want_tangent:
+        for k in range(4):
+            for l in range(4):
+                kl = 4 * k + l if l >= k else 4 * l + k  # symmetric: the upper triangle
+                for i in range(nd):
+                    ke[off[k] + i, off[l] + i] += ka[kl]
+                ke[off[k], off[l]] -= kx[kl]
 
 
 @jit

@@ -591,11 +591,12 @@ def _work(nd, n, nn, nel, nbnd, props, href):
     n_border = 1 + nbnd
     kl = 2 * ndn - 1
     rows_ab = 3 * kl + 1
-    scale = np.empty(ndn)
-    for i in range(ndn):
-        if i < nd:
+    scale = np.empty(n)  # per unknown: lengths 1, slopes href, multipliers EI / href^2
+    for i in range(n):
+        slot = i % ndn
+        if slot < nd:
             scale[i] = 1.0
-        elif i < 2 * nd:
+        elif slot < 2 * nd:
             scale[i] = href
         else:
             scale[i] = props[L.EI] / (href * href)
@@ -898,16 +899,16 @@ def _condensed_solve(nd, w, nb):
     cmask = w.cmask
     du = w.du
     for j in range(n):
-        sj = scale[j % ndn]
+        sj = scale[j]
         for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
-            ab[kv + r - j, j] *= scale[r % ndn] * sj
+            ab[kv + r - j, j] *= scale[r] * sj
     w.ab0[:, :] = ab
     for i in range(n):
-        du[i] = -w.g[i] * scale[i % ndn]
+        du[i] = -w.g[i] * scale[i]
     for j in range(n):
         if not cmask[j]:
             continue
-        dj = w.delta[j] / scale[j % ndn]
+        dj = w.delta[j] / scale[j]
         for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
             if not cmask[r]:
                 du[r] -= ab[kv + r - j, j] * dj
@@ -919,24 +920,24 @@ def _condensed_solve(nd, w, nb):
         for c in range(max(0, j - kl), min(n - 1, j + ku) + 1):
             ab[kv + j - c, c] = 0.0
         ab[kv, j] = 1.0
-        du[j] = w.delta[j] / scale[j % ndn]
+        du[j] = w.delta[j] / scale[j]
     if band_factor(ab, kl, ku, w.ipiv) != 0:
         return False
     band_solve(ab, kl, ku, w.ipiv, du)
     for j in range(nb):
         for i in range(n):
-            w.ys[j, i] = 0.0 if cmask[i] else w.cols[j, i] * scale[i % ndn]
+            w.ys[j, i] = 0.0 if cmask[i] else w.cols[j, i] * scale[i]
         band_solve(ab, kl, ku, w.ipiv, w.ys[j])
     # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz
     for i2 in range(nb):
         acc = 0.0
         for k in range(n):
-            acc += w.rows[i2, k] * scale[k % ndn] * du[k]
+            acc += w.rows[i2, k] * scale[k] * du[k]
         w.rh[i2] = acc + w.res_b[i2]
         for j in range(nb):
             acc = 0.0
             for k in range(n):
-                acc += w.rows[i2, k] * scale[k % ndn] * w.ys[j, k]
+                acc += w.rows[i2, k] * scale[k] * w.ys[j, k]
             w.sm[i2, j] = acc - w.d_b[i2, j]
     if nb > 0 and not _solve_dense(nb, w.sm, w.rh, w.dz):
         return False
@@ -975,7 +976,7 @@ def _reactions(nd, w, nb, react):
         acc = 0.0
         for j in range(max(0, i - kl), min(n - 1, i + kl) + 1):
             acc += w.ab0[kv + i - j, j] * w.du[j]
-        react[i] = w.g[i] + acc / w.scale[i % ndn]
+        react[i] = w.g[i] + acc / w.scale[i]
         for j in range(nb):
             react[i] += w.cols[j, i] * w.dz[j]
 
@@ -1227,7 +1228,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         dtb = _border_steps(w, nb)
         _reactions(nd, w, nb, react)
         for i in range(n):
-            w.du_free[i] = w.du[i] * w.scale[i % ndn]
+            w.du_free[i] = w.du[i] * w.scale[i]
         _to_global(nd, w.du_free, sup.phi_r, sup.phi_rp)
         w.u_old[:] = u
         merit0 = res_ssq + top_res * top_res
