@@ -65,8 +65,8 @@ def weights(case: Case):
 
 
 def _rise(w1, w2, depth, x):
-    """W(x) = int_0^x w dx [N]."""
-    return w1 * min(x, depth) + w2 * max(x - depth, 0.0)
+    """W(x) = int_0^x w dx [N]; x a float or an array."""
+    return w1 * np.minimum(x, depth) + w2 * np.maximum(x - depth, 0.0)
 
 
 def free_span(case: Case) -> Catenary:
@@ -120,14 +120,14 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         bottom = lay.bottom_tension if bottom_tension is None else bottom_tension
         return bottom + _rise(w1, w2, depth, x)
 
-    def mismatch(z):
-        x = float(st.height(z))
-        cos_psi = 1.0 / math.sqrt(1.0 + float(st.slope(z)) ** 2)
+    def mismatch(z):  # z a float or an array
+        x = st.height(z)
+        cos_psi = 1.0 / np.sqrt(1.0 + st.slope(z) ** 2)
         return tension(x) * (1.0 - cos_psi) - _rise(w1, w2, depth, x)
 
     # the cable's lift-off, on the stinger or on its curve continued below the tip
     zs = np.linspace(z_l - (z_u - z_l), z_u, 81)  # brackets; brentq refines
-    f = np.array([mismatch(z) for z in zs])
+    f = mismatch(zs)
     change = np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:]))
     z_lo, at_tip = z_l, True
     if change.size:
@@ -142,7 +142,7 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
             z_lo, at_tip = z_s, False
     x_lo = float(st.height(z_lo))
     t_lo = tension(x_lo)
-    h = t_lo - _rise(w1, w2, depth, x_lo)
+    h = float(t_lo - _rise(w1, w2, depth, x_lo))
     if h <= 0.0:
         raise ValueError(
             f"lay.top_tension = {lay.top_tension:g} N cannot hold the pipe off the stinger: "
@@ -227,6 +227,6 @@ def shape(case: Case, g: Guess, s):
         th[on_st] = np.arctan(slope)
         # frictionless stinger: Te = h + W(x), continuing the catenary's law
         depth = case.environment.water_depth
-        te[on_st] = cat.h + np.array([_rise(cat.w1, cat.w2, depth, xi) for xi in x[on_st]])
+        te[on_st] = cat.h + _rise(cat.w1, cat.w2, depth, x[on_st])
         kappa[on_st] = 2.0 * st.a / (1.0 + slope**2) ** 1.5
     return x, z, th, te, kappa
