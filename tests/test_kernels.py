@@ -95,6 +95,27 @@ def test_pipe_laid_on_seabed_under_its_weight(j125, nd):
     assert np.abs(ei * np.diff(xp) / h).max() < 1e-6 * w * h * h
 
 
+@pytest.mark.parametrize("nd", [2, 3])
+def test_a_residual_at_its_round_off_floor_is_converged(j125, nd):
+    """Far from the origin (z + 10 km) on 0.125 m elements the residual cannot
+    reach 1e-15: float64 holds the state to eps |r| only, and the residual's
+    floor is ~1e-5 of the reference force. Newton stops there (every free row
+    within a small multiple of its floor) with the closed-form answer: each
+    contact carries the weight of its share of the pipe."""
+    pb = laid_pipe(j125, nd, n_el=400)
+    pb.u[nd - 1::pb.ndn] += 1e4
+    pb.fix_val[nd - 1] = pb.u[nd - 1]
+    status, react, info = run_newton(pb, np.zeros_like(pb.u), 1e-15, 60)
+    assert status == L.OK
+    assert info[I_RES] > 1e-7  # converged on the floor, not on the tolerance
+    assert info[1] <= 6
+    w = float(j125.effective_weight(0.0))
+    h = np.diff(pb.s)[0]
+    r = react[0::pb.ndn]
+    np.testing.assert_allclose(r[1:-1], w * h, rtol=1e-9)
+    assert r.sum() == pytest.approx(w * pb.s[-1], rel=1e-12)
+
+
 def test_newton_converges_quadratically(j125):
     """One Newton step from a state perturbed by eps leaves a residual ~ eps^2.
 
