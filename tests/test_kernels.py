@@ -12,11 +12,13 @@ import pipelay_fast as pf
 from pipelay_fast.continuation import run_newton
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.banded import band_factor, band_matvec, band_solve, dense_to_band
-from pipelay_fast.kernels.contact import N_STINGER, friction_track
-from pipelay_fast.kernels.newton import I_RES
+from pipelay_fast.kernels.contact import N_STINGER, friction_forces, friction_track, node_arcs
+from pipelay_fast.kernels.newton import I_RES, _system
+from pipelay_fast.kernels.types import load_factors
 from pipelay_fast.model import build_props
 from pipelay_fast.problem import Problem
 from pipelay_fast.results import foundation_force
+from tests.helpers import EXAMPLES
 
 
 @pytest.mark.parametrize("n,kl,ku", [(4, 1, 1), (7, 2, 3), (60, 9, 9), (200, 13, 13)])
@@ -357,3 +359,83 @@ def test_carrying_a_node_along_the_pipe_is_its_hermite_interpolation(nd):
             # one-sided second-order difference: (4 f(h) - f(2h) - 3 f(0)) / 2h
             fd = sign * (4.0 * right - left - 3.0 * u[node * ndn:(node + 1) * ndn]) / (2.0 * h)
             np.testing.assert_allclose(rate, fd, rtol=1e-5, atol=1e-7)
+
+
+def test_friction_tangent_is_the_derivative_of_its_forces():
+    """The seabed friction's rows (lateral and axial, mu = 0.5 and 0.3) of the
+    tangent are the central difference of the residual: the springs'
+    stiffness and, through the normal force W = G_x (the contact's reaction at
+    the present state, not the last iteration's), the x row of the elements'
+    tangent times mu clip(d / d_slip). Checked on the solved J125 3D answer
+    under a lateral current, its springs set to stick and slide."""
+    # a linear current profile, whose drag's tangent is exact at the seabed
+    # (the power law's dV/dx, infinite there, is a secant in the elements)
+    case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes(
+        {"seabed.axial_friction": 0.3, "environment.current.profile": "linear"})
+    pb = pf.solve(case).state
+    pb.factors[:] = load_factors(1.0, True)  # the answer's load: full current, friction on
+    nd, ndn, n = pb.nd, pb.ndn, pb.u.size
+    kl = 2 * ndn - 1
+    torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
+    s = np.zeros(pb.nn)
+    node_arcs(pb.s_el, s)
+    nb = pb.bnodes.size
+
+    def residual(u, tangent, friction=True):
+        g = np.zeros(n)
+        ab = np.zeros((3 * kl + 1, n)) if tangent else np.zeros((1, 1))
+        _system(nd, pb.s_el, u, pb.model(), torques, ab, kl, kl, g,
+                pb.ends(np.zeros(n)), tangent, np.zeros((nb, pb.nn)),
+                np.full(nb, -1, dtype=np.int64), np.zeros((nb, n)))
+        if friction:
+            friction_forces(nd, u, g, ab, 2 * kl if tangent else 0, pb.model(),
+                            pb.bed_active, pb.fric, np.zeros(n), s)
+        return g, ab
+
+    def dense(ab):
+        k = np.zeros((n, n))
+        for j in range(n):
+            for r in range(max(0, j - kl), min(n, j + kl + 1)):
+                k[r, j] = ab[2 * kl + r - j, j]
+        return k
+
+    def friction_only(u):
+        return residual(u, False)[0] - residual(u, False, False)[0]
+
+    on_bed = np.flatnonzero(pb.bed_active)[-8:]  # up to touchdown
+    assert np.all(np.abs(pb.u[on_bed * ndn]) < 1e-9)  # on the seabed
+    # springs sticking and sliding, each off its kink (the answer's slipping
+    # springs sit on it, d_slip from their anchors)
+    slip = pb.props[L.FRICTION_SLIP]
+    stretch = np.resize([0.5, 1.5, -0.4, -1.3], on_bed.size) * slip
+    pb.fric[on_bed, L.FR_Y] = pb.u[on_bed * ndn + 1] - stretch
+    pb.fric[on_bed, L.FR_Z] = pb.u[on_bed * ndn + nd - 1] + stretch[::-1]
+    pb.fric[on_bed, L.FR_S] = pb.s[on_bed]
+    rows = np.concatenate([on_bed * ndn + 1, on_bed * ndn + nd - 1])
+    # W is the contact's reaction at the present state: the x row of the
+    # elements' residual, here 0.75 to 32 kN
+    g_el = residual(pb.u, False, False)[0]
+    w = g_el[on_bed * ndn]
+    assert np.all(w > 0.0)
+    force = g_el[rows] - residual(pb.u, False)[0][rows]  # friction on the pipe
+    clip = np.clip(np.concatenate([stretch, -stretch[::-1]]) / slip, -1.0, 1.0)
+    mu = np.repeat([pb.props[L.MU_Y], pb.props[L.MU_Z]], on_bed.size)
+    np.testing.assert_allclose(force, -mu * clip * np.tile(w, 2), rtol=1e-10)  # 2e-12
+    # the friction's share of residual and tangent
+    k = dense(residual(pb.u, True)[1]) - dense(residual(pb.u, True, False)[1])
+    cols = np.arange(max(0, on_bed[0] - 1) * ndn, min(pb.nn, on_bed[-1] + 2) * ndn)
+    for j in cols:
+        h = 1e-7 * max(1.0, abs(pb.u[j])) if j % ndn != 2 * nd else 1e-3
+        up, dn = pb.u.copy(), pb.u.copy()
+        if j % ndn == 0:
+            # x on the seabed, where the drag begins: from above, and by 1 nm
+            # (x rows' stiffness, 1e10 N/m, would move a reaction of 751 N
+            # past zero within 0.1 um)
+            up[j] += 1e-9
+            fd = (friction_only(up)[rows] - friction_only(dn)[rows]) / 1e-9
+        else:
+            up[j] += h
+            dn[j] -= h
+            fd = (friction_only(up)[rows] - friction_only(dn)[rows]) / (2 * h)
+        scale = np.abs(k[rows]).max(axis=1) + 1.0
+        np.testing.assert_allclose(k[rows, j] / scale, fd / scale, atol=2e-5, err_msg=str(j))

@@ -162,27 +162,44 @@ def _anchor_slope(fric, col, s, node):
 
 
 @jit
-def friction_length_derivative(nd, u, model, bed_active, fric, s, s_b, col):
+def normal_force(nd, g, bed_active, fric, node):
+    """The normal force W [N] a node's friction acts with: on a rigid seabed
+    contact its reaction at the present state, the residual of its x row
+    ``g`` (elements and loads, before friction, which acts on other rows),
+    not less than 0; on an elastic seabed the foundation's force
+    (:func:`friction_track`)."""
+    if bed_active[node] != 0:
+        return max(g[node * (2 * nd + 1)], 0.0)
+    return fric[node, L.FR_W]
+
+
+@jit
+def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
     """Add to ``col`` d(friction in the residual)/d s_T at fixed nodal unknowns:
     a sticking spring's stretch u - anchor(s_i) changes as its node moves along
-    the pipe by ds_i/ds_T = s_b[i] (a sliding spring's force does not)."""
+    the pipe by ds_i/ds_T = s_b[i] (a sliding spring's force does not), and
+    every spring's normal force W = G_x changes with the x row's column
+    ``col`` (``g`` the residual W is read from, :func:`normal_force`)."""
     if model.factors[L.F_FRICTION] == 0.0:
         return
     props = model.props
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
     for node in range(bed_active.shape[0]):
-        w = fric[node, L.FR_W]
-        if w <= 0.0 or s_b[node] == 0.0:
+        w = normal_force(nd, g, bed_active, fric, node)
+        if w <= 0.0:
             continue
+        dw = col[node * ndn] if bed_active[node] != 0 else 0.0
         for comp in range(2):
             slot, mu, ccol, _dcol = _friction_dofs(nd, props, comp)
             if slot < 0 or mu <= 0.0:
                 continue
             dof = node * ndn + slot
             d = (u[dof] - anchor_at(fric, ccol, s, node)) / d_slip
-            if abs(d) < 1.0:
-                # g -= force, force = -mu w d: dg/ds_T = mu w dd/ds_T
+            clipped = min(max(d, -1.0), 1.0)
+            # g -= force, force = -mu w clip(d): dg = mu (dw clip(d) + w dd)
+            col[dof] += mu * dw * clipped
+            if abs(d) < 1.0 and s_b[node] != 0.0:
                 col[dof] -= mu * w * _anchor_slope(fric, ccol, s, node) * s_b[node] / d_slip
 
 
@@ -193,9 +210,13 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
 
     Each seabed contact resists lateral (and axial) motion from its anchor d
     with the force -mu W clip(d / d_slip, -1, 1): elastic up to the mobilising
-    displacement d_slip, then sliding at mu W. W is the node's normal reaction
-    (lagged one iteration). ``out`` (ndof,) receives the force on the pipe;
-    ``s`` (nn,) holds the node arc lengths [m] (see :func:`anchor_at`).
+    displacement d_slip, then sliding at mu W. W is the node's normal force
+    at the present state (:func:`normal_force`: the x row of ``g``, which
+    holds the elements' residual when this is called), and the tangent
+    carries its derivative, the x row of the tangent times mu clip(d) (the
+    band holds it: the x row's columns lie within the y and z rows' band).
+    ``out`` (ndof,) receives the force on the pipe; ``s`` (nn,) holds the
+    node arc lengths [m] (see :func:`anchor_at`).
     """
     if model.factors[L.F_FRICTION] == 0.0:  # off on gravity's path
         return
@@ -203,10 +224,12 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
     tangent = ab.shape[0] > 1
+    n = g.shape[0]
     for node in range(bed_active.shape[0]):
-        w = fric[node, L.FR_W]
+        w = normal_force(nd, g, bed_active, fric, node)
         if w <= 0.0:
             continue
+        xrow = node * ndn
         for comp in range(2):
             slot, mu, col, _dcol = _friction_dofs(nd, props, comp)
             if slot < 0 or mu <= 0.0:
@@ -214,12 +237,18 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
             dof = node * ndn + slot
             f_max = mu * w
             d = (u[dof] - anchor_at(fric, col, s, node)) / d_slip
-            if abs(d) < 1.0:
-                force = -f_max * d
-                if tangent:
+            clipped = min(max(d, -1.0), 1.0)
+            force = -f_max * clipped
+            if tangent:
+                if abs(d) < 1.0:
                     ab[kv, dof] += f_max / d_slip
-            else:
-                force = -f_max if d > 0.0 else f_max
+                if bed_active[node] != 0:
+                    # dW/du: the x row of the tangent, whose columns are the
+                    # unknowns of the node and its two neighbours (within
+                    # the y and z rows' band too)
+                    f = mu * clipped
+                    for j in range(max(0, xrow - ndn), min(n, xrow + 2 * ndn)):
+                        ab[kv + dof - j, j] += f * ab[kv + xrow - j, j]
             g[dof] -= force
             out[dof] = force
 

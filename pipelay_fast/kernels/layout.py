@@ -58,7 +58,7 @@ N_FACTORS = 2
 # spring's anchor follows the pipe (return mapping).
 FR_DIR = 0  # lateral: 0 sticks; +1 / -1 slipping, the friction force along +y / -y
 FR_Y = 1  # lateral anchor y [m]
-FR_W = 2  # normal reaction carried [N] (lagged one Newton iteration)
+FR_W = 2  # normal force [N]: an elastic seabed's; on a rigid one the answer's reaction
 FR_DIRZ = 3  # axial: as FR_DIR, along z
 FR_Z = 4  # axial anchor z [m]
 FR_S = 5  # arc length [m] of the material point the anchors belong to

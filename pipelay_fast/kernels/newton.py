@@ -118,6 +118,7 @@ from .contact import (
     friction_track,
     lateral_hold,
     node_arcs,
+    normal_force,
     stinger_angle,
 )
 from .element import WORK_SIZE, element_force_ws, hermite
@@ -662,7 +663,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
             if bnodes[b] >= 0:
                 # the springs' anchors are read at material points, which move
                 # with the boundary too (:func:`.contact.anchor_at`)
-                friction_length_derivative(nd, u, model, sup.bed_active, sup.fric, w.s_nd,
+                friction_length_derivative(nd, u, g, model, sup.bed_active, sup.fric, w.s_nd,
                                            mesh.s_b[b], w.bcols[b])
                 w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
     m_td = 0.0
@@ -1305,7 +1306,9 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         # the friction forces join the reactions; slipping springs' anchors follow
         w.fr_out[:] = 0.0
         node_arcs(mesh.s_el, w.s_nd)
-        friction_forces(nd, u, w.g_trial, w.no_ab, 0, model, sup.bed_active, sup.fric,
+        for node in range(nn):  # the normal forces of the answer, for the results
+            sup.fric[node, L.FR_W] = normal_force(nd, w.g, sup.bed_active, sup.fric, node)
+        friction_forces(nd, u, w.g, w.no_ab, 0, model, sup.bed_active, sup.fric,
                         w.fr_out, w.s_nd)
         for i in range(n):
             react[i] += w.fr_out[i]
