@@ -1208,6 +1208,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     react : (ndof,) output, reactions on the pipe in the nodal frames [N, N m]
     info : (N_INFO,) output, see ``I_*``
     """
+    ndn = 2 * nd + 1
     nn = sup.phi_r.shape[0]
     n = u.shape[0]
     nbnd = mesh.bnodes.shape[0]
@@ -1248,10 +1249,11 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         # round-off floor (:func:`_roundoff_ratio`; a fine mesh far from the
         # origin cannot reach every tolerance), or the Newton step stalled.
         tol = settings.tol
+        # (the stall's test first: the floor's is a pass over the band)
         at_roundoff = (it > 1 and res_max > tol
-                       and (_roundoff_ratio(nd, u, w) <= ROUNDOFF_RATIO
-                            or (last_step <= STALL_STEP * 2.2e-16 * (r_max + href)
-                                and res_max <= 1e-4)))
+                       and ((last_step <= STALL_STEP * 2.2e-16 * (r_max + href)
+                             and res_max <= 1e-4)
+                            or _roundoff_ratio(nd, u, w) <= ROUNDOFF_RATIO))
         if (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
                 and (top_res <= tol or at_roundoff) and (bnd_res <= tol or at_roundoff)
                 and not changed and _same_hold(nd, u, mesh, sup, ends, w)):
@@ -1307,7 +1309,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         last_step = 0.0
         r_max = 0.0
         for i in range(n):
-            if i % (2 * nd + 1) < nd:
+            if i % ndn < nd:
                 last_step = max(last_step, abs(u[i] - w.u_old[i]))
                 r_max = max(r_max, abs(u[i]))
         node_arcs(mesh.s_el, w.s_nd)
