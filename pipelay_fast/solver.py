@@ -116,9 +116,9 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     path = friction_path(case)
     if path:
         pb.on_gravity_path()
-    # the first mesh only to LOOSE_TOLERANCE: it is to find where the
-    # boundaries are, and is graded anew there unless it already is
-    pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
+    # graded, the first mesh only to LOOSE_TOLERANCE: it is to find where
+    # the boundaries are, and is graded anew there unless it already is
+    pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE) if case.solver.grading else None
     pb, react, stats = _solve_gravity(case, pb, budget)
     passes = 1
     while True:
