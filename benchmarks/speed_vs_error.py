@@ -63,10 +63,10 @@ EXAMPLES = Path(pf.__file__).parent / "examples"
 SCENES = ("j125", "j125_3d", "s67", "s67_3d", "s125", "s125_3d")
 PLANAR = ("j125", "s67", "s125")
 
-LENGTHS = (8.0, 4.0, 2.0, 1.0)  # m, solver.element_length
+LENGTHS = (16.0, 8.0, 4.0, 2.0, 1.0)  # m, solver.element_length
 DEFAULT_LENGTH = Solver().element_length  # m
 QUICK_LENGTHS = (8.0, 2.0)
-GRADING_LENGTHS = (4.0, 2.0)  # m, element lengths of the grading on/off rows
+GRADING_LENGTHS = (16.0, 8.0, 4.0, 2.0)  # m, element lengths of the grading on/off rows
 SEABED_STIFFNESS = 1e6  # N/m per m of pipe, the elastic seabed
 DA_WARM = 1.5e-4  # 1/m, change of stinger a for the warm-start neighbour (S-lay)
 TENSION_WARM = 1.02  # -, factor on lay.top_tension for the warm-start neighbour (J-lay)

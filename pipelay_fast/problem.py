@@ -188,10 +188,14 @@ class Problem:
 
 
 def _mesh_sizes(case: Case, h_bottom: float):
-    """h_max, h_min [m] and the flexural length sqrt(EI/T) [m] at touchdown."""
+    """h_max, h_min [m] and the flexural length sqrt(EI/T) [m] at touchdown
+    (ungraded, h_min = h_max: a mesh remeshed to put a node somewhere stays
+    uniform between its nodes, :func:`remesh`)."""
     h_max = case.solver.element_length
     lam = math.sqrt(case.pipe.bending_stiffness / h_bottom)
-    if case.solver.min_element_length is not None:
+    if not case.solver.grading:
+        h_min = h_max
+    elif case.solver.min_element_length is not None:
         h_min = case.solver.min_element_length
     else:
         h_min = min(h_max, max(h_max / 8.0, 0.02 * lam))

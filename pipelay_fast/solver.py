@@ -31,6 +31,7 @@ import numpy as np
 from .boundaries import (
     MAX_TIP_SWITCHES,
     graded_on_boundaries,
+    lateral_hold_start,
     liftoff_position,
     stinger_foci,
     touchdown_position,
@@ -127,8 +128,12 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         lam = pb.stats["flexural_length"]
         short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
         # the mesh follows the boundaries: graded anew at them until it is
-        # graded where they are, and when laid pipe is short
-        if (not case.solver.grading or passes >= MAX_MESH_PASSES
+        # graded where they are, and when laid pipe is short; ungraded, it
+        # follows them with its one mesh, but for the lateral hold's start in
+        # 3D, which no unknown follows: a node is put there (its elements
+        # then uniform between the nodes), as often as grading would
+        ungraded = not case.solver.grading and lateral_hold_start(case, pb) is None
+        if (ungraded or passes >= MAX_MESH_PASSES
                 or (graded_on_boundaries(case, pb) and not short_laid)):
             if pb.tolerance is not None:  # on to the tolerance, this mesh
                 pb.tolerance = None

@@ -354,6 +354,31 @@ def test_lateral_hold_clamps_the_free_span_at_the_tip():
     assert abs(vm_c - vm_f) / vm_f < 1e-3
 
 
+@pytest.mark.parametrize("h", [4.0, 8.0])
+def test_an_ungraded_mesh_puts_a_node_where_the_lateral_hold_begins(h):
+    """Ungraded (uniform elements), the mesh follows touchdown and lift-off,
+    but no unknown follows the tip's material point, where the stinger's
+    lateral hold ends: with it up to half an element off a node, S67 3D's peak
+    stress (the lateral moment at the tip) was 6.5 % high at 4 and 8 m. The
+    mesh is remeshed with a node there: the first held node lies at the tip's
+    height, and the peak agrees with the graded 1 m mesh to 1e-3."""
+    base = pf.load_case(EXAMPLES / "s67_3d.toml")
+    ungraded = pf.solve(base.with_changes({"solver.element_length": h,
+                                           "solver.grading": False}))
+    fine = pf.solve(base.with_changes({"solver.element_length": 1.0}))
+    p = ungraded.profile
+    z_tip = base.lay.stinger.lower[1]
+    # the hold begins at the node nearest the tip's height (within the share
+    # of an element the regrading allows), and it holds y = 0 from there up
+    z = p["z"].to_numpy()
+    first = int(np.argmin(np.abs(z - z_tip)))
+    assert abs(z[first] - z_tip) < 0.02 * h
+    assert abs(p["y"].to_numpy()[first:]).max() < 1e-9
+    assert abs(p["y"].to_numpy()[first - 1]) > 1e-3  # the free span below it moves
+    vm, vm_fine = ungraded.summary["max_von_mises"], fine.summary["max_von_mises"]
+    assert abs(vm - vm_fine) / vm_fine < 1e-3
+
+
 def test_a_node_sliding_off_the_tip_does_not_cycle():
     """S125 3D on 2 m elements near a = -0.00168: a node at the stinger's tip
     slid off it and back on at every iteration (the boundary it slid off was
