@@ -100,8 +100,7 @@ STATUS_TEXT = {
     PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
                "down, after the switches to bearing on the tip that a solve may make"),
     SPAN_CLOSED: ("bearing on the stinger's tip, Newton closes the gap span between re-contact "
-                  "and the tip, or the tip's contact releases a second time (the caller "
-                  "switches to lifting off above the tip)"),
+                  "and the tip (the caller switches to lifting off above the tip)"),
     SHORT_LAID: ("touchdown moves more than half way to the modelled lower end in one "
                  "Newton step (the solver prepends laid pipe and goes on)"),
 }

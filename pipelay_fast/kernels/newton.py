@@ -85,11 +85,9 @@ reaches the tip from above and Newton moves it further, the kernel stops
 with PAST_TIP and the caller switches to bearing on the tip
 (:func:`pipelay_fast.continuation.newton_in_regime`); bearing, when a step
 would more than halve a gap span already shorter than an element (no
-bearing solution: Newton would only creep towards a span of zero), when
-the tip's complementarity releases it a second time (the branch would
-flip every few steps), or when the points' branches have
-changed MAX_TIP_CHANGES times, it stops with SPAN_CLOSED or TIP_CYCLE and
-the caller switches to lifting off; when a step
+bearing solution: Newton would only creep towards a span of zero), or when
+the tip's branch has changed MAX_TIP_CHANGES times, it stops with
+SPAN_CLOSED or TIP_CYCLE and the caller switches to lifting off; when a step
 would take touchdown more than half way to the modelled lower end, it stops
 with SHORT_LAID and the caller prepends laid pipe
 (:func:`pipelay_fast.solver._solve_gravity`).
@@ -1223,7 +1221,6 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     if _has_boundaries(mesh):
         mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
     changes_total = 0
-    tip_releases = 0
     it = 0
     last_step = np.inf  # the last step's largest move of a position [m]
     r_max = 0.0  # the largest position [m]
@@ -1317,18 +1314,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
                 r_max = max(r_max, abs(u[i]))
         node_arcs(mesh.s_el, w.s_nd)
         friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
-        tip_bore = mesh.bnodes[B_PT] >= 0 and sup.points[0, L.PT_BEAR] != 0.0
         n_changed = _points_update(nd, u, mesh, sup, react, settings)
         changed = n_changed > 0
-        if tip_bore and sup.points[0, L.PT_BEAR] == 0.0 and mesh.bnodes[B_LO] >= 0:
-            tip_releases += 1
-            if tip_releases > 1:
-                # bearing with a gap span, the tip released a second time:
-                # the caller lets the pipe lift off above it (went on, the
-                # branch flipped every few steps: warm S67 2D 4 m from
-                # a = -0.00105 to -0.0012, 47 iterations to TIP_CYCLE)
-                status = L.SPAN_CLOSED
-                break
         if changed:
             changes_total += n_changed
             if changes_total > MAX_TIP_CHANGES:
