@@ -565,8 +565,9 @@ class Solver:
         Finest graded element [m], <= element_length; None: the solver picks.
     grading : bool
         Grade the mesh at touchdown and lift-off; default true. Ungraded, the
-        elements are uniform between the nodes the solve places (touchdown,
-        lift-off, the tip, and in 3D where the stinger's lateral hold ends).
+        elements are about element_length long, with a node on each contact
+        boundary (touchdown, lift-off, the tip) and, in 3D, one where the
+        stinger's lateral hold ends.
     laid_length : float or None
         Length of pipe modelled on the seabed [m]; None: the solver picks.
     tolerance : float
