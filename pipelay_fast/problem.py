@@ -483,8 +483,12 @@ def slipping_length_bound(case: Case, cat) -> float:
 
 
 def friction_path(case: Case) -> bool:
-    """True when seabed friction meets the current: its load path is followed."""
-    lateral = dimension_of(case) == 3 and case.seabed.lateral_friction > 0.0
+    """True when seabed friction meets the current: its load path is followed.
+    Lateral friction needs a lateral load: under planar loads (an in-plane
+    current) the 3D pipe stays in its plane, the lateral springs carry
+    nothing, and the solve is the 2D one's."""
+    lateral = (dimension_of(case) == 3 and case.seabed.lateral_friction > 0.0
+               and not case.is_planar)
     return (lateral or case.seabed.axial_friction > 0.0) and case.environment.current.speed > 0.0
 
 
