@@ -132,8 +132,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         # follows them with its one mesh, but for the lateral hold's start in
         # 3D, which no unknown follows: a node is put there (its elements
         # then uniform between the nodes), as often as grading would
-        ungraded = not case.solver.grading and lateral_hold_start(case, pb) is None
-        if (ungraded or passes >= MAX_MESH_PASSES
+        one_mesh = not case.solver.grading and lateral_hold_start(case, pb) is None
+        if (one_mesh or passes >= MAX_MESH_PASSES
                 or (graded_on_boundaries(case, pb) and not short_laid)):
             if pb.tolerance is not None:  # on to the tolerance, this mesh
                 pb.tolerance = None
