@@ -255,20 +255,22 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
 
 @jit
 def friction_track(nd, u, react, props, bed_active, fric, s):
-    """Per Newton iteration: each contact's normal force W, the reaction of a
-    rigid seabed contact or, on an elastic seabed, the foundation's force at a
-    node below the surface, k (-x) over the node's share of the pipe (half of
-    each element beside it); nodes off the seabed keep their anchors where
-    they are, so a node that lands is anchored there."""
+    """Per Newton iteration: on an elastic seabed each node's normal force W,
+    the foundation's force at a node below the surface, k (-x) over the
+    node's share of the pipe (half of each element beside it); a rigid
+    contact's W is its present reaction (:func:`normal_force`), and its
+    linearised reaction ``react`` only says whether it still pushes. Nodes
+    off the seabed (or whose contact pulls) keep their anchors where they
+    are, so a node that lands is anchored there."""
     ndn = 2 * nd + 1
     nn = bed_active.shape[0]
     k_bed = props[L.SEABED_K]
     for node in range(nn):
         base = node * ndn
+        if bed_active[node] != 0 and react[base] > 0.0:
+            continue
         w = 0.0
-        if bed_active[node] != 0:
-            w = max(react[base], 0.0)
-        elif k_bed > 0.0 and u[base] < 0.0:
+        if bed_active[node] == 0 and k_bed > 0.0 and u[base] < 0.0:
             share = 0.5 * (s[min(node + 1, nn - 1)] - s[max(node - 1, 0)])
             w = -k_bed * u[base] * share
         if w > 0.0:
