@@ -18,8 +18,8 @@ piecewise, 4 points on each side of the crossing.
 Loads q: effective weight -w(x) e_x, Morison drag on
 the normal current (times the current factor), an elastic seabed -k x e_x where
 x < 0. The torque and distributed-moment terms are evaluated only when they are
-non-zero. The tangent is the exact derivative of G except for the jump of w at
-the water surface.
+non-zero. The tangent is the exact derivative of G, the movement of the cuts
+included (the load's jump there, :func:`_cut_jumps`).
 
 Derivative with respect to the element length (for meshes mapped onto moving
 contact boundaries), at fixed nodal unknowns and fixed Gauss abscissae xi.
@@ -37,8 +37,8 @@ change. The rest is the chain rule: dq = (dq/dx) dx + (dq/dr') dr' with
 the load derivatives the tangent uses (seabed, drag), dc3 = H (dr' x r'' +
 r' x dr'') + dr' x m, and in the constraint row d[(r'.r' - 1)/2 - e] = r'.dr'
 - (1 + eps) (2 EI r''.dr'' + (dTw/dx) dx) / EA. The cut points move with le
-too; like the tangent, dfe omits the jump of the integrand there (the movement
-of the cut), so it is exact only for an element that crosses no level.
+too: the jump of the integrand there enters both, as in the tangent
+(:func:`_cut_jumps`).
 
 The same code serves 2D (nd = 2: slots x, z) and 3D (nd = 3: x, y, z), so the
 planar model is a reduction of the spatial one, not a second model.
@@ -138,7 +138,8 @@ _RP3, _RPP3, _M3, _C3, _E3 = 30, 33, 36, 39, 42  # 3-vectors of the torque terms
 _CUTS, _DWORK = 45, 49  # crossing abscissae; drag_force's scratch (15)
 _DRP, _DRPP, _DQ = 64, 67, 70  # d/dle of r', r'', q
 _KA, _KX = 73, 89  # (4, 4) sums over the Gauss points: EI N''N'' + lam N'N', N dqx/dx N
-WORK_SIZE = 105
+_CUTLEV = 105  # the level each crossing abscissa crosses
+WORK_SIZE = 109
 _P = (0.0, 1.0, 0.0, 1.0)  # power of le in each shape function
 
 
@@ -246,6 +247,7 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
     # Split the element where it crosses the water surface or the contents level,
     # so the jump of the effective weight is integrated exactly.
     cuts = ws[_CUTS:_CUTS + 4]
+    cutlev = ws[_CUTLEV:_CUTLEV + 4]
     cuts[0] = 0.0
     ncut = 1
     for lev in range(2):
@@ -253,12 +255,16 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
         xi_c = hermite_crossing(ue[0], ue[nd], ue[ndn], ue[ndn + nd], le, level)
         if xi_c > 0.0:
             cuts[ncut] = xi_c
+            cutlev[ncut] = level
             ncut += 1
     cuts[ncut] = 1.0
     if ncut == 3 and cuts[1] > cuts[2]:
         tmp = cuts[1]
         cuts[1] = cuts[2]
         cuts[2] = tmp
+        tmp = cutlev[1]
+        cutlev[1] = cutlev[2]
+        cutlev[2] = tmp
     for gg in range(4 * ncut):
         part = gg // 4
         g = gg % 4
@@ -407,6 +413,9 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
                         for i in range(nd):
                             ke[off[k] + i, off[l] + j] += wl * dn[k] * dv[slot3[i]]
 
+    if (want_tangent or want_dle) and ncut > 1:
+        _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm)
+
     if want_tangent:
         for k in range(4):
             for l in range(4):
@@ -414,6 +423,61 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
                 for i in range(nd):
                     ke[off[k] + i, off[l] + i] += ka[kl]
                 ke[off[k], off[l]] -= kx[kl]
+
+
+@jit
+def _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm):
+    """The movement of the cuts: the load q jumps at a crossed level (the
+    weight at the water surface and the contents level, the drag at the water
+    surface), and each cut xi_c, X(xi_c) = level with X the height x along the
+    element, moves with the nodal x unknowns and with le. By Leibniz' rule
+    dG_(k,i) = le (h_L - h_R)(xi_c) dxi_c, h = -q_i N_k the load's integrand,
+    L and R the pieces below and above xi_c, with dxi_c/du_(l,x) = -N_l /
+    (le x') and dxi_c/dle = -(N_1 x'_a + N_3 x'_b) / (le^2 x')."""
+    ndn = 2 * nd + 1
+    off = (0, nd, ndn, ndn + nd)
+    props = model.props
+    n = ws[_N:_N + 4]
+    dn = ws[_DN:_DN + 4]
+    ddn = ws[_DDN:_DDN + 4]
+    rp = ws[_RP:_RP + nd]
+    qd = ws[_QD:_QD + nd]
+    dq_dx = ws[_DQ_DX:_DQ_DX + nd]
+    jump = ws[_DQ:_DQ + nd]
+    dq_drp = wm[:nd, :nd]
+    dwork = ws[_DWORK:_DWORK + 15]
+    for c in range(1, ncut):
+        xi_c = cuts[c]
+        level = cutlev[c]
+        hermite(xi_c, le, n, dn, ddn)
+        for i in range(nd):
+            chord = ue[ndn + i] - ue[i]
+            rp[i] = dn[1] * ue[nd + i] + dn[2] * chord + dn[3] * ue[ndn + nd + i]
+        if rp[0] == 0.0:
+            continue
+        # q below minus q above the level, then signed: L is node a's side
+        for i in range(nd):
+            jump[i] = 0.0
+        for side in range(2):
+            x_s = np.nextafter(level, -np.inf) if side == 0 else np.nextafter(level, np.inf)
+            sgn = 1.0 if side == 0 else -1.0
+            jump[0] -= sgn * effective_weight(props, x_s)
+            if drag_force(model, nd, x_s, rp, qd, dq_drp, dq_dx, dwork):
+                for i in range(nd):
+                    jump[i] += sgn * qd[i]
+        if ue[0] > level:
+            for i in range(nd):
+                jump[i] = -jump[i]
+        inv = 1.0 / rp[0]
+        dle_x = (n[1] * ue[nd] + n[3] * ue[ndn + nd]) / (le * le)
+        for k in range(4):
+            for i in range(nd):
+                a = jump[i] * n[k] * inv  # (q_L - q_R)_i N_k / x'
+                if want_tangent:
+                    for l in range(4):
+                        ke[off[k] + i, off[l]] += a * n[l]
+                if want_dle:
+                    dfe[off[k] + i] += a * dle_x * le
 
 
 @jit

@@ -17,8 +17,9 @@ def effective_weight(props, x):
     """Effective weight per unstretched length [N/m] at height ``x``.
 
     Submerged weight below the water surface, dry weight above it, contents
-    counted below their free surface. Its jump at the surface is not
-    differentiated (the tangent omits it; Newton still converges).
+    counted below their free surface. Its jump at the surface enters the
+    element's tangent through the movement of the cut there
+    (:func:`.element._cut_jumps`).
     """
     w = props[L.W_DRY]
     if x < props[L.H_CONT]:
