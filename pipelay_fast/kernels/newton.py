@@ -702,6 +702,41 @@ def _nodal_frames(nd, u, mesh, sup, ends):
             sup.phi_r[kt] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
 
 
+@jit
+def _frame_turn(nd, ab, kl, g, u, mesh, sup):
+    """The frame over a rigid point is the pipe's, phi = atan2(x', z')
+    (:func:`_nodal_frames`), and turns with r': its rows (normal n . G,
+    tangent t . G, ``g`` already in that frame) carry d/dphi = (-G_t, G_n)
+    times dphi/dr' (the normal's reaction G_n turns into the tangent's row)."""
+    ndn = 2 * nd + 1
+    kv = 2 * kl
+    for b in range(B_PT, mesh.bnodes.shape[0]):
+        kt = mesh.bnodes[b]
+        if kt < 0:
+            continue
+        base = kt * ndn
+        xp = u[base + nd]
+        zp = u[base + 2 * nd - 1]
+        a2 = xp * xp + zp * zp
+        dx = zp / a2  # dphi/dx'
+        dz = -xp / a2  # dphi/dz'
+        phi = sup.phi_rp[kt]  # r' in its own frame: x' = c v_p + s v_q, z' = -s v_p + c v_q
+        c = math.cos(phi)
+        s = math.sin(phi)
+        p2 = base + nd
+        q2 = base + 2 * nd - 1
+        d_p = c * dx - s * dz
+        d_q = s * dx + c * dz
+        p = base
+        q = base + nd - 1
+        g_n = g[p]
+        g_t = g[q]
+        ab[kv + q - p2, p2] += g_n * d_p
+        ab[kv + q - q2, q2] += g_n * d_q
+        ab[kv + p - p2, p2] -= g_t * d_p
+        ab[kv + p - q2, q2] -= g_t * d_q
+
+
 @phase
 def _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td):
     """Phase 2: the linear system in the nodal frames (stinger contacts in
@@ -709,6 +744,7 @@ def _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td):
     Returns (the border unknowns, those of them other than the boundaries)."""
     kl = 4 * nd + 1
     _rotate_all(nd, w.ab, kl, kl, w.g, sup.phi_r, sup.phi_rp, True)
+    _frame_turn(nd, w.ab, kl, w.g, u, mesh, sup)
     _curve_all(nd, w.ab, kl, kl, w.g, u, sup.stinger, sup.st_active, True)
     w.res_bnd[0] = m_td
     return _border(nd, u, mesh, sup, ends, w, te_top)
