@@ -12,7 +12,13 @@ import pipelay_fast as pf
 from pipelay_fast.continuation import run_newton
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.banded import band_factor, band_matvec, band_solve, dense_to_band
-from pipelay_fast.kernels.contact import N_STINGER, friction_forces, friction_track, node_arcs
+from pipelay_fast.kernels.contact import (
+    N_STINGER,
+    friction_forces,
+    friction_step,
+    friction_track,
+    node_arcs,
+)
 from pipelay_fast.kernels.newton import I_RES, _system
 from pipelay_fast.kernels.types import load_factors
 from pipelay_fast.model import build_props
@@ -439,3 +445,59 @@ def test_friction_tangent_is_the_derivative_of_its_forces():
             fd = (friction_only(up)[rows] - friction_only(dn)[rows]) / (2 * h)
         scale = np.abs(k[rows]).max(axis=1) + 1.0
         np.testing.assert_allclose(k[rows, j] / scale, fd / scale, atol=2e-5, err_msg=str(j))
+
+
+def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
+    """friction_step against a NumPy reference: on the solved J125 3D answer
+    (lateral friction 0.5, axial 0.3) with its laid springs stretched to
+    +-1.5 and +-0.4 d_slip (sliding and sticking), a step that drives some of
+    them far the other way is cut where the first sliding one reaches its
+    anchor's far side (-d_slip from a spring stretched by +d_slip, and so on);
+    after the cut step no sliding spring lies beyond that side, and the one
+    that set the cut lies on it."""
+    case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes({"seabed.axial_friction": 0.3})
+    pb = pf.solve(case).state
+    pb.factors[:] = load_factors(1.0, True)
+    nd, ndn = pb.nd, pb.ndn
+    slip = pb.props[L.FRICTION_SLIP]
+    s = np.zeros(pb.nn)
+    node_arcs(pb.s_el, s)
+    on_bed = np.flatnonzero(pb.bed_active)
+    stretch = np.resize([1.5, -0.4, -1.5, 0.4, 2.0], on_bed.size) * slip
+    rows = {1: L.FR_Y, nd - 1: L.FR_Z}
+    for slot, col in rows.items():
+        pb.fric[on_bed, col] = pb.u[on_bed * ndn + slot] - stretch
+    pb.fric[on_bed, L.FR_S] = s[on_bed]
+    rng = np.random.default_rng(4)
+    du = np.zeros_like(pb.u)
+    for slot in rows:
+        du[on_bed * ndn + slot] = -stretch * rng.uniform(0.5, 40.0, on_bed.size)
+
+    def reference(alpha):
+        cut = alpha
+        for slot, col in rows.items():
+            for node in on_bed:
+                rel = pb.u[node * ndn + slot] - pb.fric[node, col]
+                if abs(rel) < slip:
+                    continue
+                edge = -np.sign(rel) * slip
+                new = rel + alpha * du[node * ndn + slot]
+                if np.sign(new - edge) != np.sign(rel - edge):
+                    cut = min(cut, (edge - rel) / du[node * ndn + slot])
+        return cut
+
+    alpha = friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, 1.0)
+    assert alpha == pytest.approx(reference(1.0), rel=1e-12)
+    assert 0.0 < alpha < 1.0
+    gaps = []
+    for slot, col in rows.items():
+        rel = pb.u[on_bed * ndn + slot] - pb.fric[on_bed, col]
+        new = rel + alpha * du[on_bed * ndn + slot]
+        sliding = np.abs(rel) >= slip
+        beyond = np.sign(new) != np.sign(rel)
+        assert np.all(np.abs(new[sliding & beyond]) <= slip * (1.0 + 1e-9))
+        gaps.append(np.min(np.abs(np.abs(new[sliding]) - slip)))
+    assert min(gaps) < 1e-12
+    # friction off (gravity's path): no cut
+    pb.factors[:] = load_factors(1.0, False)
+    assert friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, 1.0) == 1.0

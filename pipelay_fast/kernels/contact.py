@@ -13,7 +13,9 @@ to touchdown, the stinger from lift-off to the top). This module carries:
 * :func:`friction_forces`, :func:`friction_track`, :func:`friction_commit`:
   an elastic-perfectly-plastic friction spring at each seabed contact (a
   force in the residual, not a constraint), its normal reaction tracked each
-  iteration and its anchor moved by the return mapping at the end of a step.
+  iteration and its anchor moved by the return mapping at the end of a step;
+  :func:`friction_step`, the step that takes no sliding spring through its
+  stick zone.
 """
 
 from __future__ import annotations
@@ -283,6 +285,38 @@ def friction_track(nd, u, react, props, bed_active, fric, s):
             fric[node, L.FR_S] = s[node]
             if nd == 3:
                 fric[node, L.FR_Y] = u[base + 1]
+
+
+@jit
+def friction_step(nd, u, du, s, model, bed_active, fric, alpha):
+    """The longest fraction (at most ``alpha``) of the step ``du`` (global
+    frame) that takes no sliding spring through its stick zone: a spring
+    stretched beyond d_slip that the step would carry past the anchor's far
+    side stops there, at -d_slip (it slides the other way from there on, if
+    the next step asks). Crossing it in one step, Newton on a laid pipe
+    sliding as a whole (its lateral stiffness then the suspended span's
+    alone) flipped the slip direction every step: J125 3D on an ungraded 16 m
+    mesh, y at touchdown -9.9 m, +27.7 m, ..., 531 iterations (22 now)."""
+    if model.factors[L.F_FRICTION] == 0.0:
+        return alpha
+    props = model.props
+    d_slip = props[L.FRICTION_SLIP]
+    ndn = 2 * nd + 1
+    for node in range(bed_active.shape[0]):
+        if bed_active[node] == 0 and fric[node, L.FR_W] <= 0.0:
+            continue
+        for comp in range(2):
+            slot, mu, col, _dcol = _friction_dofs(nd, props, comp)
+            if slot < 0 or mu <= 0.0:
+                continue
+            dof = node * ndn + slot
+            rel = u[dof] - anchor_at(fric, col, s, node)
+            if abs(rel) < d_slip:
+                continue
+            edge = -d_slip if rel > 0.0 else d_slip
+            if (rel + alpha * du[dof] - edge) * (rel - edge) < 0.0:
+                alpha = (edge - rel) / du[dof]
+    return alpha
 
 
 @jit

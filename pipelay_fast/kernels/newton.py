@@ -77,7 +77,8 @@ The step is then the full Newton step within limits: a boundary moves at most
 MAX_BOUNDARY_STEP href, no element of a zone shrinks below a tenth, lift-off
 goes no further than the tip, the span between re-contact and a bearing
 tip at most halves or doubles (it grows like sqrt(a - a_switch) past the
-change of regime); the merit may rise up to MERIT_RISE times (the weighted
+change of regime), no sliding friction spring passes through its stick zone
+(:func:`.contact.friction_step`); the merit may rise up to MERIT_RISE times (the weighted
 residual rises across good steps while the element lengths move with the
 boundaries); the nodes a step of the stinger's boundaries moves along the
 pipe are carried along its curve (:func:`_take_step`). When lift-off
@@ -115,6 +116,7 @@ from .contact import (
     friction_commit,
     friction_forces,
     friction_length_derivative,
+    friction_step,
     friction_track,
     lateral_hold,
     node_arcs,
@@ -1318,6 +1320,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
             w.bnd_old[b] = mesh.s_bd[b]
         node_arcs(mesh.s_el, w.s_old)
         alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href)
+        alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric, alpha)
         if stop >= 0:
             status = stop
             break
