@@ -78,9 +78,9 @@ MAX_BOUNDARY_STEP href, no element of a zone shrinks below a tenth, lift-off
 goes no further than the tip, the span between re-contact and a bearing
 tip at most halves or doubles (it grows like sqrt(a - a_switch) past the
 change of regime), no sliding friction spring passes through its stick zone
-(:func:`.contact.friction_step`); the merit may rise up to MERIT_RISE times (the weighted
-residual rises across good steps while the element lengths move with the
-boundaries); the nodes a step of the stinger's boundaries moves along the
+(:func:`.contact.friction_step`); the merit may rise up to MERIT_RISE times
+(the weighted residual rises across good steps while the element lengths
+move with the boundaries); the nodes a step of the stinger's boundaries moves along the
 pipe are carried along its curve (:func:`_take_step`). When lift-off
 reaches the tip from above and Newton moves it further, the kernel stops
 with PAST_TIP and the caller switches to bearing on the tip
@@ -1320,10 +1320,10 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
             w.bnd_old[b] = mesh.s_bd[b]
         node_arcs(mesh.s_el, w.s_old)
         alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href)
-        alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric, alpha)
         if stop >= 0:
             status = stop
             break
+        alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric, alpha)
         # ---- phase 8: backtracking from the limited step; where no trial is
         # accepted the limited step is taken anyway (the merit is flat: a
         # change of constraint, a constraint correction)
