@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .kernels.contact import ST_ON, ST_ZL, tip_geometry
+from .mesh import graded_nodes
 from .results import foundation_exit
 
 if TYPE_CHECKING:
@@ -31,7 +32,6 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
     seabed: an elastic one is a foundation, with no contact boundary) and, in
     S-lay, onto lift-off and the material point over the stinger's tip."""
     s = pb.s
-    zone = 3.0 * pb.stats["flexural_length"]
     pb.bed_active[:] = 0
     k = -1
     if case.seabed.is_rigid:
@@ -43,8 +43,8 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
         return
     # lift-off: the guess's; where the guess leaves from the tip, the pipe
     # regains the stinger further up (a gap span between, bearing on the
-    # tip): one flexural length above it as a start
-    s_lift = lift[0] + (zone / 3.0 if pb.stats.get("at_tip") else 0.0)
+    # tip, :func:`.guess.gap_span`)
+    s_lift = lift[0] + (pb.stats["gap_span"] if pb.stats.get("at_tip") else 0.0)
     k0 = max(k, 0)
     kl = int(np.argmin(np.abs(s[k0 + 4:-1] - s_lift))) + k0 + 4
     pb.st_active[:] = 0
@@ -68,24 +68,23 @@ def follow_nodes(case: Case, pb: Problem, nodes):
     pb.follow(nodes, zones + [(zone, zone)] * (len(nodes) - 2))
 
 
-ON_FOCUS = 0.02  # a mesh is graded at a point within this share of h_min of it
+ON_FOCUS = 0.02  # a mesh is graded at its foci when no node is further than this share of h_min
 HOLD_SPLIT = 0.1  # the shortest element [h_min] between lift-off and the tip's point
 
 
 def graded_on_boundaries(case: Case, pb: Problem) -> bool:
-    """True when the mesh that follows the boundaries is graded at them and
-    only at them: touchdown and every point of :func:`stinger_foci` lie
-    within ON_FOCUS h_min of a point the mesh was graded at, and every such
-    point within ON_FOCUS h_min of one of them. Regrading until it is makes
-    the answer the mesh's at the boundaries the solve found, whatever the
-    path (cold, warm, a target solve's trials) that led there."""
-    near = ON_FOCUS * pb.stats["h_min"]
-    held = pb.stats.get("stinger_foci", [])
-    if abs(touchdown_position(pb) - pb.stats["focus"]) > near:
-        return False
-    found = stinger_foci(case, pb)
-    return (all(any(abs(p - f) <= near for f in held) for p in found)
-            and all(any(abs(p - f) <= near for p in found) for f in held))
+    """True when the mesh is the one graded at the boundaries found (touchdown
+    and every point of :func:`stinger_foci`), with its element counts: no
+    node further than ON_FOCUS h_min from that mesh's. Regrading until it is
+    makes the answer the mesh's at the boundaries the solve found, whatever
+    the path (cold, warm, a target solve's trials) that led there. A mesh
+    regraded at boundaries Newton then moves by d follows them as its grading
+    does (:meth:`.Problem.follow_grading`), within O(d^2) of this one."""
+    total = float(pb.s[-1])
+    graded = graded_nodes(total, [touchdown_position(pb), total, *stinger_foci(case, pb)],
+                          pb.stats["h_max"], pb.stats["h_min"])
+    return (graded.size == pb.s.size
+            and float(np.abs(graded - pb.s).max()) <= ON_FOCUS * pb.stats["h_min"])
 
 
 def lateral_hold_start(case: Case, pb: Problem):

@@ -41,6 +41,9 @@ class Guess:
         z of lift-off [m] (S-lay).
     at_tip : bool
         The pipe leaves the stinger at its tip.
+    gap_span : float
+        At the tip: the span [m] between the tip and where the pipe regains
+        the stinger above it (:func:`gap_span`); 0 otherwise.
     """
 
     cat: Catenary
@@ -49,6 +52,7 @@ class Guess:
     total: float
     liftoff_z: float | None = None
     at_tip: bool = False
+    gap_span: float = 0.0
 
 
 def weights(case: Case):
@@ -151,6 +155,29 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     return z_lo, h, at_tip
 
 
+def gap_span(case: Case, h: float) -> float:
+    """The span [m] from the stinger's tip up to where a pipe that bears on the
+    tip regains the stinger, for a guess: a tensioned beam, its flexural
+    length lam = sqrt(EI/T) at the tip, under the tip's point load takes the
+    cable's kink k there (its angle less the stinger's) with a curvature
+    k / (2 lam) at the load, falling as exp(-s / lam); the pipe regains the
+    stinger where that has fallen to the stinger's curvature kappa:
+    lam ln(k / (2 lam kappa)), and at least lam (the start near the change of
+    regime, where the span closes)."""
+    st = case.lay.stinger
+    w1, w2 = weights(case)
+    z_l = st.lower[1]
+    x_l = float(st.height(z_l))
+    t_tip = h + _rise(w1, w2, case.environment.water_depth, x_l)
+    lam = math.sqrt(case.pipe.bending_stiffness / t_tip)
+    slope = float(st.slope(z_l))
+    kink = math.acos(min(1.0, h / t_tip)) - math.atan(abs(slope))
+    kappa = 2.0 * abs(st.a) / (1.0 + slope * slope) ** 1.5
+    if kink <= 0.0 or kappa <= 0.0:
+        return lam
+    return lam * max(1.0, math.log(kink / (2.0 * lam * kappa)))
+
+
 def _slay_span(case: Case, bottom_tension=None):
     """Lift-off, catenary and stinger arc of an S-lay guess."""
     w1, w2 = weights(case)
@@ -199,7 +226,8 @@ def first_guess(case: Case, laid_default) -> Guess:
         z_lo, at_tip, cat, arc = _slay_span(case)
         laid = case.solver.laid_length or laid_default(cat)
     s_lo = laid + cat.length
-    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, at_tip=at_tip)
+    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, at_tip=at_tip,
+                 gap_span=gap_span(case, cat.h) if at_tip else 0.0)
 
 
 def shape(case: Case, g: Guess, s):

@@ -4,6 +4,11 @@ Element size grows linearly with the distance from the nearest focus point
 (touchdown, lift-off, a held top) from ``h_min`` at the focus to ``h_max``:
 h(s) = min(h_max, h_min + (growth - 1) * distance), i.e. a geometric growth of
 ratio ``growth`` between neighbouring elements. Each focus point is a node.
+
+A mesh graded at contact boundaries moves with them while Newton finds them:
+:func:`grading_rates` gives each node's rate of change with each focus at
+fixed element counts, so the mesh a solve ends on is, to second order in the
+last pass's moves, the graded mesh of the boundaries it found.
 """
 
 from __future__ import annotations
@@ -66,9 +71,37 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=
     counts = [_span_count(phi) for *_, phi in spans]
     if check is not None:
         check(sum(counts))
+    return _place(spans, counts)
+
+
+def _place(spans, counts):
+    """Node positions [m]: ``counts[j]`` elements in span j, equal steps of phi."""
     nodes = [0.0]
     for (_a, b, t, phi), count in zip(spans, counts, strict=True):
         targets = np.linspace(0.0, phi[-1], count + 1)[1:]
         nodes.extend(np.interp(targets, phi, t))
         nodes[-1] = b
     return np.asarray(nodes)
+
+
+def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):
+    """ds_i/df [-] of the nodes of :func:`graded_nodes` (graded) with respect
+    to the foci ``foci[j]`` for j in ``moving``, at fixed element counts per
+    span: central differences over ``step`` [m] (the nodes are smooth in the
+    foci between changes of count). One row per entry of ``moving``; a
+    focus's own node moves with it at rate 1, the other anchors at 0."""
+    spans = list(_spans(length, foci, h_max, h_min, growth))
+    counts = [_span_count(phi) for *_, phi in spans]
+    base = _place(spans, counts)
+    rates = np.zeros((len(moving), base.size))
+    for row, j in enumerate(moving):
+        ends = []
+        for sign in (1.0, -1.0):
+            moved = [f + sign * step if i == j else f for i, f in enumerate(foci)]
+            ends.append(_place(list(_spans(length, moved, h_max, h_min, growth)), counts))
+        rates[row] = (ends[0] - ends[1]) / (2.0 * step)
+        own = int(np.argmin(np.abs(base - foci[j])))
+        anchors = np.isin(base, [0.0, length, *foci])
+        rates[row, anchors] = 0.0
+        rates[row, own] = 1.0
+    return rates

@@ -22,7 +22,7 @@ from .kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
 from .kernels.newton import B_PT
 from .kernels.types import Ends, Model, Supports, load_factors
 from .limits import check_mesh_size
-from .mesh import graded_nodes
+from .mesh import graded_nodes, grading_rates
 from .model import build_props, dimension_of, pin_jump
 
 
@@ -68,6 +68,9 @@ class Problem:
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
     s_bd: np.ndarray | None = None
+    # the map in zones (:meth:`follow`) of a mesh that follows its grading: the
+    # current's path moves the boundaries on it (``Problem.follow_grading``)
+    zone_b: np.ndarray | None = None
     # the load path's factors (layout F_*): the current's, full unless the
     # friction path raises it in steps, and friction, off until that path
     factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
@@ -168,6 +171,20 @@ class Problem:
                 self.s_bd[b] = s[k]
         self.s_a, self.s_b = s_a, np.ascontiguousarray(s_b)
         self.bnodes = np.asarray(nodes, dtype=np.int64)
+        self.zone_b = None  # (the map is in zones now)
+
+    def follow_grading(self, nodes, rates):
+        """Map the mesh onto the boundaries at ``nodes`` (as :meth:`follow`) as
+        its grading moves with them: node i at s_i + sum_b rates[b, i] (s_b -
+        s_b0), ``rates`` the nodes' rates with each boundary's focus at fixed
+        element counts (:func:`.mesh.grading_rates`; zero rows for nodes -1)."""
+        self.bnodes = np.asarray(nodes, dtype=np.int64)
+        s_b = np.ascontiguousarray(rates, dtype=float)
+        for b, k in enumerate(self.bnodes):
+            if k >= 0:
+                self.s_bd[b] = self.s[k]
+        self.s_a = self.s - self.s_bd @ s_b
+        self.s_b = s_b
 
     def update_nodes(self):
         """Node arc lengths from the boundary unknowns (after a solve)."""
@@ -232,7 +249,7 @@ def build_problem(case: Case) -> Problem:
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
              "focus": s_focus,
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
-             "at_tip": g.at_tip}
+             "at_tip": g.at_tip, "gap_span": g.gap_span}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
                case.lay.top_tension or 0.0)
     pb = _problem(case, nd, s, u, g.cat.h, fref, stats)
@@ -361,6 +378,8 @@ def warm_problem(case: Case, old: Problem) -> Problem:
         new.bnodes, new.s_a, new.s_b = old.bnodes.copy(), old.s_a.copy(), old.s_b.copy()
         new.s_bd = state["s_bd"].copy()
         new.s[:] = state["s"]
+        if old.zone_b is not None:  # the boundaries may move far: in zones
+            new.follow_grading(new.bnodes, old.zone_b)
     _onto_stinger(new, old.stinger)
     return new
 
@@ -406,13 +425,16 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
 
 
 def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
-           laid: float | None = None) -> Problem:
+           laid: float | None = None, grading: bool = False) -> Problem:
     """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
     state interpolated onto it.
 
     Laid pipe is prepended when touchdown came closer to the lower end than one
     flexural length (to two of them), or to ``laid`` [m] behind touchdown when
-    that is given.
+    that is given. The mesh follows the boundaries in zones (:meth:`Problem.follow`,
+    for boundaries that are still to be found) or, with ``grading`` (graded at
+    boundaries found), as its grading moves with them
+    (:meth:`Problem.follow_grading`), the zones kept for the current's path.
     """
     nd, ndn = pb.nd, pb.ndn
     lam = pb.stats["flexural_length"]
@@ -452,7 +474,19 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     if pb.lo_node >= 0:
         new.st_active[:] = 0
         new.st_active[at(pb.lo_node):-1] = 1
-    follow_nodes(case, new, [at(int(k)) for k in pb.bnodes])
+    nodes = [at(int(k)) for k in pb.bnodes]
+    follow_nodes(case, new, nodes)
+    if grading:
+        # each boundary's node is a focus of the grading, which moves with it
+        moving = [int(np.argmin(np.abs(np.asarray(foci) - s[k]))) if k >= 0 else -1
+                  for k in nodes]
+        rates = np.zeros((len(nodes), s.size))
+        on = [b for b, j in enumerate(moving) if j >= 0]
+        if on:
+            rates[on] = grading_rates(total, foci, [moving[b] for b in on],
+                                      pb.stats["h_max"], pb.stats["h_min"])
+        new.zone_b = new.s_b
+        new.follow_grading(nodes, rates)
     # a bearing point keeps bearing (the node over it moves with the pipe)
     new.points[:, L.PT_BEAR:] = pb.points[:, L.PT_BEAR:]
     return new

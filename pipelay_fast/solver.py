@@ -143,7 +143,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
                 s_t = touchdown_position(pb)
                 foci = stinger_foci(case, pb)
             break
-        pb = remesh(case, pb, s_t, foci)
+        pb = remesh(case, pb, s_t, foci, grading=True)
         pb.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
             pb.on_gravity_path()
@@ -155,6 +155,11 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
     while path:
+        # along the current's path the boundaries move far: the mesh follows
+        # them in zones, not with its whole grading (which would stretch the
+        # laid pipe, and its friction springs, all the way to the lower end)
+        if pb.zone_b is not None:
+            pb.follow_grading(pb.bnodes, pb.zone_b)
         pb.before_current = snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
         anchor_friction(pb.fric, pb.u, pb.nd, pb.s)

@@ -14,6 +14,8 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
+from pipelay_fast.boundaries import stinger_foci, touchdown_position
+from pipelay_fast.mesh import graded_nodes, grading_rates
 from tests.helpers import EXAMPLES, elastica_for, slay_elastica_for
 from tests.test_jlay import TENSIONS
 
@@ -180,6 +182,54 @@ def test_slay_3d_under_an_in_plane_current_equals_2d(a_st):
     for key in ("max_von_mises", "overbend_max_moment", "sagbend_max_moment", "tdp_z",
                 "liftoff_z", "bottom_tension", "tip_reaction"):
         assert b[key] == pytest.approx(a[key], rel=1e-9, abs=1e-9), key
+
+
+def test_grading_rates_are_the_graded_mesh_first_order():
+    """The nodes' rates with a focus at fixed element counts: moving the foci
+    by d, the graded mesh differs from s + d rates by O(d^2) (a quarter at
+    half the move), the focus's own node moves with it, the ends stay."""
+    foci = [30.0, 400.0, 300.0, 290.0]
+    base = graded_nodes(400.0, foci, 4.0, 0.5)
+    rates = grading_rates(400.0, foci, [0, 2, 3], 4.0, 0.5)
+    move = np.array([0.05, -0.1, 0.08])
+    errors = []
+    for d in (1.0, 0.5):
+        moved = graded_nodes(400.0, [30.0 + d * move[0], 400.0, 300.0 + d * move[1],
+                                     290.0 + d * move[2]], 4.0, 0.5)
+        assert moved.size == base.size
+        errors.append(np.abs(moved - (base + d * move @ rates)).max())
+    assert errors[0] < 1e-3 * np.abs(move).max()
+    assert errors[0] / errors[1] == pytest.approx(4.0, rel=0.1)
+    for row, f in zip(rates, (30.0, 300.0, 290.0), strict=True):
+        assert row[np.argmin(np.abs(base - f))] == 1.0
+        assert row[0] == row[-1] == 0.0
+
+
+def test_a_regraded_mesh_is_the_one_graded_at_the_boundaries_found():
+    """S125 on 1 m elements, current off: the 3D solve's first pass stops one
+    iteration later than the 2D one's (its lateral hold), so the two regrade
+    at boundaries 1.7 mm apart. The regraded mesh then moves with its grading
+    (Problem.follow_grading), and both end on the mesh graded at the
+    boundaries found (to 1e-6 h_min), the same mesh, and the same answer to
+    1e-9 (with the mesh mapped in zones: 1.5 mm apart, and 2.5e-8 in the
+    sagbend's peak stress)."""
+    case = pf.load_case(EXAMPLES / "s125.toml").with_changes(
+        {"lay.stinger.a": -0.0021, "solver.element_length": 1.0,
+         "environment.current.speed": 0.0})
+    two = pf.solve(case)
+    three = pf.solve(case.with_changes({"solver.dimension": "3d"}))
+    for res in (two, three):
+        pb = res.state
+        total = float(pb.s[-1])
+        graded = graded_nodes(total, [touchdown_position(pb), total,
+                                      *stinger_foci(case, pb)],
+                              pb.stats["h_max"], pb.stats["h_min"])
+        assert graded.size == pb.s.size
+        assert np.abs(graded - pb.s).max() < 1e-6 * pb.stats["h_min"]
+    assert np.abs(two.state.s - three.state.s).max() < 1e-6
+    for key in ("max_von_mises", "sagbend_max_von_mises", "sagbend_max_moment",
+                "overbend_max_moment", "bottom_tension"):
+        assert three.summary[key] == pytest.approx(two.summary[key], rel=1e-9), key
 
 
 @pytest.mark.parametrize("a", [-0.001, -0.0009])

