@@ -14,6 +14,7 @@ asks for when it stops at the change of regime (:func:`bear_on_tip`,
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -166,16 +167,38 @@ def tip_released(pb: Problem) -> bool:
     return pb.tip_node >= 0 and pb.tip[0] == 0.0
 
 
-def bear_on_tip(case: Case, pb: Problem):
+def regained_span(lam: float, past: float) -> float:
+    """The gap span L [m] above a bearing tip, just past the change of regime,
+    from ``past`` [m], how far lift-off would go past the tip on the
+    stinger's curve continued (Newton's step there), and the flexural length
+    ``lam`` = sqrt(EI/T) [m] at the tip. Small deflections, the gap span
+    short next to lam (no tension in it): the pipe lifts off at re-contact
+    with the stinger's curvature kappa, carries no support p = T kappa over
+    L, so reaches the tip steeper by p L^3 / (24 EI) with p L^2 / 4 more
+    moment; the free span below takes that moment over lam, d theta =
+    M / (T lam). Matching the far field of the lift-off past the tip (steeper
+    by kappa d): d = L^2 / (4 lam) + L^3 / (24 lam^2), solved for L."""
+    roots = np.roots([1.0 / (24.0 * lam * lam), 1.0 / (4.0 * lam), 0.0, -past])
+    real = roots[np.abs(roots.imag) < 1e-9 * lam].real
+    return float(real[real > 0.0].min())
+
+
+def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     """The regime switch the complementarity at the tip makes as lift-off
     reaches it from above: the pipe now bears on the tip and regains the
-    stinger further up, one flexural length above (as a cold start from a
-    guess that leaves at the tip does), with the gap span between free."""
+    stinger further up, with the gap span between free: :func:`regained_span`
+    above it when Newton's step ``past`` [m] that took lift-off past the tip
+    is known, else one flexural length above (as a cold start from a guess
+    that leaves at the tip near the change of regime does)."""
     s = pb.s
     kt = pb.tip_node
     if kt < 0:  # lifting off there was none: lift-off's node, now at the tip
         kt = pb.lo_node
-    k = int(np.searchsorted(s, s[pb.lo_node] + pb.stats["flexural_length"]))
+    span = pb.stats["flexural_length"]
+    te = pb.u[pb.lo_node * pb.ndn + 2 * pb.nd]  # about Te at the tip (less EI kappa^2)
+    if past is not None and past > 0.0 and te > 0.0:
+        span = regained_span(math.sqrt(case.pipe.bending_stiffness / te), past)
+    k = int(np.searchsorted(s, s[pb.lo_node] + span))
     k = min(max(k, pb.lo_node + 1, kt + 1), pb.nn - 2)
     pb.st_active[:] = 0
     pb.st_active[k:-1] = 1

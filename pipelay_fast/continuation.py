@@ -23,7 +23,16 @@ from .case import Case
 from .errors import SolveError
 from .kernels import layout as L
 from .kernels.contact import friction_forces
-from .kernels.newton import I_DELTA, I_ITER, I_RES, I_TOP_RES, N_INFO, _system, newton
+from .kernels.newton import (
+    I_DELTA,
+    I_ITER,
+    I_PAST,
+    I_RES,
+    I_TOP_RES,
+    N_INFO,
+    _system,
+    newton,
+)
 from .kernels.types import Mesh, Settings
 from .limits import IterationBudget
 from .problem import Problem, restore, snapshot
@@ -133,7 +142,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
             break
         spent += int(info[I_ITER])
         if status == L.PAST_TIP:
-            bear_on_tip(case, pb)
+            bear_on_tip(case, pb, float(info[I_PAST]))
         else:
             lift_off_above_tip(case, pb)
     return status, react, info, int(info[I_ITER]) + spent, start

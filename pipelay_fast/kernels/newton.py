@@ -132,7 +132,8 @@ I_ITER = 1
 I_RES = 2  # weighted residual (max norm) at exit
 I_DELTA = 3  # largest constraint violation at exit [m]
 I_TOP_RES = 4  # relative top-tension residual
-N_INFO = 5
+I_PAST = 5  # PAST_TIP: how far [m] along the pipe the step would take lift-off past the tip
+N_INFO = 6
 
 
 @jit
@@ -1323,6 +1324,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href)
         if stop >= 0:
             status = stop
+            if stop == L.PAST_TIP:
+                info[I_PAST] = abs(w.d_bnd[B_LO])
             break
         alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric, alpha)
         # ---- phase 8: backtracking from the limited step; where no trial is
