@@ -80,7 +80,7 @@ def graded_on_boundaries(case: Case, pb: Problem) -> bool:
     makes the answer the mesh's at the boundaries the solve found, whatever
     the path (cold, warm, a target solve's trials) that led there. A mesh
     regraded at boundaries Newton then moves by d follows them as its grading
-    does (:meth:`.Problem.follow_grading`), within O(d^2) of this one."""
+    does (:meth:`.Problem.follow_rates`), within O(d^2) of this one."""
     total = float(pb.s[-1])
     graded = graded_nodes(total, [touchdown_position(pb), total, *stinger_foci(case, pb)],
                           pb.stats["h_max"], pb.stats["h_min"])

@@ -94,6 +94,7 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):
     counts = [_span_count(phi) for *_, phi in spans]
     base = _place(spans, counts)
     rates = np.zeros((len(moving), base.size))
+    anchors = np.isin(base, [0.0, length, *foci])
     for row, j in enumerate(moving):
         ends = []
         for sign in (1.0, -1.0):
@@ -101,7 +102,6 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):
             ends.append(_place(list(_spans(length, moved, h_max, h_min, growth)), counts))
         rates[row] = (ends[0] - ends[1]) / (2.0 * step)
         own = int(np.argmin(np.abs(base - foci[j])))
-        anchors = np.isin(base, [0.0, length, *foci])
         rates[row, anchors] = 0.0
         rates[row, own] = 1.0
     return rates

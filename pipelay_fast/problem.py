@@ -69,7 +69,7 @@ class Problem:
     s_b: np.ndarray | None = None
     s_bd: np.ndarray | None = None
     # the map in zones (:meth:`follow`) of a mesh that follows its grading: the
-    # current's path moves the boundaries on it (``Problem.follow_grading``)
+    # current's path moves the boundaries on it (``Problem.follow_rates``)
     zone_b: np.ndarray | None = None
     # the load path's factors (layout F_*): the current's, full unless the
     # friction path raises it in steps, and friction, off until that path
@@ -173,11 +173,13 @@ class Problem:
         self.bnodes = np.asarray(nodes, dtype=np.int64)
         self.zone_b = None  # (the map is in zones now)
 
-    def follow_grading(self, nodes, rates):
-        """Map the mesh onto the boundaries at ``nodes`` (as :meth:`follow`) as
-        its grading moves with them: node i at s_i + sum_b rates[b, i] (s_b -
-        s_b0), ``rates`` the nodes' rates with each boundary's focus at fixed
-        element counts (:func:`.mesh.grading_rates`; zero rows for nodes -1)."""
+    def follow_rates(self, nodes, rates):
+        """Map the mesh onto the boundaries at ``nodes`` (as :meth:`follow`)
+        with each node's rate with each boundary: node i at s_i + sum_b
+        rates[b, i] (s_b - s_b0), from the present nodes and boundaries (rows
+        of zeros for nodes -1): a mesh's grading at fixed element counts
+        (:func:`.mesh.grading_rates`), with which a mesh graded at boundaries
+        moves as its grading does, or the zones' shares kept in ``zone_b``."""
         self.bnodes = np.asarray(nodes, dtype=np.int64)
         s_b = np.ascontiguousarray(rates, dtype=float)
         for b, k in enumerate(self.bnodes):
@@ -247,7 +249,6 @@ def build_problem(case: Case) -> Problem:
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
-             "focus": s_focus,
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
              "at_tip": g.at_tip, "gap_span": g.gap_span}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
@@ -379,7 +380,7 @@ def warm_problem(case: Case, old: Problem) -> Problem:
         new.s_bd = state["s_bd"].copy()
         new.s[:] = state["s"]
         if old.zone_b is not None:  # the boundaries may move far: in zones
-            new.follow_grading(new.bnodes, old.zone_b)
+            new.follow_rates(new.bnodes, old.zone_b)
     _onto_stinger(new, old.stinger)
     return new
 
@@ -434,7 +435,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     that is given. The mesh follows the boundaries in zones (:meth:`Problem.follow`,
     for boundaries that are still to be found) or, with ``grading`` (graded at
     boundaries found), as its grading moves with them
-    (:meth:`Problem.follow_grading`), the zones kept for the current's path.
+    (:meth:`Problem.follow_rates`), the zones kept for the current's path.
     """
     nd, ndn = pb.nd, pb.ndn
     lam = pb.stats["flexural_length"]
@@ -463,7 +464,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
         if nd == 3:
             u[1::ndn][first] = pb.u[1]
             u[nd + 1::ndn][first] = 0.0
-    stats = dict(pb.stats, focus=focus, stinger_foci=held)
+    stats = dict(pb.stats)
     new = _problem(case, nd, s, u, pb.tb[0], pb.fref, stats)
     new.warm, new.tolerance = pb.warm, pb.tolerance
     # the new mesh follows the same boundaries, each on the node graded onto it
@@ -486,7 +487,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
             rates[on] = grading_rates(total, foci, [moving[b] for b in on],
                                       pb.stats["h_max"], pb.stats["h_min"])
         new.zone_b = new.s_b
-        new.follow_grading(nodes, rates)
+        new.follow_rates(nodes, rates)
     # a bearing point keeps bearing (the node over it moves with the pipe)
     new.points[:, L.PT_BEAR:] = pb.points[:, L.PT_BEAR:]
     return new

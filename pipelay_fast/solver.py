@@ -159,7 +159,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         # them in zones, not with its whole grading (which would stretch the
         # laid pipe, and its friction springs, all the way to the lower end)
         if pb.zone_b is not None:
-            pb.follow_grading(pb.bnodes, pb.zone_b)
+            pb.follow_rates(pb.bnodes, pb.zone_b)
         pb.before_current = snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
         anchor_friction(pb.fric, pb.u, pb.nd, pb.s)

@@ -209,7 +209,7 @@ def test_a_regraded_mesh_is_the_one_graded_at_the_boundaries_found():
     """S125 on 1 m elements, current off: the 3D solve's first pass stops one
     iteration later than the 2D one's (its lateral hold), so the two regrade
     at boundaries 1.7 mm apart. The regraded mesh then moves with its grading
-    (Problem.follow_grading), and both end on the mesh graded at the
+    (Problem.follow_rates), and both end on the mesh graded at the
     boundaries found (to 1e-6 h_min), the same mesh, and the same answer to
     1e-9 (with the mesh mapped in zones: 1.5 mm apart, and 2.5e-8 in the
     sagbend's peak stress)."""

@@ -37,7 +37,7 @@ the constraints hold exactly after every step.
 Contact boundaries as unknowns (``bnodes[b] >= 0``). The mesh follows each
 boundary b: node i at s_i = s_a[i] + sum_b s_b[b, i] s_bd[b] (:func:`mesh_lengths`):
 every span between anchors mapped onto its present ends, or a mesh graded at
-the boundaries moving with its grading (:meth:`.Problem.follow_grading`). The
+the boundaries moving with its grading (:meth:`.Problem.follow_rates`). The
 contact stretches are then fixed sets, no node walks: the seabed from the
 lower end to touchdown (b = 0), the stinger from lift-off (b = 1) to the
 top. Each arc length is a bordered unknown closed by its continuum
