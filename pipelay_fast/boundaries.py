@@ -18,8 +18,9 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
+from scipy.optimize import brentq
 
-from .kernels.contact import ST_ON, ST_ZL, tip_geometry
+from .kernels.contact import ST_ON, tip_geometry
 from .mesh import graded_nodes
 from .results import foundation_exit
 
@@ -42,22 +43,13 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
     if case.lay.stinger is None:
         follow_nodes(case, pb, (k, -1))
         return
-    # lift-off: the guess's; where the guess leaves from the tip, the pipe
-    # regains the stinger further up (a gap span between, bearing on the
-    # tip, :func:`.guess.gap_span`)
-    s_lift = lift[0] + (pb.stats["gap_span"] if pb.stats.get("at_tip") else 0.0)
+    # lift-off: the guess's (at the tip at the lowest: bearing on it, Newton's
+    # step past the tip finds the gap span, :func:`bear_on_tip`)
     k0 = max(k, 0)
-    kl = int(np.argmin(np.abs(s[k0 + 4:-1] - s_lift))) + k0 + 4
+    kl = int(np.argmin(np.abs(s[k0 + 4:-1] - lift[0]))) + k0 + 4
     pb.st_active[:] = 0
     pb.st_active[kl:-1] = 1
-    # bearing on the tip (a guess that leaves from it): a node follows the
-    # material point over the tip, the one whose guessed height is nearest
-    # the tip's; lifting off, there is none until lift-off reaches the tip
-    kt = -1
-    if pb.stats.get("at_tip"):
-        z = pb.u[pb.nd - 1::pb.ndn]
-        kt = int(np.argmin(np.abs(z[k0 + 2:kl - 1] - pb.stinger[ST_ZL]))) + k0 + 2
-    follow_nodes(case, pb, (k, kl, kt))
+    follow_nodes(case, pb, (k, kl, -1))
 
 
 def follow_nodes(case: Case, pb: Problem, nodes):
@@ -167,20 +159,46 @@ def tip_released(pb: Problem) -> bool:
     return pb.tip_node >= 0 and pb.tip[0] == 0.0
 
 
+def _gap_closure(ell: float) -> float:
+    """g(l) = 1 + f''(l) + f'(l) of :func:`regained_span`."""
+    c = -(math.cosh(ell) - 1.0 - 0.5 * ell * ell) / (math.sinh(ell) - ell)
+    return (1.0 + (math.cosh(ell) - 1.0 + c * math.sinh(ell))
+            + (math.sinh(ell) - ell + c * (math.cosh(ell) - 1.0)))
+
+
 def regained_span(lam: float, past: float) -> float:
-    """The gap span L [m] above a bearing tip, just past the change of regime,
-    from ``past`` [m], how far lift-off would go past the tip on the
+    """The gap span L [m] from a bearing tip up to where the pipe regains the
+    stinger, from ``past`` [m], how far lift-off would go past the tip on the
     stinger's curve continued (Newton's step there), and the flexural length
-    ``lam`` = sqrt(EI/T) [m] at the tip. Small deflections, the gap span
-    short next to lam (no tension in it): the pipe lifts off at re-contact
-    with the stinger's curvature kappa, carries no support p = T kappa over
-    L, so reaches the tip steeper by p L^3 / (24 EI) with p L^2 / 4 more
-    moment; the free span below takes that moment over lam, d theta =
-    M / (T lam). Matching the far field of the lift-off past the tip (steeper
-    by kappa d): d = L^2 / (4 lam) + L^3 / (24 lam^2), solved for L."""
-    roots = np.roots([1.0 / (24.0 * lam * lam), 1.0 / (4.0 * lam), 0.0, -past])
-    real = roots[np.abs(roots.imag) < 1e-9 * lam].real
-    return float(real[real > 0.0].min())
+    ``lam`` = sqrt(EI/T) [m] at the tip.
+
+    Small deflections w(s) of a tensioned beam from the stinger's curve over
+    the gap 0 < s < L from re-contact: EI w'''' - T w'' = T kappa + w_n
+    (kappa the stinger's curvature, w_n the weight across it: the support
+    both took), with w, w' and w'' zero at re-contact (on the stinger,
+    tangent, its curvature) and w(L) = 0 at the tip. Below the tip the pipe
+    joins the cable through a boundary layer, so its curvature at the tip is
+    the cable's, -w_n / T, plus (k - w'(L)) / lam, k the cable's kink at the
+    tip (its angle less the stinger's). With sig = s / lam and kappa_e =
+    kappa + w_n / T: w = kappa_e lam^2 f(sig), f = cosh sig - 1 - sig^2 / 2
+    + c (sinh sig - sig), c = -(cosh l - 1 - l^2 / 2) / (sinh l - l) (so
+    that f(l) = 0), and the tip's condition reads g(l) = 1 + f''(l) + f'(l)
+    = k / (kappa_e lam), l = L / lam. Lifting off, the pipe leaves the
+    stinger lam above the cable's tangent point (the same boundary layer),
+    so lift-off at ``past`` beyond the tip puts that point lam + past below
+    it and k = kappa_e (lam + past): g(l) = 1 + past / lam. g(0) = 1 is the
+    change of regime; g = 1 + l^2 / 4 + l^3 / 24 + O(l^4) for a short span
+    (S125 2D 1 m, a = -0.0016: 18.5 m found, Newton's step 4.5 m past the
+    tip).
+    """
+    ratio = 1.0 + past / lam
+    lo = 1e-3
+    if ratio <= _gap_closure(lo):
+        return lo * lam
+    hi = 2.0
+    while _gap_closure(hi) < ratio:
+        hi *= 2.0
+    return lam * brentq(lambda ell: _gap_closure(ell) - ratio, lo, hi, xtol=1e-9)
 
 
 def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
@@ -188,14 +206,18 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     reaches it from above: the pipe now bears on the tip and regains the
     stinger further up, with the gap span between free: :func:`regained_span`
     above it when Newton's step ``past`` [m] that took lift-off past the tip
-    is known, else one flexural length above (as a cold start from a guess
-    that leaves at the tip near the change of regime does)."""
+    is known, else one flexural length above (a solve that lifted off but
+    ended passing below the tip: :func:`passes_below_tip`)."""
     s = pb.s
     kt = pb.tip_node
     if kt < 0:  # lifting off there was none: lift-off's node, now at the tip
         kt = pb.lo_node
     span = pb.stats["flexural_length"]
-    te = pb.u[pb.lo_node * pb.ndn + 2 * pb.nd]  # about Te at the tip (less EI kappa^2)
+    # Te at the tip, less EI kappa^2: the multiplier one flexural length below
+    # lift-off (at lift-off's node, stopped past the tip out of balance, it
+    # swung from -9e6 to 1.1e7 N: S125 2D 1 m, a = -0.0016, Te 0.5 MN)
+    k_te = int(np.searchsorted(s, s[pb.lo_node] - span))
+    te = pb.u[k_te * pb.ndn + 2 * pb.nd]
     if past is not None and past > 0.0 and te > 0.0:
         span = regained_span(math.sqrt(case.pipe.bending_stiffness / te), past)
     k = int(np.searchsorted(s, s[pb.lo_node] + span))

@@ -39,11 +39,6 @@ class Guess:
         Total modelled length [m].
     liftoff_z : float or None
         z of lift-off [m] (S-lay).
-    at_tip : bool
-        The pipe leaves the stinger at its tip.
-    gap_span : float
-        At the tip: the span [m] between the tip and where the pipe regains
-        the stinger above it (:func:`gap_span`); 0 otherwise.
     """
 
     cat: Catenary
@@ -51,8 +46,6 @@ class Guess:
     s_liftoff: float | None
     total: float
     liftoff_z: float | None = None
-    at_tip: bool = False
-    gap_span: float = 0.0
 
 
 def weights(case: Case):
@@ -107,10 +100,17 @@ def stinger_arc(stinger, z0, z1, n=401):
 
 
 def slay_liftoff(case: Case, bottom_tension: float | None = None):
-    """(z of lift-off [m], horizontal tension h [N], leaves at the tip) for S-lay.
+    """(z of lift-off [m], horizontal tension h [N]) for S-lay.
 
     The tension comes from the lay's keys, or from ``bottom_tension`` [N] when
-    given (the pipe-length case searches over it).
+    given (the pipe-length case searches over it). Where the pipe would leave
+    below the stinger's tip, the guess leaves from the tip: Newton's step past
+    it then tells how far above the tip a pipe bearing on it regains the
+    stinger (:func:`.boundaries.bear_on_tip`); a span guessed from the
+    catenary's kink at the tip was too rough near the change of regime (S67
+    2D 1 m, a = -0.00114: 1.1 m against 9.0 m found) and, further from it,
+    sent some solves' touchdown running (S125 2D 2 m, a = -0.00097: 119
+    iterations).
     """
     lay, st = case.lay, case.lay.stinger
     depth = case.environment.water_depth
@@ -133,7 +133,7 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     zs = np.linspace(z_l - (z_u - z_l), z_u, 81)  # brackets; brentq refines
     f = mismatch(zs)
     change = np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:]))
-    z_lo, at_tip = z_l, True
+    z_lo = z_l
     if change.size:
         k = change[-1]
         z_c = brentq(mismatch, zs[k], zs[k + 1], xtol=1e-10)
@@ -142,8 +142,7 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         lam = math.sqrt(case.pipe.bending_stiffness / max(tension(float(st.height(z_c))), 1e-9))
         z_arc, arc = stinger_arc(st, z_c, z_u)
         z_s = float(np.interp(lam, arc, z_arc))
-        if z_s > z_l:
-            z_lo, at_tip = z_s, False
+        z_lo = max(z_s, z_l)
     x_lo = float(st.height(z_lo))
     t_lo = tension(x_lo)
     h = float(t_lo - _rise(w1, w2, depth, x_lo))
@@ -152,40 +151,17 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
             f"lay.top_tension = {lay.top_tension:g} N cannot hold the pipe off the stinger: "
             f"the tension left at lift-off (x = {x_lo:.1f} m) is below the weight hanging from it"
         )
-    return z_lo, h, at_tip
-
-
-def gap_span(case: Case, h: float) -> float:
-    """The span [m] from the stinger's tip up to where a pipe that bears on the
-    tip regains the stinger, for a guess: a tensioned beam, its flexural
-    length lam = sqrt(EI/T) at the tip, under the tip's point load takes the
-    cable's kink k there (its angle less the stinger's) with a curvature
-    k / (2 lam) at the load, falling as exp(-s / lam); the pipe regains the
-    stinger where that has fallen to the stinger's curvature kappa:
-    lam ln(k / (2 lam kappa)), and at least lam (the start near the change of
-    regime, where the span closes)."""
-    st = case.lay.stinger
-    w1, w2 = weights(case)
-    z_l = st.lower[1]
-    x_l = float(st.height(z_l))
-    t_tip = h + _rise(w1, w2, case.environment.water_depth, x_l)
-    lam = math.sqrt(case.pipe.bending_stiffness / t_tip)
-    slope = float(st.slope(z_l))
-    kink = math.acos(min(1.0, h / t_tip)) - math.atan(abs(slope))
-    kappa = 2.0 * abs(st.a) / (1.0 + slope * slope) ** 1.5
-    if kink <= 0.0 or kappa <= 0.0:
-        return lam
-    return lam * max(1.0, math.log(kink / (2.0 * lam * kappa)))
+    return z_lo, h
 
 
 def _slay_span(case: Case, bottom_tension=None):
     """Lift-off, catenary and stinger arc of an S-lay guess."""
     w1, w2 = weights(case)
     st = case.lay.stinger
-    z_lo, h, at_tip = slay_liftoff(case, bottom_tension)
+    z_lo, h = slay_liftoff(case, bottom_tension)
     cat = Catenary(h, w1, w2, case.environment.water_depth, float(st.height(z_lo)))
     _, arc = stinger_arc(st, z_lo, st.upper[1])
-    return z_lo, at_tip, cat, float(arc[-1])
+    return z_lo, cat, float(arc[-1])
 
 
 def _slay_bottom_tension(case: Case) -> float:
@@ -196,7 +172,7 @@ def _slay_bottom_tension(case: Case) -> float:
     w1, _ = weights(case)
 
     def gap(h):
-        z_lo, _, cat, arc = _slay_span(case, h)
+        z_lo, cat, arc = _slay_span(case, h)
         return (z_lo - cat.span) - (length - cat.length - arc)
 
     lo, hi = 1e-3 * w1 * case.environment.water_depth, 1e3 * w1 * length
@@ -220,14 +196,13 @@ def first_guess(case: Case, laid_default) -> Guess:
             laid = case.solver.laid_length or laid_default(cat)
         return Guess(cat, laid, None, laid + susp)
     if lay.pipe_length is not None:
-        z_lo, at_tip, cat, arc = _slay_span(case, _slay_bottom_tension(case))
+        z_lo, cat, arc = _slay_span(case, _slay_bottom_tension(case))
         laid = lay.pipe_length - cat.length - arc
     else:
-        z_lo, at_tip, cat, arc = _slay_span(case)
+        z_lo, cat, arc = _slay_span(case)
         laid = case.solver.laid_length or laid_default(cat)
     s_lo = laid + cat.length
-    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, at_tip=at_tip,
-                 gap_span=gap_span(case, cat.h) if at_tip else 0.0)
+    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo)
 
 
 def shape(case: Case, g: Guess, s):

@@ -249,8 +249,7 @@ def build_problem(case: Case) -> Problem:
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
-             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else [],
-             "at_tip": g.at_tip, "gap_span": g.gap_span}
+             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
                case.lay.top_tension or 0.0)
     pb = _problem(case, nd, s, u, g.cat.h, fref, stats)

@@ -253,12 +253,11 @@ def test_tip_regime_matches_slay_elastica(s67, a):
 
 
 
-def test_lift_off_just_above_the_tip_from_a_guess_that_bears():
+def test_lift_off_just_above_the_tip_from_a_guess_at_the_tip():
     """S125 at a = -0.00168, next to the change of regime: the reference
-    lifts off 0.2 m above the tip, but the first guess leaves from the tip.
-    Bearing, Newton then drives the gap span towards zero (the bearing
-    equations' limit, approached only linearly) until the switch to lifting
-    off (SPAN_CLOSED); lift-off then lands to 1 cm of the elastica."""
+    lifts off 0.2 m above the tip, and the first guess leaves from the tip
+    (the catenary is steeper there than the stinger). Lifting off, Newton
+    moves lift-off up the stinger, and it lands to 1 cm of the elastica."""
     case = pf.load_case(EXAMPLES / "s125.toml").with_changes(
         {"environment.current.speed": 0.0,
          "lay.stinger.a": -0.00168, "pipe.extensible": False})
@@ -317,3 +316,37 @@ def test_touchdown_running_to_the_lower_end_gets_laid_pipe(j125):
         "suspended_length"] + 100.0
     assert abs(sm["tdp_z"] - ref["tdp_z"]) < 5e-3
     assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-6)
+
+
+@pytest.mark.parametrize("ell", [0.1, 0.8, 2.5])
+def test_regained_span_closes_the_gap_span_equations(ell):
+    """``regained_span`` against the gap span's boundary-value problem solved
+    here by collocation: lengths in flexural lengths lam and deflections in
+    kappa_e lam^2, the pipe's offset from the stinger's curve over the gap
+    satisfies w'''' - w'' = 1 with w = w' = w'' = 0 at re-contact and w = 0
+    at the tip, l up; the cable's kink there is then k / (kappa_e lam) = 1
+    + w''(l) + w'(l), which lift-off reaches ``past`` = lam (k / (kappa_e
+    lam) - 1) beyond the tip. Given that step, the span comes back to 1e-6.
+    For a short span it is the root of past = L^2 / (4 lam) + L^3 / (24
+    lam^2) (the gap without tension)."""
+    from scipy.integrate import solve_bvp
+
+    from pipelay_fast.boundaries import regained_span
+
+    def rhs(s, y):
+        return np.vstack([y[1], y[2], y[3], y[2] + 1.0])
+
+    def bc(ya, yb):
+        return np.array([ya[0], ya[1], ya[2], yb[0]])
+
+    s = np.linspace(0.0, ell, 50)
+    sol = solve_bvp(rhs, bc, s, np.zeros((4, s.size)), tol=1e-10, max_nodes=100000)
+    assert sol.success
+    w = sol.sol(ell)
+    lam = 20.0
+    past = lam * (w[2] + w[1])
+    assert regained_span(lam, past) == pytest.approx(ell * lam, rel=1e-6)
+    if ell < 0.2:
+        roots = np.roots([1.0 / (24.0 * lam**2), 1.0 / (4.0 * lam), 0.0, -past])
+        short = roots[np.abs(roots.imag) < 1e-9].real.max()
+        assert regained_span(lam, past) == pytest.approx(short, rel=5e-3)
