@@ -147,10 +147,11 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
             pb.on_gravity_path()
-        # interpolated, the state is near balance, but for re-contact above a
-        # bearing tip: not holding it there cost up to 58 iterations more
-        # (S125 2D 8 m, a = -0.00172: the span closed)
-        pb.in_balance = pb.tip_node < 0
+        # interpolated, the state is near balance, bearing on the tip too
+        # (held there, the first iteration cost 2 more a solve: full grid,
+        # S67 2D 4742 -> 4480 iterations, S125 2D 5770 -> 5131, none more;
+        # it once kept re-contact from a start one flexural length off)
+        pb.in_balance = True
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1

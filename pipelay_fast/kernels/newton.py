@@ -934,12 +934,10 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     times an iteration (S67 2D, a warm start's last 4 iterations: 1e-4,
     9e-6, 4e-7, 1e-8); unheld, it falls quadratically. Nor does a call that
     starts from a state in balance (``settings.hold`` False: the pass to the
-    tolerance after the loose one on the same mesh, or, lifting off, on one
-    graded anew, the state interpolated): there the held first step only
-    cost an iteration (S67 2D warm: 1.1e-4 held to 8e-5, then 8.8e-6, 1e-8;
-    not held, 8.8e-6 after the first). Re-contact above a bearing tip,
-    interpolated onto a mesh graded anew, is not in balance there: it is
-    held (:func:`pipelay_fast.solver._solve_mesh`)."""
+    tolerance after the loose one, on the same mesh or on one graded anew,
+    the state interpolated): there the held first step only cost an
+    iteration (S67 2D warm: 1.1e-4 held to 8e-5, then 8.8e-6, 1e-8; not
+    held, 8.8e-6 after the first)."""
     if mesh.bnodes[B_LO] < 0:
         return False
     ndn = 2 * nd + 1
