@@ -121,23 +121,33 @@ def node_arcs(s_el, s):
 
 
 @jit
+def _anchor_partner(fric, s, node):
+    """(other node, t) of :func:`anchor_at`: the anchor of node ``node``'s
+    material point is its own anchor plus t times the difference to the
+    neighbour ``other``'s (-1, 0.0: its own alone)."""
+    nn = s.shape[0]
+    s_n = s[node]
+    s0 = fric[node, L.FR_S]
+    if s_n == s0:
+        return -1, 0.0
+    other = node - 1 if s_n < s0 else node + 1
+    if other < 0 or other >= nn:
+        return -1, 0.0
+    s1 = fric[other, L.FR_S]
+    if s1 == s0:
+        return -1, 0.0
+    return other, (s_n - s0) / (s1 - s0)
+
+
+@jit
 def anchor_at(fric, col, s, node):
     """Anchor ``col`` of the material point at node ``node``'s arc length s[node]:
     the anchors belong to material points (column FR_S), and a mesh that follows
     touchdown moves its nodes along the pipe, so the anchor is interpolated
     linearly between the neighbouring nodes' anchor points."""
-    nn = s.shape[0]
-    s_n = s[node]
-    s0 = fric[node, L.FR_S]
-    if s_n == s0:
+    other, t = _anchor_partner(fric, s, node)
+    if other < 0:
         return fric[node, col]
-    other = node - 1 if s_n < s0 else node + 1
-    if other < 0 or other >= nn:
-        return fric[node, col]
-    s1 = fric[other, L.FR_S]
-    if s1 == s0:
-        return fric[node, col]
-    t = (s_n - s0) / (s1 - s0)
     return fric[node, col] + t * (fric[other, col] - fric[node, col])
 
 
@@ -244,6 +254,14 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
             if tangent:
                 if abs(d) < 1.0:
                     ab[kv, dof] += f_max / d_slip
+                    # a neighbour off the seabed keeps its anchor on itself
+                    # (:func:`friction_track`), so an anchor interpolated
+                    # towards it (touchdown's node, moved past its anchor
+                    # point) moves with that neighbour's own unknown
+                    other, t = _anchor_partner(fric, s, node)
+                    if other >= 0 and bed_active[other] == 0 and fric[other, L.FR_W] <= 0.0:
+                        odof = other * ndn + slot
+                        ab[kv + dof - odof, odof] -= f_max / d_slip * t
                 if bed_active[node] != 0:
                     # dW/du: the x row of the tangent, whose columns are the
                     # unknowns of the node and its two neighbours (within
