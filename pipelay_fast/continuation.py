@@ -158,10 +158,12 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
     ``load(level)`` puts the problem at that load level and returns Newton's
     residual offset (ndof,). A step cut below ``smallest``, or ``max_steps``
     steps taken, raises SolveError naming the load path ``name``, the level
-    and why. Returns the last reactions and {"iterations", "load_steps"}.
+    and why. Returns the last reactions and {"iterations", "load_steps",
+    "step_max"}: the Newton iterations, the load steps (undone ones
+    included) and the most iterations one of them took.
     """
     level, step = 0.0, first
-    stats = {"iterations": 0, "load_steps": 0}
+    stats = {"iterations": 0, "load_steps": 0, "step_max": 0}
     react = info = None
     status = L.OK
     while level < 1.0:
@@ -175,6 +177,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
                                                              where)
         stats["iterations"] += used
         stats["load_steps"] += 1
+        stats["step_max"] = max(stats["step_max"], used)
         if status == L.OK:
             level = trial
             step = min(2.0 * step, largest)
@@ -215,8 +218,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
                                 first=0.25, largest=0.5, smallest=1e-4,
                                 max_steps=case.solver.max_load_steps,
                                 name="the homotopy from the first guess, load factor")
-    stats["iterations"] += iters
-    return react, stats
+    return react, {"iterations": stats["iterations"] + iters, "load_steps": stats["load_steps"]}
 
 
 def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None):

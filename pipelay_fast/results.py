@@ -39,7 +39,8 @@ SUMMARY_UNITS = {
     "overbend_max_moment": "N m", "sagbend_max_moment": "N m", "max_strain": "-",
     "max_lateral_deflection": "m", "tip_reaction": "N", "liftoff_reaction": "N",
     **DESIGN_UNITS,
-    "n_elements": "", "n_iterations": "", "solve_seconds": "s",
+    "n_elements": "", "n_iterations": "", "n_current_steps": "",
+    "max_current_step_iterations": "", "solve_seconds": "s",
 }
 
 
@@ -366,5 +367,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         **design,
         "n_elements": int(s.size - 1),
         "n_iterations": int(stats["iterations"]),
+        "n_current_steps": int(stats["current_steps"]),
+        "max_current_step_iterations": int(stats["current_step_max"]),
         "solve_seconds": float(stats["seconds"]),
     }

@@ -255,7 +255,8 @@ def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:
     row.update(sc.inputs)
     row.update(base)
     row.update({"status": "failed", "message": message, "warm_started": False,
-                "n_elements": None, "n_iterations": None})
+                "n_elements": None, "n_iterations": None, "n_current_steps": None,
+                "max_current_step_iterations": None})
     return row
 
 

@@ -174,6 +174,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         if not short:
             # the mesh follows the boundaries the current moves
             stats = {key: stats[key] + more[key] for key in stats}
+            stats["current_steps"] = more["load_steps"]
+            stats["current_step_max"] = more["step_max"]
             s_t = touchdown_position(pb)
             break
         # more laid pipe, from the pipe under gravity alone, and the path again
@@ -183,6 +185,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
+    stats.setdefault("current_steps", 0)  # no current's path: planar, or no friction
+    stats.setdefault("current_step_max", 0)
     stats["mesh_passes"] = passes
     stats["seconds"] = time.perf_counter() - t0
     return pb, react, stats, s_t, liftoff_position(case, pb)

@@ -112,3 +112,35 @@ def test_stiffer_friction_spring_approaches_rigid_coulomb(lateral):
     stiff = pf.solve(case.with_changes({"seabed.friction_slip": 1e-3}))
     for key in ("max_von_mises", "max_lateral_deflection", "tdp_z"):
         assert stiff.summary[key] == pytest.approx(res.summary[key], rel=1e-2)
+
+
+def test_current_steps_are_counted_as_newton_ran_them(monkeypatch):
+    """``n_current_steps`` and ``max_current_step_iterations`` are the
+    current's load steps and the most Newton iterations one took: here
+    counted independently, call by call of the Newton kernel while the
+    current's factor rises (a step is one call, or several when the regime
+    at the stinger's tip switches: none does in this J-lay)."""
+    from pipelay_fast import continuation
+    from pipelay_fast.kernels import layout as L
+    from pipelay_fast.kernels.newton import I_ITER
+
+    calls = []
+    run = continuation.run_newton
+
+    def counted(pb, *args):
+        status, react, info = run(pb, *args)
+        if pb.factors[L.F_CURRENT] > 0.0:
+            calls.append(int(info[I_ITER]))
+        return status, react, info
+
+    monkeypatch.setattr(continuation, "run_newton", counted)
+    case = pf.load_case(EXAMPLES / "j125_3d.toml")
+    sm = pf.solve(case).summary
+    # the current rises in steps of at most a quarter (apply_current)
+    assert len(calls) >= 4
+    assert sm["n_current_steps"] == len(calls)
+    assert sm["max_current_step_iterations"] == max(calls)
+    assert sm["n_iterations"] >= sum(calls)
+    # without a lateral current there is no friction path, and no steps
+    planar = pf.solve(pf.load_case(EXAMPLES / "j125_2d.toml")).summary
+    assert planar["n_current_steps"] == 0 and planar["max_current_step_iterations"] == 0
