@@ -55,7 +55,13 @@ from .problem import (
 from .results import Result, build_profile, build_summary
 
 MAX_MESH_PASSES = 4
-LOOSE_TOLERANCE = 1e-4  # the first mesh's Newton tolerance [-]: boundaries to about 1e-4 href
+# The first mesh's Newton tolerance [-]. That mesh is to find where the
+# boundaries are; the mesh graded there moves them by its own discretisation
+# (S67 2D at 4 m, bearing on the tip: re-contact 0.33 m), so they are not
+# wanted closer. 1e-3 against 1e-4: quick grid 4667 -> 4357 iterations (260
+# solves fewer, 6 more), planar 1785 -> 1645, warm 1482 -> 1453, the same
+# answers (3.6e-9); 1e-2 lost a random case, 1e-1 S67 2D cases.
+LOOSE_TOLERANCE = 1e-3
 
 
 MAX_LAID_DOUBLINGS = 6
