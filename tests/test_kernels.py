@@ -456,7 +456,8 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
     them far the other way is cut where the first sliding one reaches its
     anchor's far side (-d_slip from a spring stretched by +d_slip, and so on);
     after the cut step no sliding spring lies beyond that side, and the one
-    that set the cut lies on it."""
+    that set the cut lies on it, marked: carried back by the next step, it
+    stops at its anchor."""
     case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes({"seabed.axial_friction": 0.3})
     pb = pf.solve(case).state
     pb.factors[:] = load_factors(1.0, True)
@@ -500,6 +501,27 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
         assert np.all(np.abs(new[sliding & beyond]) <= slip * (1.0 + 1e-9))
         gaps.append(np.min(np.abs(np.abs(new[sliding]) - slip)))
     assert min(gaps) < 1e-12
+    # the spring that set the cut, and it alone, is marked for the next step
+    flags = pb.fric[:, L.FR_STOP].copy()
+    assert np.count_nonzero(flags) == 1
+    node = int(np.flatnonzero(flags)[0])
+    slot = 1 if flags[node] == 1.0 else nd - 1
+    dof = node * ndn + slot
+    edge = pb.u[dof] + alpha * du[dof] - pb.fric[node, rows[slot]]
+    assert abs(edge) == pytest.approx(slip, rel=1e-9)
+    # next iteration: it lies a hair beyond that edge (as the tracking of its
+    # anchor leaves it) and a step carries it back, three times its stretch
+    # the other way: it stops at its anchor (1.002 / 3 of the step), not at
+    # the other edge (2.002 / 3), where it would again have no stiffness
+    pb.u[dof] = pb.fric[node, rows[slot]] + 1.002 * edge
+    back = np.zeros_like(pb.u)
+    back[dof] = -3.0 * edge
+    model = pb.model()
+    alpha = friction_step(nd, pb.u, back, s, model, pb.bed_active, pb.fric, 1.0)
+    assert alpha == pytest.approx(1.002 / 3.0, rel=1e-12)
+    assert not pb.fric[:, L.FR_STOP].any()  # stopped inside its stick zone: no mark
+    alpha = friction_step(nd, pb.u, back, s, model, pb.bed_active, pb.fric, 1.0)
+    assert alpha == pytest.approx(2.002 / 3.0, rel=1e-12)  # unmarked: the far edge
     # friction off (gravity's path): no cut
     pb.factors[:] = load_factors(1.0, False)
     assert friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, 1.0) == 1.0

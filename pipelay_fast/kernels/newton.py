@@ -1266,6 +1266,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     r_max = 0.0  # the largest position [m]
     res_start = 1.0
     moved = False  # the last step moved the boundaries and lowered the merit
+    for node in range(nn):  # no friction spring stopped at an edge yet (friction_step)
+        sup.fric[node, L.FR_STOP] = 0.0
     # nodes held laterally by the stinger, fixed during the step
     lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, sup.y_held)
     for it in range(1, settings.maxit + 1):
