@@ -79,7 +79,9 @@ MAX_BOUNDARY_STEP href, no element of a zone shrinks below a tenth, lift-off
 goes no further than the tip, the span between re-contact and a bearing
 tip at most halves or doubles (it grows like sqrt(a - a_switch) past the
 change of regime), no sliding friction spring passes through its stick zone
-(:func:`.contact.friction_step`); the merit may rise up to MERIT_RISE times
+(:func:`.contact.friction_step`; a step so cut is doubled back towards the
+limited one while the merit falls, :func:`_past_friction_cut`); the merit
+may rise up to MERIT_RISE times
 (the weighted residual rises across good steps while the element lengths
 move with the boundaries); the nodes a step of the stinger's boundaries moves along the
 pipe are carried along its curve (:func:`_take_step`). When lift-off
@@ -1182,7 +1184,8 @@ def _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, al
     span's alone): stopped at the first spring's zone, it moved 1 to 2 % of
     the step an iteration (random J-lay 02, 1837 m, slip 571 m: 100
     iterations a current step; the doubled trials 30 to 50). The state is
-    left at the last trial; phase 8 takes the step from ``w.u_old``."""
+    left at the last trial (phase 8 takes the step from ``w.u_old``), the
+    bottom tension restored."""
     has_bnd = _has_boundaries(mesh)
     tb_old = ends.tb[0]
     best = alpha
