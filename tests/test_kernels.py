@@ -489,7 +489,8 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
                     cut = min(cut, (edge - rel) / du[node * ndn + slot])
         return cut
 
-    alpha = friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, 1.0)
+    stop = np.zeros(pb.nn)
+    alpha = friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, stop, 1.0)
     assert alpha == pytest.approx(reference(1.0), rel=1e-12)
     assert 0.0 < alpha < 1.0
     gaps = []
@@ -502,7 +503,7 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
         gaps.append(np.min(np.abs(np.abs(new[sliding]) - slip)))
     assert min(gaps) < 1e-12
     # the spring that set the cut, and it alone, is marked for the next step
-    flags = pb.fric[:, L.FR_STOP].copy()
+    flags = stop.copy()
     assert np.count_nonzero(flags) == 1
     node = int(np.flatnonzero(flags)[0])
     slot = 1 if flags[node] == 1.0 else nd - 1
@@ -517,14 +518,15 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
     back = np.zeros_like(pb.u)
     back[dof] = -3.0 * edge
     model = pb.model()
-    alpha = friction_step(nd, pb.u, back, s, model, pb.bed_active, pb.fric, 1.0)
+    alpha = friction_step(nd, pb.u, back, s, model, pb.bed_active, pb.fric, stop, 1.0)
     assert alpha == pytest.approx(1.002 / 3.0, rel=1e-12)
-    assert not pb.fric[:, L.FR_STOP].any()  # stopped inside its stick zone: no mark
-    alpha = friction_step(nd, pb.u, back, s, model, pb.bed_active, pb.fric, 1.0)
+    assert not stop.any()  # stopped inside its stick zone: no mark
+    alpha = friction_step(nd, pb.u, back, s, model, pb.bed_active, pb.fric, stop, 1.0)
     assert alpha == pytest.approx(2.002 / 3.0, rel=1e-12)  # unmarked: the far edge
     # friction off (gravity's path): no cut
     pb.factors[:] = load_factors(1.0, False)
-    assert friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, 1.0) == 1.0
+    assert friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, stop,
+                         1.0) == 1.0
 
 
 def test_an_anchor_interpolated_towards_a_free_neighbour_moves_with_it():

@@ -306,7 +306,7 @@ def friction_track(nd, u, react, props, bed_active, fric, s):
 
 
 @jit
-def friction_step(nd, u, du, s, model, bed_active, fric, alpha):
+def friction_step(nd, u, du, s, model, bed_active, fric, stop, alpha):
     """The longest fraction (at most ``alpha``) of the step ``du`` (global
     frame) that takes no sliding spring through its stick zone: a spring
     stretched beyond d_slip that the step would carry past the anchor's far
@@ -316,8 +316,9 @@ def friction_step(nd, u, du, s, model, bed_active, fric, alpha):
     alone) flipped the slip direction every step: J125 3D on an ungraded 16 m
     mesh, y at touchdown -9.9 m, +27.7 m, ..., 531 iterations (22 now).
 
-    A spring this rule stopped at the far edge (``FR_STOP``, set here for the
-    next call) that the next step carries back stops at its anchor instead,
+    A spring this rule stopped at the far edge (``stop`` (nn,): 1 + the
+    component, 0 lateral, 1 axial, set here for the next call of the same
+    Newton solve; 0 none) that the next step carries back stops at its anchor instead,
     inside the stick zone where it has a stiffness: stopped at the edge each
     time, a spring the tracking of its anchor left a hair outside the stick
     zone flipped between the two edges with no stiffness at either (random
@@ -341,16 +342,15 @@ def friction_step(nd, u, du, s, model, bed_active, fric, alpha):
             if abs(rel) < d_slip:
                 continue
             edge = -d_slip if rel > 0.0 else d_slip
-            if fric[node, L.FR_STOP] == comp + 1:
+            if stop[node] == comp + 1:
                 edge = 0.0
             if (rel + alpha * du[dof] - edge) * (rel - edge) < 0.0:
                 alpha = (edge - rel) / du[dof]
                 stop_node = node
                 stop_flag = 0.0 if edge == 0.0 else comp + 1.0
-    for node in range(bed_active.shape[0]):
-        fric[node, L.FR_STOP] = 0.0
+    stop[:] = 0.0
     if stop_node >= 0:
-        fric[stop_node, L.FR_STOP] = stop_flag
+        stop[stop_node] = stop_flag
     return alpha
 
 

@@ -62,9 +62,7 @@ FR_W = 2  # normal force [N]: an elastic seabed's; on a rigid one the answer's r
 FR_DIRZ = 3  # axial: as FR_DIR, along z
 FR_Z = 4  # axial anchor z [m]
 FR_S = 5  # arc length [m] of the material point the anchors belong to
-FR_STOP = 6  # 1 + the component (0 lateral, 1 axial) the last Newton step stopped
-#              at its stick zone's far edge (:func:`.contact.friction_step`); 0: none
-N_FRIC = 7
+N_FRIC = 6
 
 # --- rigid point contacts (rows of ``Supports.points``) ------------------------
 # A rigid point in the lay plane (the stinger's tip; later each roller) holds

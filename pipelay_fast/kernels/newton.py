@@ -600,7 +600,8 @@ Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
     "scale", "torques", "rows", "cols", "ys", "res_b", "d_b", "kind", "dz", "sm", "rh",
     "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
-    "y_now", "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate", "at_scratch", "sh"])
+    "y_now", "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate", "at_scratch", "sh",
+    "fr_stop"])
 
 
 @phase
@@ -631,7 +632,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.zeros(nbnd), np.zeros(nbnd), np.zeros(nn), np.zeros(n),
         np.zeros(nn, dtype=np.bool_), np.zeros(0),
         np.zeros((1, 1)), np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
-        np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)))
+        np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)), np.zeros(nn))
 
 
 @phase
@@ -1174,12 +1175,23 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
 
 
 @phase
+def _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd):
+    """The state a fraction ``alpha`` along the step (:func:`_take_step`,
+    from ``w.u_old`` and the bottom tension ``tb_old``) and its merit
+    (:func:`_trial_merit`)."""
+    _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
+               tb_old, dtb, has_bnd, mesh, w)
+    te_t, m_t = _evaluate(nd, u, mesh, model, sup, ends, w, w.g_trial, False)
+    return _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_t, m_t)
+
+
+@phase
 def _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, alpha_lim):
     """Phase 7b: the step fraction, from ``alpha`` (where :func:`friction_step`
     cut the limited step ``alpha_lim`` at a spring's stick zone) doubled
     towards ``alpha_lim`` while the merit falls; the lowest-merit trial is
     returned, and if it lies past the cut, no spring is flagged as stopped
-    (``FR_STOP``). A laid pipe sliding as a whole has its whole length
+    (``w.fr_stop``). A laid pipe sliding as a whole has its whole length
     carried back past the anchors by Newton (its lateral stiffness then the
     span's alone): stopped at the first spring's zone, it moved 1 to 2 % of
     the step an iteration (random J-lay 02, 1837 m, slip 571 m: 100
@@ -1192,10 +1204,7 @@ def _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, al
     m_best = np.inf
     trial = alpha
     while True:
-        _take_step(nd, trial, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-                   tb_old, dtb, has_bnd, mesh, w)
-        te_t, m_t = _evaluate(nd, u, mesh, model, sup, ends, w, w.g_trial, False)
-        m1 = _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_t, m_t)
+        m1 = _trial(nd, trial, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd)
         if m1 < m_best:
             m_best, best = m1, trial
         elif trial > alpha:
@@ -1205,8 +1214,7 @@ def _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, al
         trial = min(2.0 * trial, alpha_lim)
     ends.tb[0] = tb_old
     if best > alpha:
-        for node in range(sup.fric.shape[0]):
-            sup.fric[node, L.FR_STOP] = 0.0
+        w.fr_stop[:] = 0.0
     return best
 
 
@@ -1305,8 +1313,6 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     r_max = 0.0  # the largest position [m]
     res_start = 1.0
     moved = False  # the last step moved the boundaries and lowered the merit
-    for node in range(nn):  # no friction spring stopped at an edge yet (friction_step)
-        sup.fric[node, L.FR_STOP] = 0.0
     # nodes held laterally by the stinger, fixed during the step
     lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, sup.y_held)
     for it in range(1, settings.maxit + 1):
@@ -1367,7 +1373,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
                 info[I_PAST] = abs(w.d_bnd[B_LO])
             break
         alpha_lim = alpha
-        alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric, alpha)
+        alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric,
+                              w.fr_stop, alpha)
         if alpha < alpha_lim:
             alpha = _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb,
                                        alpha, alpha_lim)
@@ -1379,10 +1386,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         alpha0 = alpha
         accepted = False
         for _ls in range(12):
-            _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-                       tb_old, dtb, has_bnd, mesh, w)
-            te_t, m_t = _evaluate(nd, u, mesh, model, sup, ends, w, w.g_trial, False)
-            m1 = _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_t, m_t)
+            m1 = _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
+                        has_bnd)
             if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
                 accepted = True
                 break
