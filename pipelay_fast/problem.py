@@ -188,6 +188,14 @@ class Problem:
         self.s_a = self.s - self.s_bd @ s_b
         self.s_b = s_b
 
+    def move_boundary(self, b: int, s_new: float):
+        """Boundary ``b`` to arc length ``s_new`` [m], the mesh following it
+        (its map) and the state interpolated onto the moved nodes."""
+        s_old = self.s.copy()
+        self.s_bd[b] = s_new
+        self.update_nodes()
+        self.u[:] = interpolate_state(s_old, self.u, self.nd, self.s)
+
     def update_nodes(self):
         """Node arc lengths from the boundary unknowns (after a solve)."""
         if self.s_a is not None:

@@ -350,3 +350,36 @@ def test_regained_span_closes_the_gap_span_equations(ell):
         roots = np.roots([1.0 / (24.0 * lam**2), 1.0 / (4.0 * lam), 0.0, -past])
         short = roots[np.abs(roots.imag) < 1e-9].real.max()
         assert regained_span(lam, past) == pytest.approx(short, rel=5e-3)
+
+
+def test_moving_a_boundary_carries_the_state_along_the_pipe():
+    """Problem.move_boundary (bear_on_tip puts re-contact where the gap span
+    estimate says): the boundary's node goes to the arc length asked for,
+    the nodes of its zone follow with the mesh's map, the ends stay, and the
+    state is the old one's at the moved nodes. With a cubic shape and a
+    linear tension (which cubic Hermite and linear interpolation reproduce
+    exactly) that is the closed form at the new arc lengths."""
+    from pipelay_fast.problem import build_problem
+
+    case = pf.load_case(EXAMPLES / "s67.toml")
+    pb = build_problem(case)
+    s0 = pb.s.copy()
+
+    def state(s):
+        u = np.zeros(s.size * pb.ndn)
+        u[0::pb.ndn] = 20.0 + 0.3 * s - 2e-4 * s**2 + 3e-7 * s**3
+        u[1::pb.ndn] = 0.9 * s + 1e-4 * s**2 - 1e-7 * s**3
+        u[2::pb.ndn] = 0.3 - 4e-4 * s + 9e-7 * s**2
+        u[3::pb.ndn] = 0.9 + 2e-4 * s - 3e-7 * s**2
+        u[4::pb.ndn] = 4e5 + 250.0 * s
+        return u
+
+    pb.u[:] = state(s0)
+    k = pb.lo_node
+    target = s0[k] + 0.3 * (s0[k + 1] - s0[k])
+    pb.move_boundary(1, target)
+    assert pb.s[k] == pytest.approx(target, abs=1e-9)
+    assert pb.s[0] == s0[0] and pb.s[-1] == s0[-1]
+    moved = np.flatnonzero(np.abs(pb.s - s0) > 1e-9)
+    assert moved.size > 3 and np.all(np.diff(pb.s) > 0.0)
+    np.testing.assert_allclose(pb.u, state(pb.s), rtol=1e-12, atol=1e-9)
