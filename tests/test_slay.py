@@ -158,6 +158,66 @@ def test_warm_start_gives_the_cold_answer(s67, still, a):
         assert warm[key] == pytest.approx(cold[key], rel=1e-7, abs=1e-6), key
 
 
+def test_a_warm_start_with_friction_follows_the_cold_slip_path():
+    """S67 3D (1 m/s lateral current, friction 0.5) at a = -0.0015 from its
+    neighbour at -0.00152: each step of the current starts from the
+    neighbour's increment over it, but the friction springs' anchors are
+    the warm solve's own path, so its answer is the cold solve's: the same
+    nodes slipping, the peak stress to 1e-6 and the lateral deflection to
+    1e-4 (measured 4.7e-8 and 3.3e-6; the tolerance 1e-8 on each step's
+    residual leaves the springs' anchors a little apart)."""
+    base = pf.load_case(EXAMPLES / "s67_3d.toml").with_changes({"solver.element_length": 4.0})
+    case = base.with_changes({"lay.stinger.a": -0.0015})
+    neighbour = pf.solve(base.with_changes({"lay.stinger.a": -0.00152}))
+    cold = pf.solve(case)
+    warm = pf.solve(case, warm=neighbour)
+    assert warm.state.warm_path is neighbour.state.current_path
+    assert cold.profile["slipping"].sum() > 5
+    np.testing.assert_array_equal(warm.profile["slipping"], cold.profile["slipping"])
+    assert warm.summary["max_von_mises"] == pytest.approx(cold.summary["max_von_mises"],
+                                                          rel=1e-6)
+    assert warm.summary["max_lateral_deflection"] == pytest.approx(
+        cold.summary["max_lateral_deflection"], rel=1e-4)
+
+
+def test_a_warm_step_starts_from_the_neighbours_increment():
+    """Problem.start_step: the neighbour's answers at both ends of the step,
+    on a mesh of its own, are interpolated at this mesh's material points
+    and their difference added (with the bottom tension's). With the
+    neighbour's shapes cubic in arc length and its tension linear (which
+    the cubic Hermite and linear interpolations reproduce), the increment is
+    the closed-form difference; a step the neighbour did not take, or one
+    with other boundaries, starts from the state as it is."""
+    from pipelay_fast.problem import build_problem
+
+    pb = build_problem(pf.load_case(EXAMPLES / "s67_3d.toml"))
+    nd, ndn = pb.nd, pb.ndn
+    s_nb = np.linspace(0.0, pb.s[-1], 37)  # the neighbour's mesh
+
+    def state(s, c):
+        u = np.zeros(s.size * ndn)
+        for i in range(nd):
+            u[i::ndn] = c * (1.0 + i) * (0.2 * s - 3e-4 * s**2 + 4e-7 * s**3)
+            u[nd + i::ndn] = c * (1.0 + i) * (0.2 - 6e-4 * s + 1.2e-6 * s**2)
+        u[2 * nd::ndn] = c * (3e5 + 40.0 * s)
+        return u
+
+    on = pb.bnodes >= 0
+    pb.warm_path = [{"level": lev, "s": s_nb, "u": state(s_nb, c), "on": on,
+                     "tb": np.array([1e5 * c])} for lev, c in ((0.0, 1.0), (0.25, 1.5))]
+    pb.current_path = [pb.path_state(0.0)]
+    u0, tb0 = pb.u.copy(), pb.tb.copy()
+    assert not pb.start_step(0.5)  # the neighbour has no step ending there
+    np.testing.assert_array_equal(pb.u, u0)
+    assert pb.start_step(0.25)
+    np.testing.assert_allclose(pb.u - u0, state(pb.s, 0.5), rtol=1e-9, atol=1e-9)
+    assert pb.tb[0] - tb0[0] == pytest.approx(0.5e5)
+    pb.u[:] = u0
+    pb.warm_path[1]["on"] = ~on
+    assert not pb.start_step(0.25)
+    np.testing.assert_array_equal(pb.u, u0)
+
+
 def test_warm_start_refuses_another_dimension(s67, still):
     with pytest.raises(ValueError, match="warm"):
         pf.solve(s67.with_changes({"solver.dimension": "3d"}), warm=still)
