@@ -476,3 +476,29 @@ def test_a_node_sliding_off_the_tip_does_not_cycle():
     assert np.all(slope < 0.0)  # more negative a: more stress at the tip
     assert np.ptp(slope) < 0.1 * np.abs(slope).mean()
     np.testing.assert_allclose(vm, peaks(4.0), rtol=1e-3)
+
+
+def test_a_warm_state_slides_to_keep_its_element_lengths(s67):
+    """problem._slide_to_length on a solved (smooth) S67 state: after a
+    shift in x (as a changed stinger's curve gives), each node slides along
+    the pipe by the lengthening of the elements above it; the chords come
+    back to their lengths to second order in the shift (here under 1 % of
+    the change the shift made), the top stays and the lower end slides
+    along the seabed (x held)."""
+    from pipelay_fast.problem import _slide_to_length
+
+    pb = pf.solve(s67.with_changes({"environment.current.speed": 0.0})).state
+    pos = (np.arange(pb.nn) * pb.ndn)[:, None] + np.arange(pb.nd)
+    r_old = pb.u[pos].copy()
+
+    def chords():
+        return np.linalg.norm(np.diff(pb.u[pos], axis=0), axis=1)
+
+    before = chords()
+    pb.u[0::pb.ndn] += 0.05 * np.sin(np.pi * pb.s / pb.s[-1])
+    stretched = np.abs(chords() - before).max()
+    assert stretched > 1e-4
+    _slide_to_length(pb, r_old)
+    assert np.abs(chords() - before).max() < 1e-2 * stretched
+    np.testing.assert_array_equal(pb.u[pos[-1]], r_old[-1])
+    assert pb.u[0] == pytest.approx(r_old[0, 0], abs=1e-12)
