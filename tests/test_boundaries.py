@@ -125,6 +125,24 @@ def test_liftoff_unknown_matches_slay_elastica(s67, a):
     assert sm["liftoff_reaction"] == pytest.approx(ref["liftoff_reaction"], rel=1e-3)
 
 
+def test_a_coarse_lift_off_below_the_tip_rises_to_it():
+    """S67 2D (its 1 m/s current in the plane), a = -0.0012, on 16 m
+    elements ungraded: the guess's lift-off node lies below the stinger's
+    tip and Newton's first step raises it, not far enough. The step goes on
+    up to the tip (it is not a step past the tip, which switches to bearing
+    on it): the answer lifts off above the tip, as the graded 2 m mesh's
+    does, within an element of it (measured 0.8 m; switched to bearing, the
+    coarse solve ended on the tip with 49 kN)."""
+    case = pf.load_case(EXAMPLES / "s67.toml")
+    fine = pf.solve(case.with_changes({"solver.element_length": 2.0})).summary
+    coarse = pf.solve(case.with_changes({"solver.element_length": 16.0,
+                                         "solver.grading": False})).summary
+    assert fine["tip_reaction"] == 0.0
+    assert coarse["tip_reaction"] == 0.0
+    assert coarse["liftoff_z"] > case.lay.stinger.lower[1]
+    assert abs(coarse["liftoff_z"] - fine["liftoff_z"]) < 16.0
+
+
 def test_the_point_reaction_hands_over_at_the_change_of_regime(s67):
     """Across the change of regime (S67, no current, a every 2e-6) the point
     reaction where the free span leaves the stinger is continuous: bearing,

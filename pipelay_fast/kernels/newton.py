@@ -1133,7 +1133,9 @@ def _step_length(nd, u, mesh, sup, w, hold, href):
         if room < 1e-3 * href and dz_lo < 0.0:
             return 0.0, L.PAST_TIP
         if dz_lo * alpha < -room:
-            return room / -dz_lo, L.PAST_TIP
+            if room > 0.0:  # from above the tip, the step would take it past
+                return room / -dz_lo, L.PAST_TIP
+            alpha = room / -dz_lo  # from below the tip, rising: up to it
     return alpha, -1
 
 
