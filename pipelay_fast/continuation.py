@@ -120,7 +120,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     at the change of regime (PAST_TIP, SPAN_CLOSED), when, lifting off, the
     answer passes below the tip, and, with a node over the tip, when the
     answer leaves that node unloaded (:func:`.boundaries.tip_released`) or
-    the tip's branch kept changing (TIP_CYCLE): the pipe then lifts off
+    the tip's branch cycles with no progress (TIP_CYCLE): the pipe then lifts off
     above the tip.
 
     Returns (status, reactions, info, iterations of every call, the state
