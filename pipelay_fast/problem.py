@@ -480,7 +480,7 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
         over = np.concatenate([np.flatnonzero(over), np.flatnonzero(span)])
     else:
         over = np.flatnonzero(over)
-    r_old = pb.u[(np.arange(pb.nn) * ndn)[:, None] + np.arange(nd)]
+    r_old = pb.u[_positions(pb)]
     idx = over * ndn
     pb.u[idx] += shift
     rp = pb.u[(idx + nd)[:, None] + np.arange(nd)]
@@ -498,14 +498,18 @@ def _slide_to_length(pb: Problem, r_old: np.ndarray):
     it move along their tangents by the sum of the lengthening of the
     elements above them (the lower end slides along the seabed). A shift in
     x alone stretched the conforming pipe with the curve's length."""
-    nd, ndn = pb.nd, pb.ndn
-    pos = (np.arange(pb.nn) * ndn)[:, None] + np.arange(nd)
+    pos = _positions(pb)
     r = pb.u[pos]
     longer = np.linalg.norm(np.diff(r, axis=0), axis=1) - np.linalg.norm(np.diff(r_old, axis=0),
                                                                          axis=1)
     slide = np.concatenate([np.cumsum(longer[::-1])[::-1], [0.0]])
-    rp = pb.u[pos + nd]
+    rp = pb.u[pos + pb.nd]
     pb.u[pos] = r + slide[:, None] * rp / np.linalg.norm(rp, axis=1)[:, None]
+
+
+def _positions(pb: Problem) -> np.ndarray:
+    """(nn, nd) indices of the nodes' positions r in the state u."""
+    return (np.arange(pb.nn) * pb.ndn)[:, None] + np.arange(pb.nd)
 
 
 def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
