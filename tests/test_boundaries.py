@@ -270,7 +270,6 @@ def test_tip_regime_matches_slay_elastica(s67, a):
     assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-5)
 
 
-
 def test_lift_off_just_above_the_tip_from_a_guess_at_the_tip():
     """S125 at a = -0.00168, next to the change of regime: the reference
     lifts off 0.2 m above the tip, and the first guess leaves from the tip

@@ -24,7 +24,6 @@ def still(s67):
     return solve(s67.with_changes({"environment.current.speed": 0.0}))
 
 
-
 def test_stinger_reactions_are_frictionless_and_push(s67, still):
     prof = still.profile
     st = s67.lay.stinger
