@@ -206,9 +206,10 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     """The regime switch the complementarity at the tip makes as lift-off
     reaches it from above: the pipe now bears on the tip and regains the
     stinger further up, with the gap span between free: :func:`regained_span`
-    above it when Newton's step ``past`` [m] that took lift-off past the tip
-    is known, else one flexural length above (a solve that lifted off but
-    ended passing below the tip: :func:`passes_below_tip`).
+    above it when ``past`` [m] is known, how far past the tip Newton's step
+    took lift-off (or the first guess's lift-off lies,
+    :func:`.guess.slay_liftoff`), else one flexural length above (a solve
+    that lifted off but ended passing below the tip: :func:`passes_below_tip`).
 
     Re-contact's boundary is put there, on the nearest node, the mesh
     following it (:meth:`.Problem.move_boundary`, the state interpolated).

@@ -43,6 +43,34 @@ class ShortLaid(Exception):
     end, and the mesh needs more laid pipe (:func:`.solver._solve_gravity`)."""
 
 
+# The largest move [m] of a contact boundary in one Newton step: MAX_BOUNDARY_STEP
+# elements (href), or in a tension-dominated lay BOUNDARY_STEP_LAYER times
+# its boundary layer, the flexural length sqrt(EI/T) (``stats
+# ["boundary_layer"]``), the larger. Elements alone held fine meshes to short
+# steps (touchdown two 1 m elements an iteration): full 2D grid at 1 m, S67
+# 1179 -> 926 iterations, S125 1213 -> 1116, J125 158 -> 131, the solves above
+# 10 iterations 8 -> 1; at 4 and 8 m unchanged. 0.3 or 0.5 flexural lengths,
+# with the element term or without it, lost random case 08 (0.33 m pipe at
+# 33 m, 55 kN, lam = 31 m: its first guess's homotopy diverged), as did no
+# limit at all; 0.2 keeps the random cases' failures (the same 4; 13 with a
+# current step above 10 iterations, as before; 1743 -> 1747 iterations). In
+# a bending-dominated lay the flexural length is no boundary layer (J125
+# with 20 kN at the bottom: 113 m, against (EI/w)^(1/3) = 59 m): a fifth of
+# either took 116 and 11 iterations there (12 with elements), and with 1 kN
+# at the bottom found another equilibrium, 2.4 % strain beyond the
+# small-strain model, where elements find the lay's.
+MAX_BOUNDARY_STEP = 2.0
+BOUNDARY_STEP_LAYER = 0.2
+
+
+def boundary_step(pb: Problem) -> float:
+    """The largest move [m] of a contact boundary per Newton step (see
+    MAX_BOUNDARY_STEP; a problem built with no boundary layer recorded, as
+    the kernels' tests build them, has elements alone)."""
+    return max(MAX_BOUNDARY_STEP * pb.href,
+               BOUNDARY_STEP_LAYER * pb.stats.get("boundary_layer", 0.0))
+
+
 def run_newton(pb: Problem, g_off, tol, maxit):
     """One call of the Newton kernel on ``pb`` (updated in place: state,
     boundaries, node arc lengths), with residual offset ``g_off`` (ndof,),
@@ -58,7 +86,7 @@ def run_newton(pb: Problem, g_off, tol, maxit):
         s_a, s_b = np.zeros(pb.nn), np.zeros((pb.bnodes.size, pb.nn))
     mesh = Mesh(pb.s_el, s_a, s_b, pb.s_bd, pb.bnodes)
     settings = Settings(float(tol), float(pb.fref), float(pb.href), int(maxit),
-                        not pb.in_balance)
+                        not pb.in_balance, boundary_step(pb))
     pb.in_balance = False
     status = newton(pb.nd, pb.u, mesh, pb.model(), pb.supports(), pb.ends(g_off), settings,
                     react, info)

@@ -39,6 +39,11 @@ class Guess:
         Total modelled length [m].
     liftoff_z : float or None
         z of lift-off [m] (S-lay).
+    tip_past : float or None
+        S-lay where the pipe would leave below the stinger's tip: how far [m]
+        along the stinger's curve continued below the tip it would lift off
+        (the guess then leaves from the tip; the pipe bears on it,
+        :func:`.boundaries.bear_on_tip`). None otherwise.
     """
 
     cat: Catenary
@@ -46,6 +51,7 @@ class Guess:
     s_liftoff: float | None
     total: float
     liftoff_z: float | None = None
+    tip_past: float | None = None
 
 
 def weights(case: Case):
@@ -99,18 +105,36 @@ def stinger_arc(stinger, z0, z1, n=401):
     return z, arc
 
 
+# The guess's lift-off is the cable's tangent point moved one flexural length
+# lam up the stinger, to first order in lam; near the change of regime the
+# answer still bears on the tip where the guess lifts off above it, by up to
+# 0.8 m in S67 (a = -0.00116, tip reaction 55 kN, lam = 23 m) and 1.9 m in
+# S125 (a = -0.00175, 54 kN, lam = 25 m). A guess that leaves below the tip
+# by less than this share of lam starts from the tip, lifting off, and
+# Newton's step past the tip sets the gap span: started bearing there, the
+# span guessed from a lift-off 0.02 to 0.5 m past the tip closed under
+# Newton and the solve switched regime twice more (S67 2D 1 m, a = -0.00114:
+# 13 iterations; S125 3D 4 m, a = -0.00167, failed). Full grid (2D, 1 to 8
+# m), bearing from the guess against from Newton's step past the tip: S67
+# 3822 -> 3681 iterations, S125 4507 -> 4329, the solves above 10 iterations
+# 11 -> 2 (at 0.1 lam: 4; at 0.08: 2).
+GUESS_LIFTOFF_ERROR = 0.05
+
+
 def slay_liftoff(case: Case, bottom_tension: float | None = None):
-    """(z of lift-off [m], horizontal tension h [N]) for S-lay.
+    """(z of lift-off [m], horizontal tension h [N], how far [m] below the
+    tip on the stinger's curve continued the pipe would lift off, None when
+    it lifts off above the tip or no lift-off is found) for S-lay.
 
     The tension comes from the lay's keys, or from ``bottom_tension`` [N] when
     given (the pipe-length case searches over it). Where the pipe would leave
-    below the stinger's tip, the guess leaves from the tip: Newton's step past
-    it then tells how far above the tip a pipe bearing on it regains the
-    stinger (:func:`.boundaries.bear_on_tip`); a span guessed from the
-    catenary's kink at the tip was too rough near the change of regime (S67
-    2D 1 m, a = -0.00114: 1.1 m against 9.0 m found) and, further from it,
-    sent some solves' touchdown running (S125 2D 2 m, a = -0.00097: 119
-    iterations).
+    below the stinger's tip, the guess leaves from the tip, and the third
+    value says how far below: the pipe bears on the tip, and
+    :func:`.boundaries.regained_span` gives the gap span from it
+    (:func:`.boundaries.bear_on_tip`). Within GUESS_LIFTOFF_ERROR flexural
+    lengths of the tip it is None: the guess leaves from the tip, lifting
+    off, and Newton's step past the tip tells how far above the tip a pipe
+    bearing on it regains the stinger.
     """
     lay, st = case.lay, case.lay.stinger
     depth = case.environment.water_depth
@@ -134,6 +158,7 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     f = mismatch(zs)
     change = np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:]))
     z_lo = z_l
+    past = None
     if change.size:
         k = change[-1]
         z_c = brentq(mismatch, zs[k], zs[k + 1], xtol=1e-10)
@@ -143,6 +168,10 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         z_arc, arc = stinger_arc(st, z_c, z_u)
         z_s = float(np.interp(lam, arc, z_arc))
         z_lo = max(z_s, z_l)
+        if z_s < z_l:
+            past = float(stinger_arc(st, z_s, z_l)[1][-1])
+            if past < GUESS_LIFTOFF_ERROR * lam:
+                past = None  # within the guess's error of the tip: Newton decides
     x_lo = float(st.height(z_lo))
     t_lo = tension(x_lo)
     h = float(t_lo - _rise(w1, w2, depth, x_lo))
@@ -151,17 +180,17 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
             f"lay.top_tension = {lay.top_tension:g} N cannot hold the pipe off the stinger: "
             f"the tension left at lift-off (x = {x_lo:.1f} m) is below the weight hanging from it"
         )
-    return z_lo, h
+    return z_lo, h, past
 
 
 def _slay_span(case: Case, bottom_tension=None):
     """Lift-off, catenary and stinger arc of an S-lay guess."""
     w1, w2 = weights(case)
     st = case.lay.stinger
-    z_lo, h = slay_liftoff(case, bottom_tension)
+    z_lo, h, past = slay_liftoff(case, bottom_tension)
     cat = Catenary(h, w1, w2, case.environment.water_depth, float(st.height(z_lo)))
     _, arc = stinger_arc(st, z_lo, st.upper[1])
-    return z_lo, cat, float(arc[-1])
+    return z_lo, cat, float(arc[-1]), past
 
 
 def _slay_bottom_tension(case: Case) -> float:
@@ -172,7 +201,7 @@ def _slay_bottom_tension(case: Case) -> float:
     w1, _ = weights(case)
 
     def gap(h):
-        z_lo, cat, arc = _slay_span(case, h)
+        z_lo, cat, arc, _past = _slay_span(case, h)
         return (z_lo - cat.span) - (length - cat.length - arc)
 
     lo, hi = 1e-3 * w1 * case.environment.water_depth, 1e3 * w1 * length
@@ -196,13 +225,13 @@ def first_guess(case: Case, laid_default) -> Guess:
             laid = case.solver.laid_length or laid_default(cat)
         return Guess(cat, laid, None, laid + susp)
     if lay.pipe_length is not None:
-        z_lo, cat, arc = _slay_span(case, _slay_bottom_tension(case))
+        z_lo, cat, arc, past = _slay_span(case, _slay_bottom_tension(case))
         laid = lay.pipe_length - cat.length - arc
     else:
-        z_lo, cat, arc = _slay_span(case)
+        z_lo, cat, arc, past = _slay_span(case)
         laid = case.solver.laid_length or laid_default(cat)
     s_lo = laid + cat.length
-    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo)
+    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, tip_past=past)
 
 
 def shape(case: Case, g: Guess, s):

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .boundaries import follow_boundaries, follow_nodes, touchdown_position
+from .boundaries import bear_on_tip, follow_boundaries, follow_nodes, touchdown_position
 from .case import Case
 from .guess import first_guess, shape
 from .kernels import layout as L
@@ -304,12 +304,21 @@ def build_problem(case: Case) -> Problem:
     u[nd::ndn] = np.sin(th)
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
+    # a tension-dominated lay (the flexural length shorter than the heavy
+    # elastica's (EI / w)^(1/3)) has boundary layers of that length at its
+    # contact boundaries (:func:`.continuation.boundary_step`); 0: none
+    layer = lam if lam < (case.pipe.bending_stiffness / abs(g.cat.w1)) ** (1.0 / 3.0) else 0.0
     stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
+             "boundary_layer": layer,
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
     fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
                case.lay.top_tension or 0.0)
     pb = _problem(case, nd, s, u, g.cat.h, fref, stats)
     follow_boundaries(case, pb, s_focus)
+    # the catenary leaves below the tip: the pipe bears on it, with the gap
+    # span the guess's lift-off past the tip gives (:func:`.guess.slay_liftoff`)
+    if g.tip_past is not None:
+        bear_on_tip(case, pb, g.tip_past)
     return pb
 
 

@@ -369,6 +369,28 @@ def test_regained_span_closes_the_gap_span_equations(ell):
         assert regained_span(lam, past) == pytest.approx(short, rel=5e-3)
 
 
+@pytest.mark.parametrize(("example", "a"), [("s67", -0.0008), ("s67", -0.0009),
+                                          ("s125", -0.001), ("s125", -0.0012)])
+def test_a_cable_leaving_below_the_tip_starts_bearing_with_the_span_found(example, a):
+    """Where the first guess's cable would leave below the stinger's tip
+    (past it on the curve continued), the solve starts bearing on the tip,
+    with the gap span the tensioned beam's closed form gives from that
+    lift-off (``regained_span``): within 5 % of the span Newton finds on the
+    bundled mesh (the cable's lift-off and the closed form are asymptotic,
+    first order in the flexural length)."""
+    from pipelay_fast.kernels.newton import B_LO, B_PT
+    from pipelay_fast.problem import build_problem
+    from pipelay_fast.solver import solve_problem
+
+    case = pf.load_case(EXAMPLES / f"{example}.toml").with_changes({"lay.stinger.a": a})
+    start = build_problem(case)
+    assert start.tip_node >= 0 and start.tip[0] == 1.0  # bearing from the start
+    pb = solve_problem(case)[0]
+    assert pb.tip_node >= 0 and pb.tip[0] == 1.0
+    found = pb.s_bd[B_LO] - pb.s_bd[B_PT]
+    assert start.s_bd[B_LO] - start.s_bd[B_PT] == pytest.approx(found, rel=0.05)
+
+
 def test_moving_a_boundary_carries_the_state_along_the_pipe():
     """Problem.move_boundary (bear_on_tip puts re-contact where the gap span
     estimate says): the boundary's node goes to the arc length asked for,

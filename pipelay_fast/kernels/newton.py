@@ -75,10 +75,11 @@ linearisation that could point the wrong way (re-contact above a bearing
 tip, started one flexural length off, ran up the stinger: S67 at a =
 -0.00116 failed, -0.00115 took 150 iterations; with it they take 58 and 44).
 The step is then the full Newton step within limits: a boundary moves at most
-MAX_BOUNDARY_STEP href, no element of a zone shrinks below a tenth, lift-off
-goes no further than the tip, the span between re-contact and a bearing
-tip at most halves or doubles (it grows like sqrt(a - a_switch) past the
-change of regime), no sliding friction spring passes through its stick zone
+``settings.bstep`` (:func:`pipelay_fast.continuation.boundary_step`), no
+element of a zone shrinks below a tenth, lift-off goes no further than the
+tip, the span between re-contact and a bearing tip at most halves or
+doubles (it grows like sqrt(a - a_switch) past the change of regime), no
+sliding friction spring passes through its stick zone
 (:func:`.contact.friction_step`; a step so cut is doubled back towards the
 limited one while the merit falls, :func:`_past_friction_cut`); the merit
 may rise up to MERIT_RISE times
@@ -342,7 +343,6 @@ ROUNDOFF_RATIO = 10.0
 # 339 without; random case 7: 113 and 222)
 STALL_STEP = 1e3
 INNER_RATIO = 1.0  # the boundaries move once the pipe's imbalance is below this times theirs
-MAX_BOUNDARY_STEP = 2.0  # largest move of a contact boundary per Newton step, in href
 # the boundaries that can be unknowns (``mesh.bnodes``, the rows of
 # ``mesh.s_b``): touchdown, lift-off from the stinger (or re-contact above a
 # bearing tip), then one per rigid point (``sup.points``, the stinger's tip
@@ -1057,12 +1057,12 @@ def _reactions(nd, w, nb, react):
 
 
 @phase
-def _step_length(nd, u, mesh, sup, w, hold, href):
+def _step_length(nd, u, mesh, sup, w, hold, href, bstep):
     """Phase 7: the longest fraction of the step the contact boundaries allow,
     and the status that stops the call (-1: none).
 
     A boundary stays inside its zone (no element there shrinks below a
-    tenth), moves at most MAX_BOUNDARY_STEP href; touchdown stays on the
+    tenth), moves at most ``bstep`` [m]; touchdown stays on the
     modelled laid pipe (SHORT_LAID past half way to the lower end); the span
     between re-contact and a bearing tip at most halves or doubles (it grows
     like sqrt(a - a_switch) past the change of regime: a step in its
@@ -1097,8 +1097,8 @@ def _step_length(nd, u, mesh, sup, w, hold, href):
             if rate < -0.9 * s_el[e]:
                 alpha = min(alpha, 0.9 * s_el[e] / abs(rate))
     for b in range(nbnd):
-        if abs(d_bnd[b]) * alpha > MAX_BOUNDARY_STEP * href:
-            alpha = MAX_BOUNDARY_STEP * href / abs(d_bnd[b])
+        if abs(d_bnd[b]) * alpha > bstep:
+            alpha = bstep / abs(d_bnd[b])
     if has_td and not hold and d_bnd[B_TD] < 0.0:
         if -d_bnd[B_TD] * alpha > 0.5 * (s_bd[B_TD] - mesh.s_a[0]):
             return alpha, L.SHORT_LAID
@@ -1294,7 +1294,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         given)
     settings : :data:`.types.Settings`, tol, fref [N], href [m], maxit, hold
         (whether an iteration may hold the boundaries, :func:`_hold_boundaries`:
-        False when the call starts from a state in balance)
+        False when the call starts from a state in balance), bstep [m] (the
+        largest move of a boundary per step)
     react : (ndof,) output, reactions on the pipe in the nodal frames [N, N m]
     info : (N_INFO,) output, see ``I_*``
     """
@@ -1369,7 +1370,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
                 merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, href)) ** 2
             w.bnd_old[b] = mesh.s_bd[b]
         node_arcs(mesh.s_el, w.s_old)
-        alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href)
+        alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href, settings.bstep)
         if stop >= 0:
             status = stop
             if stop == L.PAST_TIP:

@@ -21,8 +21,9 @@ they hold references, not copies).
   tensions: the bottom tension (an unknown when the top tension is given) and
   the top's target.
 * :data:`Settings`: tolerance, reference force and length, iteration cap,
-  and whether the iteration may hold the contact boundaries (False for a
-  call that starts from a state in balance).
+  whether the iteration may hold the contact boundaries (False for a call
+  that starts from a state in balance), and the largest move [m] of a
+  contact boundary per Newton step.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ Mesh = namedtuple("Mesh", ["s_el", "s_a", "s_b", "s_bd", "bnodes"])
 Supports = namedtuple("Supports", ["fix_mask", "fix_val", "phi_r", "phi_rp", "bed_active",
                                    "stinger", "st_active", "points", "fric", "y_held"])
 Ends = namedtuple("Ends", ["f_node", "g_off", "tb", "slide_dof", "top_node", "top_target"])
-Settings = namedtuple("Settings", ["tol", "fref", "href", "maxit", "hold"])
+Settings = namedtuple("Settings", ["tol", "fref", "href", "maxit", "hold", "bstep"])
 
 
 def load_factors(current: float, friction: bool) -> np.ndarray:
