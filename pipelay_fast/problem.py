@@ -285,7 +285,7 @@ def build_problem(case: Case) -> Problem:
 
     def laid_default(cat):
         return (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
-                + slipping_length_bound(case, cat))
+                + friction_laid_length(case, cat))
 
     g = first_guess(case, laid_default)
     h_max, h_min, lam = _mesh_sizes(case, g.cat.h)
@@ -330,7 +330,7 @@ def _laid_source(case: Case, cat, lam: float) -> str:
         return f"solver.laid_length = {case.solver.laid_length!r} m"
     text = (f"the default of solver.laid_length: two flexural lengths sqrt(EI/T) = {lam:.4g} m "
             "at touchdown, five elements")
-    slip = slipping_length_bound(case, cat)
+    slip = friction_laid_length(case, cat)
     if slip > 0.0:
         text += (f" and {slip:.4g} m for seabed friction to take up the lateral drag "
                  "(environment.current.speed, seabed.lateral_friction)")
@@ -589,6 +589,18 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     return new
 
 
+# Decay lengths of the sticking zone behind the slipping one the laid pipe
+# modelled holds: e^-3, the held lower end's share of the lateral force 5 %
+# of what it was at the slipping zone's end. Without them S67 3D at 2 m left
+# the held lower end 0.4 to 1 % of the laid pipe's lateral force (a = -0.0022
+# to -0.0009; the laid pipe doubled above 1 %, from a = -0.0008), and a warm
+# start from a neighbour whose laid pipe had been doubled solved another
+# domain: 4.7e-6 from the cold peak stress (S67 3D 2 m, a = -0.0009 from
+# -0.00088), 8.6e-8 with them; 0.02 to 0.05 % left at the lower end, 17
+# elements more of 235 (4 m: 0.2 % -> 0.015 %, 8 more of 150).
+STICK_DECAY_LENGTHS = 3.0
+
+
 def slipping_length_bound(case: Case, cat) -> float:
     """Laid length [m] over which friction takes up the lateral drag's share at
     touchdown, so that the held lower end carries none (0 off the friction
@@ -611,6 +623,21 @@ def slipping_length_bound(case: Case, cat) -> float:
          * pipe.hydrodynamic_diameter * speed**2) * (1.0 - t)
     share = cat.length * float(np.sum(0.5 * (q[1:] + q[:-1]) * np.diff(t)))
     return share / (case.seabed.lateral_friction * float(case.effective_weight(0.0)))
+
+
+def friction_laid_length(case: Case, cat) -> float:
+    """Laid length [m] the friction path needs behind touchdown: the slipping
+    length (:func:`slipping_length_bound`) and STICK_DECAY_LENGTHS decay
+    lengths of the sticking zone behind it, where the sticking springs (mu w
+    / friction_slip per m) hold the pipe as an elastic foundation and the
+    force left decays over (4 EI friction_slip / mu w)^(1/4) (0 where the
+    slipping length is)."""
+    slip = slipping_length_bound(case, cat)
+    if slip <= 0.0:
+        return 0.0
+    mu_w = case.seabed.lateral_friction * float(case.effective_weight(0.0))
+    decay = (4.0 * case.pipe.bending_stiffness * case.seabed.friction_slip / mu_w) ** 0.25
+    return slip + STICK_DECAY_LENGTHS * decay
 
 
 def friction_path(case: Case) -> bool:

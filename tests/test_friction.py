@@ -98,7 +98,8 @@ def test_laid_length_bound_holds_the_slipping_zone(lateral):
         prof = res.profile
         slip = prof[prof["slipping"]]
         found = slip["s"].max() - slip["s"].min()
-        bound = slipping_length_bound(case, free_span(case))  # as the solver sizes it
+        # the slipping part of the laid length the solver sizes (friction_laid_length)
+        bound = slipping_length_bound(case, free_span(case))
         assert found < bound < 3.0 * found
         bed = (prof["contact"] == "seabed").to_numpy()
         lower = abs(prof["reaction_y"].iloc[0])

@@ -179,6 +179,28 @@ def test_a_warm_start_with_friction_follows_the_cold_slip_path():
         cold.summary["max_lateral_deflection"], rel=1e-4)
 
 
+def test_a_warm_start_solves_the_laid_length_the_cold_solve_does():
+    """S67 3D at 2 m, a = -0.0009 from its neighbour at -0.00088: the laid
+    pipe modelled holds the slipping zone and the sticking zone's decay
+    behind it, so neither solve doubles it and both solve the same domain:
+    the warm peak stress is the cold one to 1e-6 (measured 8.6e-8; 4.7e-6
+    when the neighbour's laid pipe had been doubled and the cold one's not),
+    and the held lower end carries under 0.1 % of the laid pipe's lateral
+    force (the reactions on the seabed and the lower end, friction included)."""
+    base = pf.load_case(EXAMPLES / "s67_3d.toml").with_changes({"solver.element_length": 2.0})
+    case = base.with_changes({"lay.stinger.a": -0.0009})
+    neighbour = pf.solve(base.with_changes({"lay.stinger.a": -0.00088}))
+    cold = pf.solve(case)
+    warm = pf.solve(case, warm=neighbour)
+    assert warm.summary["n_elements"] == cold.summary["n_elements"]
+    assert warm.summary["max_von_mises"] == pytest.approx(cold.summary["max_von_mises"],
+                                                          rel=1e-6)
+    prof = cold.profile
+    ry = prof["reaction_y"].to_numpy()
+    on_bed = (prof["contact"] == "seabed").to_numpy()
+    assert abs(ry[0]) < 1e-3 * (np.abs(ry[on_bed]).sum() + abs(ry[0]))
+
+
 def test_a_warm_step_starts_from_the_neighbours_increment():
     """Problem.start_step: the neighbour's answers at both ends of the step,
     on a mesh of its own, are interpolated at this mesh's material points
