@@ -622,7 +622,12 @@ def slipping_length_bound(case: Case, cat) -> float:
     q = (0.5 * case.environment.water_density * pipe.drag_coefficient
          * pipe.hydrodynamic_diameter * speed**2) * (1.0 - t)
     share = cat.length * float(np.sum(0.5 * (q[1:] + q[:-1]) * np.diff(t)))
-    return share / (case.seabed.lateral_friction * float(case.effective_weight(0.0)))
+    return share / _sliding_force(case)
+
+
+def _sliding_force(case: Case) -> float:
+    """Lateral friction of the laid pipe when sliding, mu w [N/m]."""
+    return case.seabed.lateral_friction * float(case.effective_weight(0.0))
 
 
 def friction_laid_length(case: Case, cat) -> float:
@@ -635,8 +640,8 @@ def friction_laid_length(case: Case, cat) -> float:
     slip = slipping_length_bound(case, cat)
     if slip <= 0.0:
         return 0.0
-    mu_w = case.seabed.lateral_friction * float(case.effective_weight(0.0))
-    decay = (4.0 * case.pipe.bending_stiffness * case.seabed.friction_slip / mu_w) ** 0.25
+    decay = (4.0 * case.pipe.bending_stiffness * case.seabed.friction_slip
+             / _sliding_force(case)) ** 0.25
     return slip + STICK_DECAY_LENGTHS * decay
 
 
