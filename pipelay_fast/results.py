@@ -40,7 +40,7 @@ SUMMARY_UNITS = {
     "max_lateral_deflection": "m", "tip_reaction": "N", "liftoff_reaction": "N",
     **DESIGN_UNITS,
     "n_elements": "", "n_iterations": "", "n_current_steps": "",
-    "max_current_step_iterations": "", "solve_seconds": "s",
+    "max_current_step_iterations": "", "n_meshes": "", "solve_seconds": "s",
 }
 
 
@@ -369,5 +369,6 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "n_iterations": int(stats["iterations"]),
         "n_current_steps": int(stats["current_steps"]),
         "max_current_step_iterations": int(stats["current_step_max"]),
+        "n_meshes": int(stats["meshes"]),
         "solve_seconds": float(stats["seconds"]),
     }

@@ -256,7 +256,7 @@ def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:
     row.update(base)
     row.update({"status": "failed", "message": message, "warm_started": False,
                 "n_elements": None, "n_iterations": None, "n_current_steps": None,
-                "max_current_step_iterations": None})
+                "max_current_step_iterations": None, "n_meshes": None})
     return row
 
 

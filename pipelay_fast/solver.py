@@ -79,10 +79,14 @@ def solve_problem(case: Case, warm: Problem | None = None):
     t0 = time.perf_counter()
     current = case
     budget = IterationBudget(case.solver.max_iterations_total)
+    meshes = 0
     for _ in range(MAX_LAID_DOUBLINGS + 1):
         pb, react, stats, s_t, s_l = _solve_mesh(current, warm, budget)
         warm = None
+        meshes += stats["meshes"]
         if not _lower_end_holds(pb, react) or case.lay.pipe_length is not None:
+            # the passes with the laid length doubled count too
+            stats["iterations"], stats["meshes"] = budget.used, meshes
             stats["seconds"] = time.perf_counter() - t0
             return pb, react, stats, s_t, s_l
         laid = s_t + pb.stats["flexural_length"]  # what this mesh modelled behind touchdown
@@ -179,7 +183,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
             short = True
         if not short:
             # the mesh follows the boundaries the current moves
-            stats = {key: stats[key] + more[key] for key in stats}
+            stats["iterations"] += more["iterations"]
+            stats["load_steps"] += more["load_steps"]
             stats["current_steps"] = more["load_steps"]
             stats["current_step_max"] = more["step_max"]
             s_t = touchdown_position(pb)
@@ -193,7 +198,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         passes += 1
     stats.setdefault("current_steps", 0)  # no current's path: planar, or no friction
     stats.setdefault("current_step_max", 0)
-    stats["mesh_passes"] = passes
+    stats["meshes"] = passes + stats.pop("laid_added")
     stats["seconds"] = time.perf_counter() - t0
     return pb, react, stats, s_t, liftoff_position(case, pb)
 
@@ -202,16 +207,18 @@ def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
     """:func:`newton_with_fallback`, with laid pipe prepended each time Newton
     stops because touchdown runs toward the modelled lower end (SHORT_LAID).
 
-    Returns (problem, reactions, iteration counts).
+    Returns (problem, reactions, iteration counts and the meshes laid pipe
+    was prepended to, "laid_added").
     """
     used = budget.used
-    for _ in range(MAX_LAID_DOUBLINGS + 1):
+    for added in range(MAX_LAID_DOUBLINGS + 1):
         try:
             react, stats = newton_with_fallback(case, pb, budget)
         except ShortLaid:
             pb = _with_more_laid(case, pb)
             continue
         stats["iterations"] = budget.used - used  # the stopped calls' too
+        stats["laid_added"] = added  # meshes with laid pipe prepended
         return pb, react, stats
     raise SolveError(f"case {case.name!r}: touchdown still runs toward the lower end with "
                      f"{touchdown_position(pb):.4g} m of laid pipe modelled after "

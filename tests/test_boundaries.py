@@ -250,6 +250,40 @@ def test_a_regraded_mesh_is_the_one_graded_at_the_boundaries_found():
         assert three.summary[key] == pytest.approx(two.summary[key], rel=1e-9), key
 
 
+@pytest.mark.parametrize("example, changes", [
+    ("s67.toml", {}),
+    ("s67.toml", {"solver.grading": False}),
+    ("s125_3d.toml", {"solver.element_length": 4.0}),
+    ("j125.toml", {"solver.laid_length": 5.0}),  # touchdown runs to the lower end: laid pipe added
+])
+def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, example, changes):
+    """``n_meshes`` is the number of meshes (problems: each graded anew, or
+    with laid pipe added, is a new one) the Newton kernel ran on, and
+    ``n_iterations`` the sum of the iterations it reported, here counted
+    call by call."""
+    from pipelay_fast import continuation
+    from pipelay_fast.kernels.newton import I_ITER
+
+    problems, iterations = [], []
+    run = continuation.run_newton
+
+    def counted(pb, *args):
+        status, react, info = run(pb, *args)
+        if not any(pb is seen for seen in problems):
+            problems.append(pb)
+        iterations.append(int(info[I_ITER]))
+        return status, react, info
+
+    monkeypatch.setattr(continuation, "run_newton", counted)
+    sm = pf.solve(pf.load_case(EXAMPLES / example).with_changes(changes)).summary
+    assert sm["n_meshes"] == len(problems)
+    assert sm["n_iterations"] == sum(iterations)
+    if changes.get("solver.grading") is False:
+        assert sm["n_meshes"] == 1
+    else:
+        assert sm["n_meshes"] >= 2  # the first mesh, then one graded anew (or more laid pipe)
+
+
 @pytest.mark.parametrize("a", [-0.001, -0.0009])
 def test_tip_regime_matches_slay_elastica(s67, a):
     """Bearing on the tip (the reference's tip regime, re-contact 20 to 26 m up
