@@ -211,7 +211,7 @@ class Problem:
         its own state plus the neighbour's increment over that step (its
         answers at both ends of the step, at this mesh's material points;
         the bottom tension's too), when the neighbour converged at both ends
-        with the same boundaries on a pipe of the same length. The friction
+        with the same boundaries. The friction
         springs' anchors are this path's: the step's answer is the cold
         solve's (its slip path), only its start is nearer. That start is
         near balance, so the step does not hold the boundaries
@@ -233,12 +233,14 @@ class Problem:
                     ends[k] = state
         if ends[0] is None or ends[1] is None:
             return False
-        for end in ends:  # the same pipe, the same boundaries
-            if (not np.array_equal(end["on"], self.bnodes >= 0)
-                    or abs(end["s"][-1] - self.s[-1]) > 1e-9 * self.s[-1]):
+        for end in ends:  # the same boundaries
+            if not np.array_equal(end["on"], self.bnodes >= 0):
                 return False
-        du = (interpolate_state(ends[1]["s"], ends[1]["u"], self.nd, self.s)
-              - interpolate_state(ends[0]["s"], ends[0]["u"], self.nd, self.s))
+        # material points matched from the top (the pipes may differ in the
+        # laid length modelled, each the length of its own cold start)
+        du = sum(sign * interpolate_state(end["s"], end["u"], self.nd,
+                                          self.s - self.s[-1] + end["s"][-1])
+                 for sign, end in ((1.0, ends[1]), (-1.0, ends[0])))
         self.u += du
         self.tb += ends[1]["tb"] - ends[0]["tb"]
         self.in_balance = True
@@ -277,17 +279,41 @@ def _mesh_sizes(case: Case, h_bottom: float):
     return h_max, min(h_min, h_max), lam
 
 
-def build_problem(case: Case) -> Problem:
-    """First guess, graded mesh and constraints of a case."""
-    nd = dimension_of(case)
-    ndn = 2 * nd + 1
+def _guess(case: Case):
+    """The first guess of a case (:func:`.guess.first_guess`), its laid pipe
+    the default of solver.laid_length unless that is given."""
     h_max = case.solver.element_length
 
     def laid_default(cat):
         return (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
                 + friction_laid_length(case, cat))
 
-    g = first_guess(case, laid_default)
+    return first_guess(case, laid_default)
+
+
+def _mesh_stats(case: Case, g) -> dict:
+    """What a case's meshes are graded by, from its first guess ``g``: the
+    element lengths h_max, h_min [m], the flexural length at touchdown [m],
+    the boundary layer [m] (0: none) and the length of pipe modelled [m]."""
+    h_max, h_min, lam = _mesh_sizes(case, g.cat.h)
+    # a tension-dominated lay (the flexural length shorter than the heavy
+    # elastica's (EI / w)^(1/3)) has boundary layers of that length at its
+    # contact boundaries (:func:`.continuation.boundary_step`); 0: none
+    layer = lam if lam < (case.pipe.bending_stiffness / abs(g.cat.w1)) ** (1.0 / 3.0) else 0.0
+    return {"h_min": h_min, "h_max": h_max, "flexural_length": lam, "boundary_layer": layer,
+            "cold_total": g.total}
+
+
+def _reference_force(case: Case, g) -> float:
+    """The force [N] Newton's residual is measured against, from the first guess."""
+    return max(g.cat.top_tension, abs(g.cat.w1) * g.total, case.lay.top_tension or 0.0)
+
+
+def build_problem(case: Case) -> Problem:
+    """First guess, graded mesh and constraints of a case."""
+    nd = dimension_of(case)
+    ndn = 2 * nd + 1
+    g = _guess(case)
     h_max, h_min, lam = _mesh_sizes(case, g.cat.h)
     # A stiff pipe touches down about one flexural length before the catenary
     # does (boundary-layer asymptotics): the mesh is finest there and the
@@ -304,16 +330,9 @@ def build_problem(case: Case) -> Problem:
     u[nd::ndn] = np.sin(th)
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
-    # a tension-dominated lay (the flexural length shorter than the heavy
-    # elastica's (EI / w)^(1/3)) has boundary layers of that length at its
-    # contact boundaries (:func:`.continuation.boundary_step`); 0: none
-    layer = lam if lam < (case.pipe.bending_stiffness / abs(g.cat.w1)) ** (1.0 / 3.0) else 0.0
-    stats = {"h_min": h_min, "h_max": h_max, "flexural_length": lam,
-             "boundary_layer": layer,
+    stats = {**_mesh_stats(case, g),
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
-    fref = max(g.cat.top_tension, abs(g.cat.w1) * g.total,
-               case.lay.top_tension or 0.0)
-    pb = _problem(case, nd, s, u, g.cat.h, fref, stats)
+    pb = _problem(case, nd, s, u, g.cat.h, _reference_force(case, g), stats)
     follow_boundaries(case, pb, s_focus)
     # the catenary leaves below the tip: the pipe bears on it, with the gap
     # span the guess's lift-off past the tip gives (:func:`.guess.slay_liftoff`)
@@ -433,9 +452,16 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     if (old.stinger[ST_ON] != 0.0) != (case.lay.stinger is not None):
         raise ValueError(f"warm: lay.method {case.lay.method!r} differs from the warm case's")
     state = dict(zip(STATE, old.before_current or snapshot(old), strict=True))
-    new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0], old.fref,
-                   dict(old.stats))
+    g = _guess(case)
+    new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0],
+                   _reference_force(case, g), dict(old.stats))
     new.warm = True
+    # the mesh sizes and length of pipe of the cold start (its guess's): the
+    # mesh is graded anew with them (the neighbour's, sized for its own lay,
+    # gave another h_min, lower end and element counts: J125 warm from 1.02
+    # times the top tension, 1.05e-5 from the cold peak stress; S125 3D from
+    # a + 1.5e-4, 2.0e-6)
+    new.stats.update(_mesh_stats(case, g))
     for name in ("bed_active", "st_active", "fric"):
         getattr(new, name)[:] = state[name]
     # the points' contact states (their positions are the new case's)
@@ -522,21 +548,24 @@ def _positions(pb: Problem) -> np.ndarray:
 
 
 def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
-           laid: float | None = None, grading: bool = False) -> Problem:
+           laid: float | None = None, grading: bool = False,
+           total: float | None = None) -> Problem:
     """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
     state interpolated onto it.
 
     Laid pipe is prepended when touchdown came closer to the lower end than one
     flexural length (to two of them), or to ``laid`` [m] behind touchdown when
-    that is given. The mesh follows the boundaries in zones (:meth:`Problem.follow`,
+    that is given; with ``total`` [m], laid pipe is added or cut at the lower
+    end to that length of pipe (but for the flexural length kept). The mesh
+    follows the boundaries in zones (:meth:`Problem.follow`,
     for boundaries that are still to be found) or, with ``grading`` (graded at
     boundaries found), as its grading moves with them
     (:meth:`Problem.follow_rates`), the zones kept for the current's path.
     """
     nd, ndn = pb.nd, pb.ndn
     lam = pb.stats["flexural_length"]
-    extra = 0.0
-    if case.lay.pipe_length is None and s_tdp < lam:
+    extra = 0.0 if total is None else total - pb.s[-1]
+    if case.lay.pipe_length is None and s_tdp + extra < lam:
         extra = 2.0 * lam - s_tdp
     if laid is not None:
         extra = max(extra, laid - s_tdp)

@@ -143,8 +143,13 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
         # 3D, which no unknown follows: a node is put there (its elements
         # then uniform between the nodes), as often as grading would
         one_mesh = not case.solver.grading and lateral_hold_start(case, pb) is None
+        # graded anew too where the mesh models another length of pipe than
+        # the cold start (a warm start's first mesh, the neighbour's), unless
+        # laid pipe had to be added
+        total = pb.stats.get("cold_total")
+        cold_length = total is None or abs(total - pb.s[-1]) <= 1e-9 * total
         if (one_mesh or passes >= MAX_MESH_PASSES
-                or (graded_on_boundaries(case, pb) and not short_laid)):
+                or (graded_on_boundaries(case, pb) and not short_laid and cold_length)):
             if pb.tolerance is not None:  # on to the tolerance, this mesh
                 pb.tolerance = None
                 pb.in_balance = True  # the loose pass's solution, refined
@@ -153,7 +158,9 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
                 s_t = touchdown_position(pb)
                 foci = stinger_foci(case, pb)
             break
-        pb = remesh(case, pb, s_t, foci, grading=True)
+        pb = remesh(case, pb, s_t, foci, grading=True, total=total)
+        if short_laid or abs(pb.s[-1] - (total or pb.s[-1])) > 1e-9 * pb.s[-1]:
+            pb.stats.pop("cold_total", None)  # laid pipe added, as the cold start would
         pb.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
             pb.on_gravity_path()
@@ -235,6 +242,7 @@ def _with_more_laid(case: Case, pb: Problem) -> Problem:
                          f"lay.pipe_length = {case.lay.pipe_length!r} m (the pipe is too "
                          "short to reach the seabed and lie on it)")
     lam = pb.stats["flexural_length"]
+    pb.stats.pop("cold_total", None)  # a warm start's too: laid pipe added, as the cold start would
     return remesh(case, pb, s_t, stinger_foci(case, pb), laid=max(2.0 * lam, 2.0 * s_t))
 
 

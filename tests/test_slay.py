@@ -179,6 +179,28 @@ def test_a_warm_start_with_friction_follows_the_cold_slip_path():
         cold.summary["max_lateral_deflection"], rel=1e-4)
 
 
+def test_a_warm_start_from_a_sweep_step_away_follows_the_cold_slip_path():
+    """S125 3D at 4 m, a = -0.0015 from -0.00135 (a step of a nine-value
+    sweep): the neighbour models another length of laid pipe (its own cold
+    start's), so the warm solve is graded anew to this case's, and each
+    step of the current starts from the neighbour's increment matched from
+    the top: the same nodes slip, and the peak stress is the cold one to
+    1e-8 (measured 1.5e-9; 2.0e-6, one node of the slip set apart, while the
+    warm solve kept the neighbour's laid length)."""
+    base = pf.load_case(EXAMPLES / "s125_3d.toml").with_changes({"solver.element_length": 4.0})
+    case = base.with_changes({"lay.stinger.a": -0.0015})
+    neighbour = pf.solve(base.with_changes({"lay.stinger.a": -0.00135}))
+    cold = pf.solve(case)
+    warm = pf.solve(case, warm=neighbour)
+    assert neighbour.state.s[-1] != pytest.approx(cold.state.s[-1], abs=1e-3)
+    assert warm.state.s[-1] == pytest.approx(cold.state.s[-1], rel=1e-12)
+    assert warm.summary["n_current_steps"] == cold.summary["n_current_steps"]
+    assert warm.summary["n_iterations"] < cold.summary["n_iterations"]  # the increments served
+    np.testing.assert_array_equal(warm.profile["slipping"], cold.profile["slipping"])
+    assert warm.summary["max_von_mises"] == pytest.approx(cold.summary["max_von_mises"],
+                                                          rel=1e-8)
+
+
 def test_a_warm_start_solves_the_laid_length_the_cold_solve_does():
     """S67 3D at 2 m, a = -0.0009 from its neighbour at -0.00088: the laid
     pipe modelled holds the slipping zone and the sticking zone's decay
