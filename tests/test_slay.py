@@ -247,14 +247,26 @@ def test_a_warm_step_starts_from_the_neighbours_increment():
 
     on = pb.bnodes >= 0
     pb.warm_path = [{"level": lev, "s": s_nb, "u": state(s_nb, c), "on": on,
-                     "tb": np.array([1e5 * c])} for lev, c in ((0.0, 1.0), (0.25, 1.5))]
+                     "tb": np.array([1e5 * c]), "s_bd": pb.s_bd.copy()}
+                    for lev, c in ((0.0, 1.0), (0.25, 1.5))]
     pb.current_path = [pb.path_state(0.0)]
-    u0, tb0 = pb.u.copy(), pb.tb.copy()
+    u0, tb0, s0, bd0 = pb.u.copy(), pb.tb.copy(), pb.s.copy(), pb.s_bd.copy()
     assert not pb.start_step(0.5)  # the neighbour has no step ending there
     np.testing.assert_array_equal(pb.u, u0)
     assert pb.start_step(0.25)
     np.testing.assert_allclose(pb.u - u0, state(pb.s, 0.5), rtol=1e-9, atol=1e-9)
     assert pb.tb[0] - tb0[0] == pytest.approx(0.5e5)
+    # the neighbour's touchdown moved 0.3 m over the step: this one's moves
+    # as much, and the state is carried to the nodes it moves (a cubic
+    # state: its interpolation is exact), the increment added there
+    pb.u[:], pb.tb[:] = state(s0, 1.0), tb0
+    pb.warm_path[1]["s_bd"] = bd0 + np.where(np.arange(bd0.size) == 0, 0.3, 0.0)
+    assert on[0] and pb.start_step(0.25)
+    assert pb.s_bd[0] == pytest.approx(bd0[0] + 0.3)
+    assert np.abs(pb.s - s0).max() == pytest.approx(0.3)
+    np.testing.assert_allclose(pb.u, state(pb.s, 1.5), rtol=1e-9, atol=1e-9)
+    pb.s_bd[:] = bd0
+    pb.update_nodes()
     pb.u[:] = u0
     pb.warm_path[1]["on"] = ~on
     assert not pb.start_step(0.25)
