@@ -267,8 +267,11 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
         solver.max_iterations_total Newton iterations are spent (each start,
         warm and cold, has its own budget); the message names the case, the
         load step, the residual and the reason. Also when the answer is
-        refused: non-finite, strained beyond solver.max_strain, or a contact
-        that pulls.
+        refused: non-finite, strained beyond solver.max_strain, or lifting
+        off below the stinger's tip (:func:`_check_regime`). An answer whose
+        contact pulls is not refused: the contact boundaries' equations
+        leave none (none in the grids and random cases of
+        ``benchmarks/bench_contact.py``).
     ValueError
         When the mesh would exceed solver.max_elements (checked before it is
         built).
