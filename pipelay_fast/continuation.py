@@ -217,11 +217,17 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
             _fail(case, where, info, status, f"; {max_steps} load steps taken, the limit "
                   "that solver.max_load_steps sets")
         saved = snapshot(pb)
-        # the boundaries' map too: a switch of regime at the tip replaces it
-        mapped = [None if m is None else m.copy() for m in (pb.bnodes, pb.s_a, pb.s_b, pb.zone_b)]
+        # the boundaries' map too (a switch of regime at the tip replaces it:
+        # these arrays are replaced, never written in place)
+        mapped = (pb.bnodes, pb.s_a, pb.s_b, pb.zone_b)
         g_off, predicted = load(trial, True)
-        status, react, info, used, _start = newton_in_regime(case, pb, g_off, budget, where,
-                                                             predicted)
+        try:
+            status, react, info, used, _start = newton_in_regime(case, pb, g_off, budget,
+                                                                 where, predicted)
+        except ShortLaid:
+            if not predicted:
+                raise
+            status, used = L.SHORT_LAID, 0  # (its iterations are in the budget)
         if status != L.OK and predicted and budget.left > 0:
             # from the last converged state, as the cold start
             restore(pb, saved)
@@ -240,6 +246,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
                 converged(level)
             continue
         restore(pb, saved)
+        pb.bnodes, pb.s_a, pb.s_b, pb.zone_b = mapped
         step *= 0.5
         if step < smallest:
             _fail(case, where, info, status, f"; load step cut below {smallest:g}")

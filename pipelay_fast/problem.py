@@ -245,9 +245,13 @@ class Problem:
         on = self.bnodes >= 0
         moved = self.s_bd + np.where(on, (ends[1]["s_bd"] - ends[1]["s"][-1])
                                      - (ends[0]["s_bd"] - ends[0]["s"][-1]), 0.0)
-        s_old = self.s.copy()
+        s_old, bd_old = self.s.copy(), self.s_bd.copy()
         self.s_bd[:] = moved
         self.update_nodes()
+        if not (np.diff(self.s) > 0.0).all():  # a move beyond this mesh's map
+            self.s_bd[:] = bd_old
+            self.update_nodes()
+            return False
         du = sum(sign * interpolate_state(end["s"], end["u"], self.nd,
                                           self.s - self.s[-1] + end["s"][-1])
                  for sign, end in ((1.0, ends[1]), (-1.0, ends[0])))
@@ -601,6 +605,11 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
             u[nd + 1::ndn][first] = 0.0
     stats = dict(pb.stats)
     new = _problem(case, nd, s, u, pb.tb[0], pb.fref, stats)
+    # the lower end stays held where the case holds it (with a given pipe
+    # length, at z = 0: cut or lengthened there, the pipe's state was held
+    # where the neighbour's laid pipe put that material point, 2 m off,
+    # and its top tension came out 59 % off; Newton moves it back)
+    new.fix_val[:ndn] = pb.fix_val[:ndn]
     new.warm, new.tolerance, new.warm_path = pb.warm, pb.tolerance, pb.warm_path
     # the new mesh follows the same boundaries, each on the node graded onto it
     def at(k):

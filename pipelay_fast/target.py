@@ -6,7 +6,8 @@ over the stinger's tip: a bracketed root find (:func:`scipy.optimize.brentq`)
 on ``summary[column] - goal``, each trial solved warm from the trial nearest
 to it so far (``pf.solve(case, warm=...)``), to 1e-4 of the goal; then the
 root is polished on cold solves, so that the answer is the one ``pf.solve``
-gives the returned case (a warm start keeps its neighbour's mesh, and its
+gives the returned case (graded, a warm start ends on the cold start's mesh
+and gives its answer; ungraded, it keeps its neighbour's mesh, and its
 column differs from the cold one by the discretisation error).
 """
 
@@ -126,9 +127,12 @@ class _Trials:
 
     ``miss`` solves warm from the nearest trial so far (or from ``start``,
     None: cold); ``cold_miss`` solves from the solver's own guess, the answer
-    ``pf.solve`` gives that case, which the root is polished on: a warm start
-    keeps its neighbour's mesh, and the column with it differs from the cold
-    answer by the discretisation error (1e-5 of layback on J125 at 4 m).
+    ``pf.solve`` gives that case, which the root is polished on: ungraded
+    (``solver.grading = false``), a warm start keeps its neighbour's mesh,
+    and the column with it differs from the cold answer by the
+    discretisation error (graded, it ends on the cold start's mesh: before
+    git 990c65a, which grades it with its own case's sizes and laid length,
+    1e-5 of layback on J125 at 4 m).
     """
 
     def __init__(self, case: Case, vary: str, column: str, goal: float):

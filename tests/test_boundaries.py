@@ -250,18 +250,22 @@ def test_a_regraded_mesh_is_the_one_graded_at_the_boundaries_found():
         assert three.summary[key] == pytest.approx(two.summary[key], rel=1e-9), key
 
 
-@pytest.mark.parametrize("example, changes", [
-    ("s67.toml", {}),
-    ("s67.toml", {"solver.grading": False}),
-    ("s125_3d.toml", {"solver.element_length": 4.0}),
-    ("j125.toml", {"solver.laid_length": 5.0}),  # touchdown runs to the lower end: laid pipe added
+@pytest.mark.parametrize("example, changes, doubled", [
+    ("s67.toml", {}, False),
+    ("s67.toml", {"solver.grading": False}, False),
+    ("s125_3d.toml", {"solver.element_length": 4.0}, False),
+    ("j125.toml", {"solver.laid_length": 5.0}, False),  # touchdown runs to the lower end
+    ("s67_3d.toml", {"solver.element_length": 4.0}, True),  # the laid pipe doubled once
 ])
-def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, example, changes):
+def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, example, changes,
+                                                               doubled):
     """``n_meshes`` is the number of meshes (problems: each graded anew, or
     with laid pipe added, is a new one) the Newton kernel ran on, and
     ``n_iterations`` the sum of the iterations it reported, here counted
-    call by call."""
-    from pipelay_fast import continuation
+    call by call, the passes discarded when the laid pipe is doubled
+    included (forced once here: the lower end said to hold too much of the
+    lateral force)."""
+    from pipelay_fast import continuation, solver
     from pipelay_fast.kernels.newton import I_ITER
 
     problems, iterations = [], []
@@ -275,13 +279,22 @@ def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, examp
         return status, react, info
 
     monkeypatch.setattr(continuation, "run_newton", counted)
+    holds = solver._lower_end_holds
+    calls = []
+
+    def once(pb, react):
+        calls.append(pb)
+        return True if doubled and len(calls) == 1 else holds(pb, react)
+
+    monkeypatch.setattr(solver, "_lower_end_holds", once)
     sm = pf.solve(pf.load_case(EXAMPLES / example).with_changes(changes)).summary
+    assert len(calls) == (2 if doubled else 1)
     assert sm["n_meshes"] == len(problems)
     assert sm["n_iterations"] == sum(iterations)
     if changes.get("solver.grading") is False:
         assert sm["n_meshes"] == 1
-    else:
-        assert sm["n_meshes"] >= 2  # the first mesh, then one graded anew (or more laid pipe)
+    else:  # the first mesh, one graded anew (or more laid pipe); doubled, twice that
+        assert sm["n_meshes"] >= (4 if doubled else 2)
 
 
 @pytest.mark.parametrize("a", [-0.001, -0.0009])
