@@ -242,9 +242,9 @@ class Problem:
         # laid length modelled, each the length of its own cold start); the
         # boundaries move by the neighbour's moves, the state carried to the
         # nodes they move
-        on = self.bnodes >= 0
-        moved = self.s_bd + np.where(on, (ends[1]["s_bd"] - ends[1]["s"][-1])
-                                     - (ends[0]["s_bd"] - ends[0]["s"][-1]), 0.0)
+        # (the neighbour's pipe is one length along its path: its moves are
+        # the same from the top as from the lower end)
+        moved = self.s_bd + np.where(self.bnodes >= 0, ends[1]["s_bd"] - ends[0]["s_bd"], 0.0)
         s_old, bd_old = self.s.copy(), self.s_bd.copy()
         self.s_bd[:] = moved
         self.update_nodes()
