@@ -328,7 +328,9 @@ def build_problem(case: Case) -> Problem:
     nd = dimension_of(case)
     ndn = 2 * nd + 1
     g = _guess(case)
-    h_max, h_min, lam = _mesh_sizes(case, g.cat.h)
+    stats = {**_mesh_stats(case, g),
+             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
+    h_max, h_min, lam = stats["h_max"], stats["h_min"], stats["flexural_length"]
     # A stiff pipe touches down about one flexural length before the catenary
     # does (boundary-layer asymptotics): the mesh is finest there and the
     # initial seabed contact ends there.
@@ -344,8 +346,6 @@ def build_problem(case: Case) -> Problem:
     u[nd::ndn] = np.sin(th)
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
-    stats = {**_mesh_stats(case, g),
-             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
     pb = _problem(case, nd, s, u, g.cat.h, _reference_force(case, g), stats)
     follow_boundaries(case, pb, s_focus)
     # the catenary leaves below the tip: the pipe bears on it, with the gap

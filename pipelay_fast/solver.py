@@ -159,8 +159,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
                 foci = stinger_foci(case, pb)
             break
         pb = remesh(case, pb, s_t, foci, grading=True, total=total)
-        if short_laid or abs(pb.s[-1] - (total or pb.s[-1])) > 1e-9 * pb.s[-1]:
-            pb.stats.pop("cold_total", None)  # laid pipe added, as the cold start would
+        if total is not None and abs(pb.s[-1] - total) > 1e-9 * total:
+            pb.stats.pop("cold_total")  # laid pipe added (short), as the cold start would
         pb.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
             pb.on_gravity_path()
