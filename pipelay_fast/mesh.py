@@ -18,21 +18,32 @@ import numpy as np
 GROWTH = 1.2
 
 
-def _spans(length, foci, h_max, h_min, growth):
-    """Per stretch between anchors (the ends and the foci): its ends a, b [m],
-    129 samples t [m] and the element count phi(t) = int 1/h ds [-] from a."""
+_SAMPLES = 129  # samples of each span's element count phi(t)
+
+
+def _anchors(length, foci):
+    """The stretches between anchors (the ends and the foci inside): their
+    ends a, b [m] (stretches shorter than 1e-9 m dropped) and the foci [m]."""
     inside = [float(f) for f in foci if 0.0 < f <= length]
     anchors = sorted({0.0, float(length), *inside})
-    focus = np.array(inside or [0.0])
-    rate = growth - 1.0
-    for a, b in zip(anchors[:-1], anchors[1:], strict=True):
-        if b - a <= 1e-9:
-            continue
-        t = np.linspace(a, b, 129)
-        dist = np.min(np.abs(t[:, None] - focus[None, :]), axis=1)
-        inv = 1.0 / np.minimum(h_max, h_min + rate * dist)
-        phi = np.concatenate(([0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(t))))
-        yield a, b, t, phi
+    pairs = [(a, b) for a, b in zip(anchors[:-1], anchors[1:], strict=True) if b - a > 1e-9]
+    focus = inside or [0.0]
+    return np.array([p[0] for p in pairs]), np.array([p[1] for p in pairs]), focus
+
+
+def _span_tables(a, b, focus, h_max, h_min, growth):
+    """For each stretch (rows of ``a``, ``b`` [m], its foci the row of
+    ``focus`` [m], padded with inf): samples t [m] and the element count
+    phi(t) = int 1/h ds [-] from a, both (rows, _SAMPLES), all stretches in
+    one pass (t is numpy's linspace(a, b, _SAMPLES), sample by sample)."""
+    step = (b - a) / (_SAMPLES - 1)
+    t = np.arange(_SAMPLES)[None, :] * step[:, None] + a[:, None]
+    t[:, -1] = b
+    dist = np.min(np.abs(t[:, :, None] - focus[:, None, :]), axis=2)
+    inv = 1.0 / np.minimum(h_max, h_min + (growth - 1.0) * dist)
+    phi = np.zeros_like(t)
+    np.cumsum(0.5 * (inv[:, 1:] + inv[:, :-1]) * np.diff(t, axis=1), axis=1, out=phi[:, 1:])
+    return t, phi
 
 
 def _uniform_count(length, h_max):
@@ -67,21 +78,27 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=
         if check is not None:
             check(n)
         return np.linspace(0.0, length, n + 1)
-    spans = list(_spans(length, foci, h_max, h_min, growth))
-    counts = [_span_count(phi) for *_, phi in spans]
+    a, b, focus = _anchors(length, foci)
+    t, phi = _span_tables(a, b, np.tile(focus, (a.size, 1)), h_max, h_min, growth)
+    counts = [_span_count(row) for row in phi]
     if check is not None:
         check(sum(counts))
-    return _place(spans, counts)
+    return _place(t, phi, b, counts)
 
 
-def _place(spans, counts):
-    """Node positions [m]: ``counts[j]`` elements in span j, equal steps of phi."""
-    nodes = [0.0]
-    for (_a, b, t, phi), count in zip(spans, counts, strict=True):
-        targets = np.linspace(0.0, phi[-1], count + 1)[1:]
-        nodes.extend(np.interp(targets, phi, t))
-        nodes[-1] = b
-    return np.asarray(nodes)
+def _place(t, phi, b, counts):
+    """Node positions [m]: ``counts[j]`` elements in stretch j (row j of the
+    tables ``t``, ``phi`` and of its ends ``b``), at equal steps of phi (the
+    targets are numpy's linspace(0, phi_end, count + 1), point by point)."""
+    parts = [np.zeros(1)]
+    for j, count in enumerate(counts):
+        end = phi[j, -1]
+        targets = np.arange(1, count + 1) * (end / count)
+        targets[-1] = end
+        nodes = np.interp(targets, phi[j], t[j])
+        nodes[-1] = b[j]
+        parts.append(nodes)
+    return np.concatenate(parts)
 
 
 def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):
@@ -89,19 +106,37 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):
     to the foci ``foci[j]`` for j in ``moving``, at fixed element counts per
     span: central differences over ``step`` [m] (the nodes are smooth in the
     foci between changes of count). One row per entry of ``moving``; a
-    focus's own node moves with it at rate 1, the other anchors at 0."""
-    spans = list(_spans(length, foci, h_max, h_min, growth))
-    counts = [_span_count(phi) for *_, phi in spans]
-    base = _place(spans, counts)
+    focus's own node moves with it at rate 1, the other anchors at 0. The
+    stretches of the mesh and of every moved set of foci are tabulated in
+    one pass (:func:`_span_tables`)."""
+    variants = [list(foci)]
+    variants.extend([f + sign * step if i == j else f for i, f in enumerate(foci)]
+                    for j in moving for sign in (1.0, -1.0))
+    parts = [_anchors(length, v) for v in variants]
+    width = max(len(p[2]) for p in parts)
+    a = np.concatenate([p[0] for p in parts])
+    b = np.concatenate([p[1] for p in parts])
+    focus = np.full((a.size, width), np.inf)
+    row = 0
+    for pa, _pb, pf in parts:
+        focus[row:row + pa.size, :len(pf)] = pf
+        row += pa.size
+    t, phi = _span_tables(a, b, focus, h_max, h_min, growth)
+    meshes = []
+    counts = None
+    row = 0
+    for pa, _pb, _pf in parts:
+        rows = slice(row, row + pa.size)
+        if counts is None:
+            counts = [_span_count(p) for p in phi[rows]]
+        meshes.append(_place(t[rows], phi[rows], b[rows], counts))
+        row += pa.size
+    base = meshes[0]
     rates = np.zeros((len(moving), base.size))
     anchors = np.isin(base, [0.0, length, *foci])
-    for row, j in enumerate(moving):
-        ends = []
-        for sign in (1.0, -1.0):
-            moved = [f + sign * step if i == j else f for i, f in enumerate(foci)]
-            ends.append(_place(list(_spans(length, moved, h_max, h_min, growth)), counts))
-        rates[row] = (ends[0] - ends[1]) / (2.0 * step)
+    for r, j in enumerate(moving):
+        rates[r] = (meshes[1 + 2 * r] - meshes[2 + 2 * r]) / (2.0 * step)
         own = int(np.argmin(np.abs(base - foci[j])))
-        rates[row, anchors] = 0.0
-        rates[row, own] = 1.0
+        rates[r, anchors] = 0.0
+        rates[r, own] = 1.0
     return rates

@@ -228,3 +228,108 @@ def test_tangent_and_length_derivative_of_an_element_cut_by_a_level(nd, drag, le
     element_force(nd, le - h, ue, props, table, 0.0, fe, np.zeros((ne, ne)), False)
     dfd = (fp - fe) / (2 * h)
     assert np.max(np.abs(dfe - dfd)) < 1e-8 * np.abs(dfd).max()
+
+
+def reference_residual(nd, le, ue, props, torque=0.0):
+    """The element's residual G by NumPy, written apart from the kernels from
+    the weak form in :mod:`pipelay_fast.kernels.element`'s docstring: cubic
+    Hermite r, linear lam, 4-point Gauss-Legendre on each piece between the
+    level crossings (found by brentq), the drag from its vector definition
+    q = C |r'| |Vn| Vn, the moments from the cross products in 3D (the 2D
+    state embedded at y = 0)."""
+    from scipy.optimize import brentq
+
+    ndn = 2 * nd + 1
+    nodal = np.stack([ue[0:nd], ue[nd:2 * nd], ue[ndn:ndn + nd], ue[ndn + nd:ndn + 2 * nd]])
+    lam_a, lam_b = ue[2 * nd], ue[ndn + 2 * nd]
+    slots = [0, 1, 2] if nd == 3 else [0, 2]  # the components in 3D
+
+    def shapes(xi):
+        h = np.array([1 - 3 * xi**2 + 2 * xi**3, le * (xi - 2 * xi**2 + xi**3),
+                      3 * xi**2 - 2 * xi**3, le * (-xi**2 + xi**3)])
+        dh = np.array([(-6 * xi + 6 * xi**2) / le, 1 - 4 * xi + 3 * xi**2,
+                       (6 * xi - 6 * xi**2) / le, -2 * xi + 3 * xi**2])
+        ddh = np.array([(-6 + 12 * xi) / le**2, (-4 + 6 * xi) / le, (6 - 12 * xi) / le**2,
+                        (-2 + 6 * xi) / le])
+        return h, dh, ddh
+
+    def height(xi):
+        return shapes(xi)[0] @ nodal[:, 0]
+
+    levels = [lv for lv in (props[L.DEPTH], props[L.H_CONT])
+              if (height(0.0) - lv) * (height(1.0) - lv) < 0.0]
+    cuts = sorted([0.0, 1.0, *(brentq(lambda xi, lv=lv: height(xi) - lv, 0.0, 1.0, xtol=1e-15)
+                               for lv in levels)])
+    gx, gw = np.polynomial.legendre.leggauss(4)
+    m3 = np.array([props[L.MOM_X], props[L.MOM_Y], props[L.MOM_Z]])
+    current = np.zeros(3)
+    current[1], current[2] = props[L.CUR_EY], props[L.CUR_EZ]
+    if nd == 2:
+        current[1] = 0.0  # a planar case's current is along z
+    fe = np.zeros(2 * ndn)
+    for c0, c1 in zip(cuts[:-1], cuts[1:], strict=True):
+        for g, wg in zip(gx, gw, strict=True):
+            xi = c0 + (c1 - c0) * (g + 1) / 2
+            w = wg / 2 * (c1 - c0) * le
+            h, dh, ddh = shapes(xi)
+            r, rp, rpp = h @ nodal, dh @ nodal, ddh @ nodal
+            lam = (1 - xi) * lam_a + xi * lam_b
+            x = r[0]
+            q3 = np.zeros(3)
+            q3[0] = -(props[L.W_DRY] + props[L.W_CONT] * (x < props[L.H_CONT])
+                      - props[L.W_BUOY] * (x < props[L.DEPTH]))
+            if props[L.SEABED_K] > 0 and x <= 0:
+                q3[0] -= props[L.SEABED_K] * x
+            rp3, rpp3 = np.zeros(3), np.zeros(3)
+            rp3[slots], rpp3[slots] = rp, rpp
+            if props[L.DRAG] > 0 and 0 <= x <= props[L.DEPTH]:
+                v = props[L.CUR_SPEED] * (x / props[L.DEPTH]) ** props[L.CUR_EXP] * current
+                t = rp3 / np.linalg.norm(rp3)
+                vn = v - (v @ t) * t
+                q3 += props[L.DRAG] * np.linalg.norm(rp3) * np.linalg.norm(vn) * vn
+            e = 0.0
+            if props[L.EXTENSIBLE]:
+                tw_te = (props[L.RHOI_G] * (props[L.H_CONT] - x) * props[L.AREA_I]
+                         * (x < props[L.H_CONT])
+                         - props[L.RHOW_G] * (props[L.DEPTH] - x) * props[L.AREA_E]
+                         * (x < props[L.DEPTH]))
+                eps = (lam + props[L.EI] * rpp @ rpp + tw_te) / props[L.EA]
+                e = eps + eps**2 / 2
+            c3 = torque * np.cross(rp3, rpp3) + np.cross(rp3, m3)
+            for k in range(4):
+                rows = [k // 2 * ndn + (k % 2) * nd + i for i in range(nd)]
+                fe[rows] += w * (props[L.EI] * rpp * ddh[k] + (lam * rp + c3[slots]) * dh[k]
+                                 - q3[slots] * h[k])
+            cval = (rp @ rp - 1) / 2 - e
+            fe[2 * nd] += w * (1 - xi) * cval
+            fe[ndn + 2 * nd] += w * xi * cval
+    return fe
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+@pytest.mark.parametrize("kw", DLE_CASES, ids=lambda kw: "-".join(kw) or "plain")
+@pytest.mark.parametrize("x_mid", [20.0, 40.0, 67.0])
+def test_residual_matches_a_numpy_quadrature_of_the_weak_form(nd, kw, x_mid):
+    """Each kernel the solves run (the planar one in 2D) against
+    :func:`reference_residual`, on elements inside a level and cut by the
+    contents level (40 m) or the water surface (67 m)."""
+    props = make_props(**kw)
+    if nd == 2:
+        props[L.CUR_EY], props[L.CUR_EZ] = 0.0, -1.0
+    torque = 4.0e4 if nd == 3 and not kw.get("torque_free", True) else 0.0
+    rng = np.random.default_rng(13)
+    ndn = 2 * nd + 1
+    kinds = [np.r_[0:nd, ndn:ndn + nd], np.r_[nd:2 * nd, ndn + nd:ndn + 2 * nd],
+             np.array([2 * nd, ndn + 2 * nd])]
+    for le in (0.8, 4.0):
+        ue = centred_state(nd, rng, le, 0.0 if kw.get("bed_k") else x_mid)
+        ue[nd], ue[ndn + nd] = 0.8, 0.7  # steep: crossing the level at x_mid
+        crossed = max(crossings(nd, le, ue, props)) > 0.0
+        assert crossed == (x_mid != 20.0 and not kw.get("bed_k"))
+        fe = np.zeros(ue.size)
+        element_force(nd, le, ue, props, np.zeros((0, 2)), torque, fe,
+                      np.zeros((ue.size, ue.size)), False)
+        ref = reference_residual(nd, le, ue, props, torque)
+        for rows in kinds:
+            scale = np.abs(ref[rows]).max()
+            assert np.max(np.abs(fe[rows] - ref[rows])) <= 1e-11 * scale

@@ -10,6 +10,18 @@ from .._jit import jit
 from . import layout as L
 from .banded import band_add_block
 from .element import WORK_SIZE, element_force_ws
+from .element2d import element_2d
+
+
+@jit(_nrt=False)
+def element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+    """One element's G, dG/du and dG/dle: the planar kernel in 2D
+    (:func:`.element2d.element_2d`), the spatial one in 3D
+    (:func:`.element.element_force_ws`); the arguments are the latter's."""
+    if nd == 2:
+        element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+    else:
+        element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
 
 
 @jit
@@ -26,15 +38,24 @@ def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnod
     so s_b changes element e's length at the rate s_b[b, e+1] - s_b[b, e], and
     the column is the sum of the elements' dG/dle times those rates.
     """
+    ne = 2 * (2 * nd + 1)
+    _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes,
+                       bcols, np.empty(ne), np.empty((ne, ne)), np.empty(ne), np.empty(WORK_SIZE),
+                       np.empty((3, 3)))
+
+
+@jit(_nrt=False)
+def _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes,
+                       bcols, fe, ke, dfe, ws, wm):
+    """:func:`assemble`'s loop, with its scratch ``fe``, ``ke``, ``dfe``, ``ws``,
+    ``wm`` given. (Compiled without numba's reference counting, as the element
+    kernels are: it allocates nothing, and the counts on each element's slice
+    of ``u`` and on the arrays passed down cost more than the element's
+    residual: 2D residual and tangent 695 -> 430 ns an element.)"""
     ndn = 2 * nd + 1
     ne = 2 * ndn
     nel = s_el.shape[0]
     nbnd = bnodes.shape[0]
-    fe = np.empty(ne)
-    ke = np.empty((ne, ne))
-    dfe = np.empty(ne)
-    ws = np.empty(WORK_SIZE)
-    wm = np.empty((3, 3))
     g[:] = 0.0
     any_bnd = False
     if want_tangent:
@@ -50,8 +71,8 @@ def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnod
             for b in range(nbnd):
                 if bnodes[b] >= 0 and s_b[b, e + 1] != s_b[b, e]:
                     want_dle = True
-        element_force_ws(nd, s_el[e], u[g0:g0 + ne], model, torques[e], fe, ke,
-                         want_tangent, dfe, want_dle, ws, wm)
+        element_forces(nd, s_el[e], u[g0:g0 + ne], model, torques[e], fe, ke,
+                       want_tangent, dfe, want_dle, ws, wm)
         for a in range(ne):
             g[g0 + a] += fe[a]
         if want_tangent:

@@ -19,7 +19,7 @@ import numpy as np
 from .._jit import jit
 
 
-@jit
+@jit(_nrt=False)
 def band_add_block(ab, kl, ku, g0, ke):
     """Scatter the dense square block ``ke`` into ``ab`` at global rows/cols ``g0...``.
 
@@ -34,7 +34,7 @@ def band_add_block(ab, kl, ku, g0, ke):
             ab[kv + i - j, j] += ke[a, b]
 
 
-@jit
+@jit(_nrt=False)
 def band_matvec(ab, kl, ku, x, out):
     """out = A @ x for ``A`` in band storage (before factorisation)."""
     kv = kl + ku
@@ -51,7 +51,7 @@ def band_matvec(ab, kl, ku, x, out):
             out[i] += ab[kv + i - j, j] * xj
 
 
-@jit
+@jit(_nrt=False)
 def band_factor(ab, kl, ku, ipiv):
     """In-place LU factorisation with partial pivoting (the ``dgbtf2`` algorithm).
 
@@ -102,7 +102,7 @@ def band_factor(ab, kl, ku, ipiv):
     return info
 
 
-@jit
+@jit(_nrt=False)
 def band_solve(ab, kl, ku, ipiv, b):
     """Solve ``A x = b`` in place with the factors of :func:`band_factor`."""
     n = ab.shape[1]

@@ -61,7 +61,7 @@ GAUSS_XI = np.array([0.5 - 0.5 * _H, 0.5 - 0.5 * _G, 0.5 + 0.5 * _G, 0.5 + 0.5 *
 GAUSS_W = np.array([0.5 * _WH, 0.5 * _WG, 0.5 * _WG, 0.5 * _WH])
 
 
-@jit
+@jit(_nrt=False)
 def hermite(xi, le, n, dn, ddn):
     """Cubic Hermite shape functions on [0, le] at xi = s/le, with d/ds and d2/ds2.
 
@@ -83,7 +83,7 @@ def hermite(xi, le, n, dn, ddn):
     ddn[3] = (-2.0 + 6.0 * xi) / le
 
 
-@jit
+@jit(_nrt=False)
 def hermite_crossing(xa, pa, xb, pb, le, level):
     """xi in (0, 1) where a Hermite coordinate crosses ``level``, else -1.
 
@@ -115,14 +115,14 @@ def hermite_crossing(xa, pa, xb, pb, le, level):
     return xi
 
 
-@jit
+@jit(_nrt=False)
 def _cross3(a, b, out):
     out[0] = a[1] * b[2] - a[2] * b[1]
     out[1] = a[2] * b[0] - a[0] * b[2]
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
-@jit
+@jit(_nrt=False)
 def _cross_t(a, b):
     """a x b of two 3-tuples, as a tuple."""
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
@@ -149,17 +149,20 @@ def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=No
     given, ``dfe`` = dG/dle of one element, with the current's drag times
     ``current_factor``.
 
-    Allocating Python wrapper of :func:`element_force_ws` for tests and one-off
-    calls; it always calls the kernel with the same argument types.
+    Allocating Python wrapper of the kernel the solves run (in 2D the planar
+    one, :func:`.element2d.element_2d`; in 3D :func:`element_force_ws`) for
+    tests and one-off calls; it always calls it with the same argument types.
     """
+    from .assembly import element_forces  # (assembly imports this module)
+
     want_dle = dfe is not None
     model = Model(props, table, load_factors(current_factor, False))
-    element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent,
-                     dfe if want_dle else np.empty(0), want_dle,
-                     np.empty(WORK_SIZE), np.empty((3, 3)))
+    element_forces(nd, le, ue, model, torque, fe, ke, want_tangent,
+                   dfe if want_dle else np.zeros(ue.size), want_dle,
+                   np.empty(WORK_SIZE), np.empty((3, 3)))
 
 
-@jit
+@jit(_nrt=False)
 def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due, and dG/dle of one element.
 
@@ -425,7 +428,7 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
                 ke[off[k], off[l]] -= kx[kl]
 
 
-@jit
+@jit(_nrt=False)
 def _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm):
     """The movement of the cuts: the load q jumps at a crossed level (the
     weight at the water surface and the contents level, the drag at the water
@@ -480,7 +483,7 @@ def _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, wan
                     dfe[off[k] + i] += a * dle_x * le
 
 
-@jit
+@jit(_nrt=False)
 def _dle_gauss_point(nd, le, ue, props, torque, wl, p0, p1, lam, cval, de_deps, deps_dx,
                      dqx_dx, has_drag, ws, wm, dfe):
     """Add one Gauss point's share of dG/dle to ``dfe`` (module docstring).

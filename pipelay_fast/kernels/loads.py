@@ -12,7 +12,7 @@ from .._jit import jit
 from . import layout as L
 
 
-@jit
+@jit(_nrt=False)
 def effective_weight(props, x):
     """Effective weight per unstretched length [N/m] at height ``x``.
 
@@ -29,7 +29,7 @@ def effective_weight(props, x):
     return w
 
 
-@jit
+@jit(_nrt=False)
 def wall_minus_effective(props, x):
     """Tw - Te = pi Ai - pe Ae [N] at height ``x``, and its derivative d/dx [N/m]."""
     val = 0.0
@@ -45,7 +45,7 @@ def wall_minus_effective(props, x):
     return val, dval
 
 
-@jit
+@jit(_nrt=False)
 def current_speed(props, table, x):
     """Current speed [m/s] at height ``x`` and its derivative d/dx [1/s].
 
@@ -85,7 +85,7 @@ def current_speed(props, table, x):
     return table[n - 1, 1], 0.0
 
 
-@jit
+@jit(_nrt=False)
 def drag_force(model, nd, x, rp, q, dq_drp, dq_dx, work):
     """Morison drag per unstretched length on the current normal to the pipe.
 

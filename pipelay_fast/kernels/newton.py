@@ -111,7 +111,7 @@ import numpy as np
 
 from .._jit import jit, phase
 from . import layout as L
-from .assembly import assemble, curve_node, distribute_torque, rotate_node
+from .assembly import assemble, curve_node, distribute_torque, element_forces, rotate_node
 from .banded import band_factor, band_solve
 from .contact import (
     ST_A,
@@ -129,7 +129,7 @@ from .contact import (
     normal_force,
     stinger_angle,
 )
-from .element import WORK_SIZE, element_force_ws, hermite
+from .element import WORK_SIZE, hermite
 
 # info slots
 I_STATUS = 0
@@ -443,8 +443,8 @@ def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
     ke = np.zeros((ne, ne))
     dfe = np.zeros(ne)
     want = row.shape[0] == u.shape[0]
-    element_force_ws(nd, s_el[e], u[e * ndn:e * ndn + ne], model, torques[e], fe, ke,
-                     want, dfe, want, np.empty(WORK_SIZE), np.empty((3, 3)))
+    element_forces(nd, s_el[e], u[e * ndn:e * ndn + ne], model, torques[e], fe, ke,
+                   want, dfe, want, np.empty(WORK_SIZE), np.empty((3, 3)))
     if not want:
         return fe[nd], 0.0
     for i in range(row.shape[0]):
@@ -618,7 +618,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         else:
             scale[i] = props[L.EI] / (href * href)
     return Work(
-        np.zeros((rows_ab, n)), np.zeros((rows_ab, n)), np.zeros(n, dtype=np.int64),
+        np.zeros((n, rows_ab)).T, np.zeros((n, rows_ab)).T, np.zeros(n, dtype=np.int64),
         np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n, dtype=np.bool_),
         np.zeros(n), np.zeros(n), np.zeros(n), scale, np.full(nel, props[L.TORQUE]),
         np.zeros((n_border, n)), np.zeros((n_border, n)), np.zeros((n_border, n)),
@@ -626,7 +626,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border),
         np.zeros((nbnd, n)), np.zeros(n), np.zeros(n), np.zeros(nbnd), np.zeros(nbnd),
         np.zeros(nbnd), np.zeros(nbnd), np.zeros(nn), np.zeros(n), np.zeros(0),
-        np.zeros((1, 1)), np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
+        np.zeros((1, 1)).T, np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
         np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)), np.zeros(nn))
 
 
@@ -750,6 +750,23 @@ def _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td):
     _curve_all(nd, w.ab, kl, kl, w.g, u, sup.stinger, sup.st_active, True)
     w.res_bnd[0] = m_td
     return _border(nd, u, mesh, sup, ends, w, te_top)
+
+
+@phase
+def _to_nodal_residual(nd, u, mesh, sup, w, m_td):
+    """Phase 2 without the tangent: the residual in the nodal frames and the
+    boundaries' equations (:func:`_border`'s residuals), for an iteration
+    that only tests convergence."""
+    _to_nodal_frames(nd, w.g, u, sup, w)
+    w.res_bnd[0] = m_td
+    for b in range(B_LO, mesh.bnodes.shape[0]):
+        node = mesh.bnodes[b]
+        if node < 0:
+            continue
+        if b == B_LO:
+            w.res_bnd[b] = _tangency(nd, u, sup.stinger, b, node, w.row_t)
+        else:
+            w.res_bnd[b] = _over_point(nd, u, sup.points[b - B_PT], node, w.row_t)
 
 
 @phase
@@ -1302,18 +1319,47 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     r_max = 0.0  # the largest position [m]
     res_start = 1.0
     moved = False  # the last step moved the boundaries and lowered the merit
+    # the last step's trial was converged on its own frames and constraints:
+    # the next iteration evaluates the residual alone first, and the tangent
+    # only if that iteration is not converged after all
+    trial_converged = False
+    converged = False
     for it in range(1, settings.maxit + 1):
-        # the nodes the stinger holds laterally, those over it now: each
-        # iteration's, so that a converged state is in balance with its own
-        # hold (kept through the call and checked at convergence, a node
-        # that slid over the tip's z cost another round of iterations: 47
-        # times over 18 random S-lays, 1745 -> 1617 iterations in all)
-        lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask, sup.y_held)
-        _nodal_frames(nd, u, mesh, sup, ends)
-        te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, True)
-        nb, nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
-        max_delta = _constraint_set(nd, u, mesh, sup, ends, w, href)
-        res_max, res_ssq, top_res, bnd_res = _imbalance(nd, mesh, ends, w, settings, te_top)
+        tol = settings.tol
+        want_tangent = not trial_converged
+        while True:
+            # the nodes the stinger holds laterally, those over it now: each
+            # iteration's, so that a converged state is in balance with its own
+            # hold (kept through the call and checked at convergence, a node
+            # that slid over the tip's z cost another round of iterations: 47
+            # times over 18 random S-lays, 1745 -> 1617 iterations in all)
+            lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask,
+                         sup.y_held)
+            _nodal_frames(nd, u, mesh, sup, ends)
+            te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, want_tangent)
+            if want_tangent:
+                nb, nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
+            else:
+                _to_nodal_residual(nd, u, mesh, sup, w, m_td)
+            max_delta = _constraint_set(nd, u, mesh, sup, ends, w, href)
+            res_max, res_ssq, top_res, bnd_res = _imbalance(nd, mesh, ends, w, settings,
+                                                            te_top)
+            # Converged: residual below the tolerance, or every free row at
+            # its round-off floor (:func:`_roundoff_ratio`, which reads the
+            # tangent; a fine mesh far from the origin cannot reach every
+            # tolerance), or the Newton step stalled. (The stall's test
+            # first: the floor's is a pass over the band.)
+            at_roundoff = (it > 1 and res_max > tol
+                           and ((last_step <= STALL_STEP * 2.2e-16 * (r_max + href)
+                                 and res_max <= 1e-4)
+                                or (want_tangent
+                                    and _roundoff_ratio(nd, u, w) <= ROUNDOFF_RATIO)))
+            converged = (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
+                         and (top_res <= tol or at_roundoff)
+                         and (bnd_res <= tol or at_roundoff) and not changed)
+            if want_tangent or converged or not (res_max < 1e300 and res_ssq < 1e300):
+                break
+            want_tangent = True
         if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
             status = L.NOT_FINITE
             break
@@ -1325,18 +1371,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         info[I_RES] = res_max
         info[I_DELTA] = max_delta
         info[I_TOP_RES] = top_res
-        # Converged: residual below the tolerance, or every free row at its
-        # round-off floor (:func:`_roundoff_ratio`; a fine mesh far from the
-        # origin cannot reach every tolerance), or the Newton step stalled.
-        tol = settings.tol
-        # (the stall's test first: the floor's is a pass over the band)
-        at_roundoff = (it > 1 and res_max > tol
-                       and ((last_step <= STALL_STEP * 2.2e-16 * (r_max + href)
-                             and res_max <= 1e-4)
-                            or _roundoff_ratio(nd, u, w) <= ROUNDOFF_RATIO))
-        if (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
-                and (top_res <= tol or at_roundoff) and (bnd_res <= tol or at_roundoff)
-                and not changed):
+        if converged:
             status = L.OK
             it -= 1
             break
@@ -1408,6 +1443,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
         friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
         n_changed = _points_update(nd, u, mesh, sup, react, settings)
         changed = n_changed > 0
+        trial_converged = accepted and not changed and m1 <= tol * tol
         if changed:
             # a point's branch changes again with the residual no lower than
             # at its last change: the branches cycle with no bearing solution

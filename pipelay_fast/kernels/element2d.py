@@ -1,0 +1,294 @@
+"""The rod element in the x-z plane: the 2D kernel the planar solves run.
+
+The same weak form as :mod:`.element` (read its docstring: Garrett's rod,
+cubic Hermite r, linear lam, 4 Gauss points a piece, the pieces split at the
+water surface and the contents level, the exact tangent and dG/dle), written
+for nd = 2 with scalars: no loops over components, no 3-vectors, no zero
+slots, no torque (a planar case has none; the distributed moment's y
+component, the one a planar case may carry, is kept). The generic kernel
+:func:`.element.element_force_ws` solves 3D; with nd = 2 it is this kernel's
+reference, and ``tests/test_element.py`` checks both against a NumPy
+quadrature of the weak form.
+
+Per Gauss point it computes the residual, the tangent's blocks and dG/dle in
+one pass: the bending and lam blocks, which are the same for x and z, are
+summed as 4 x 4 scalars and spread onto ``ke`` once after the loop.
+
+The drag on a current along z, V = (0, v), in closed form (t = r'/|r'|):
+the normal velocity is v t_x (-t_z, t_x), so
+
+    q = C |r'| |Vn| Vn = C v|v| x'|x'| (-z', x') / |r'|^2,
+
+C = 1/2 rho_w C_D D_h times the current's factor; its derivatives in r' and
+x follow from it directly.
+"""
+
+from __future__ import annotations
+
+from .._jit import jit
+from . import layout as L
+from .element import _CUTLEV, _CUTS, GAUSS_W, GAUSS_XI, _cut_jumps, hermite_crossing
+from .loads import current_speed, effective_weight, wall_minus_effective
+
+# element unknowns: node a (x, z, x', z', lam) then node b
+_XA, _ZA, _XPA, _ZPA, _LA = 0, 1, 2, 3, 4
+_XB, _ZB, _XPB, _ZPB, _LB = 5, 6, 7, 8, 9
+# scratch offsets in ``ws`` (below :mod:`.element`'s cuts; :func:`.element._cut_jumps`
+# takes these slots as its own scratch once they are spread onto ``ke``)
+_KA = 0  # (4, 4) sum of wl (EI N_k'' N_l'' + lam N_k' N_l')
+_KX = 16  # (4, 4) sum of wl dqx/dx N_k N_l (the elastic seabed)
+
+
+@jit(_nrt=False)
+def _drag_2d(c, v, dv_dx, xp, zp):
+    """Drag per unstretched length on a current (0, v) along z, and its
+    derivatives: (qx, qz, dqx/dx', dqx/dz', dqz/dx', dqz/dz', dqx/dx, dqz/dx)."""
+    a2 = xp * xp + zp * zp
+    k = c * v * abs(v)
+    s = xp * abs(xp)
+    phi = s / a2
+    dphi_dxp = 2.0 * abs(xp) / a2 - 2.0 * s * xp / (a2 * a2)
+    dphi_dzp = -2.0 * s * zp / (a2 * a2)
+    qx = -k * phi * zp
+    qz = k * phi * xp
+    dk = c * 2.0 * abs(v) * dv_dx
+    return (qx, qz, -k * zp * dphi_dxp, -k * (phi + zp * dphi_dzp),
+            k * (phi + xp * dphi_dxp), k * xp * dphi_dzp, -dk * phi * zp, dk * phi * xp)
+
+
+@jit(_nrt=False)
+def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+    """Force vector ``fe`` (= G), tangent ``ke`` = dG/due and dG/dle ``dfe``
+    of one planar element (unknowns per node x, z, x', z', lam); the
+    arguments as :func:`.element.element_force_ws`'s (nd = 2, no torque)."""
+    props = model.props
+    ei = props[L.EI]
+    ea = props[L.EA]
+    extensible = props[L.EXTENSIBLE] != 0.0
+    k_bed = props[L.SEABED_K]
+    my = props[L.MOM_Y]
+    c_drag = props[L.DRAG] * model.factors[L.F_CURRENT]
+    ez = props[L.CUR_EZ]
+    has_current = c_drag != 0.0 and props[L.CUR_SPEED] != 0.0
+    for a in range(10):
+        fe[a] = 0.0
+    if want_dle:
+        for a in range(10):
+            dfe[a] = 0.0
+    if want_tangent:
+        for a in range(10):
+            for b in range(10):
+                ke[a, b] = 0.0
+        for a in range(32):
+            ws[a] = 0.0
+    xa = ue[_XA]
+    za = ue[_ZA]
+    xpa = ue[_XPA]
+    zpa = ue[_ZPA]
+    xpb = ue[_XPB]
+    zpb = ue[_ZPB]
+    la = ue[_LA]
+    lb = ue[_LB]
+    cx = ue[_XB] - xa  # the chord (round-off relative to the element, not the origin)
+    cz = ue[_ZB] - za
+    inv_le = 1.0 / le
+
+    cuts = ws[_CUTS:_CUTS + 4]
+    cutlev = ws[_CUTLEV:_CUTLEV + 4]
+    cuts[0] = 0.0
+    ncut = 1
+    for lev in range(2):
+        level = props[L.DEPTH] if lev == 0 else props[L.H_CONT]
+        xi_c = hermite_crossing(xa, xpa, ue[_XB], xpb, le, level)
+        if xi_c > 0.0:
+            cuts[ncut] = xi_c
+            cutlev[ncut] = level
+            ncut += 1
+    cuts[ncut] = 1.0
+    if ncut == 3 and cuts[1] > cuts[2]:
+        cuts[1], cuts[2] = cuts[2], cuts[1]
+        cutlev[1], cutlev[2] = cutlev[2], cutlev[1]
+
+    for gg in range(4 * ncut):
+        part = gg // 4
+        span = cuts[part + 1] - cuts[part]
+        t = cuts[part] + span * GAUSS_XI[gg % 4]
+        wl = GAUSS_W[gg % 4] * span * le
+        t2 = t * t
+        t3 = t2 * t
+        # cubic Hermite (r_a, r'_a, r_b, r'_b; N_0 = 1 - N_2 acts through the chord)
+        n0 = 1.0 - 3.0 * t2 + 2.0 * t3
+        n1 = le * (t - 2.0 * t2 + t3)
+        n2 = 3.0 * t2 - 2.0 * t3
+        n3 = le * (t3 - t2)
+        d1 = 1.0 - 4.0 * t + 3.0 * t2
+        d2 = (6.0 * t - 6.0 * t2) * inv_le
+        d0 = -d2
+        d3 = 3.0 * t2 - 2.0 * t
+        dd1 = (6.0 * t - 4.0) * inv_le
+        dd2 = (6.0 - 12.0 * t) * inv_le * inv_le
+        dd0 = -dd2
+        dd3 = (6.0 * t - 2.0) * inv_le
+        x = xa + n1 * xpa + n2 * cx + n3 * xpb
+        xp = d1 * xpa + d2 * cx + d3 * xpb
+        zp = d1 * zpa + d2 * cz + d3 * zpb
+        xpp = dd1 * xpa + dd2 * cx + dd3 * xpb
+        zpp = dd1 * zpa + dd2 * cz + dd3 * zpb
+        p0 = 1.0 - t
+        p1 = t
+        lam = p0 * la + p1 * lb
+
+        e = 0.0
+        de_deps = 0.0
+        deps_dx = 0.0
+        if extensible:
+            dtw, ddtw_dx = wall_minus_effective(props, x)
+            eps = (lam + ei * (xpp * xpp + zpp * zpp) + dtw) / ea
+            e = eps + 0.5 * eps * eps
+            de_deps = 1.0 + eps
+            deps_dx = ddtw_dx / ea
+
+        qx = -effective_weight(props, x)
+        qz = 0.0
+        dqx_bed = 0.0
+        if k_bed > 0.0 and x <= 0.0:  # (at x = 0 its tangent: the pipe lands on it)
+            qx -= k_bed * x
+            dqx_bed = -k_bed
+        dxx = 0.0  # drag: dq/dr' (dxx = dqx/dx' ...) and dq/dx
+        dxz = 0.0
+        dzx = 0.0
+        dzz = 0.0
+        dqx_dx = 0.0
+        dqz_dx = 0.0
+        if has_current:
+            v, dv = current_speed(props, model.table, x)
+            if v != 0.0:
+                fx, fz, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx = _drag_2d(c_drag, v * ez, dv * ez,
+                                                                       xp, zp)
+                qx += fx
+                qz += fz
+        cmx = -my * zp  # the distributed moment's term r' x m on dr'
+        cmz = my * xp
+
+        # --- residual -----------------------------------------------------
+        bx = wl * ei * xpp
+        bz = wl * ei * zpp
+        ax = wl * (lam * xp + cmx)
+        az = wl * (lam * zp + cmz)
+        wqx = wl * qx
+        wqz = wl * qz
+        fe[_XA] += bx * dd0 + ax * d0 - wqx * n0
+        fe[_ZA] += bz * dd0 + az * d0 - wqz * n0
+        fe[_XPA] += bx * dd1 + ax * d1 - wqx * n1
+        fe[_ZPA] += bz * dd1 + az * d1 - wqz * n1
+        fe[_XB] += bx * dd2 + ax * d2 - wqx * n2
+        fe[_ZB] += bz * dd2 + az * d2 - wqz * n2
+        fe[_XPB] += bx * dd3 + ax * d3 - wqx * n3
+        fe[_ZPB] += bz * dd3 + az * d3 - wqz * n3
+        cval = 0.5 * (xp * xp + zp * zp - 1.0) - e
+        fe[_LA] += wl * p0 * cval
+        fe[_LB] += wl * p1 * cval
+
+        if want_dle:
+            # d/dle at fixed unknowns and abscissae (:mod:`.element`'s docstring)
+            dx = (n1 * xpa + n3 * xpb) * inv_le
+            dxp = (d1 * xpa + d3 * xpb - xp) * inv_le
+            dzp = (d1 * zpa + d3 * zpb - zp) * inv_le
+            dxpp = (dd1 * xpa + dd3 * xpb - 2.0 * xpp) * inv_le
+            dzpp = (dd1 * zpa + dd3 * zpb - 2.0 * zpp) * inv_le
+            dcval = xp * dxp + zp * dzp
+            if extensible:
+                dcval -= de_deps * (2.0 * ei * (xpp * dxpp + zpp * dzpp) / ea + deps_dx * dx)
+            dqx = (dqx_bed + dqx_dx) * dx + dxx * dxp + dxz * dzp
+            dqz = dqz_dx * dx + dzx * dxp + dzz * dzp
+            dlam = wl * (cval * inv_le + dcval)
+            dfe[_LA] += p0 * dlam
+            dfe[_LB] += p1 * dlam
+            # N_k = le^p_k f_k(xi), p = (0, 1, 0, 1): the terms in 1/le
+            hx = wl * inv_le
+            gbx = hx * ei * xpp
+            gbz = hx * ei * zpp
+            gax = hx * (lam * xp + cmx)
+            gaz = hx * (lam * zp + cmz)
+            gqx = hx * qx
+            gqz = hx * qz
+            ebx = wl * ei * dxpp
+            ebz = wl * ei * dzpp
+            eax = wl * (lam * dxp - my * dzp)
+            eaz = wl * (lam * dzp + my * dxp)
+            eqx = wl * dqx
+            eqz = wl * dqz
+            dfe[_XA] += -gbx * dd0 - gqx * n0 + ebx * dd0 + eax * d0 - eqx * n0
+            dfe[_ZA] += -gbz * dd0 - gqz * n0 + ebz * dd0 + eaz * d0 - eqz * n0
+            dfe[_XPA] += gax * d1 - 2.0 * gqx * n1 + ebx * dd1 + eax * d1 - eqx * n1
+            dfe[_ZPA] += gaz * d1 - 2.0 * gqz * n1 + ebz * dd1 + eaz * d1 - eqz * n1
+            dfe[_XB] += -gbx * dd2 - gqx * n2 + ebx * dd2 + eax * d2 - eqx * n2
+            dfe[_ZB] += -gbz * dd2 - gqz * n2 + ebz * dd2 + eaz * d2 - eqz * n2
+            dfe[_XPB] += gax * d3 - 2.0 * gqx * n3 + ebx * dd3 + eax * d3 - eqx * n3
+            dfe[_ZPB] += gaz * d3 - 2.0 * gqz * n3 + ebz * dd3 + eaz * d3 - eqz * n3
+
+        if not want_tangent:
+            continue
+
+        # --- tangent ------------------------------------------------------
+        nn_ = (n0, n1, n2, n3)
+        dn = (d0, d1, d2, d3)
+        ddn = (dd0, dd1, dd2, dd3)
+        wei = wl * ei
+        wlam = wl * lam
+        for k in range(4):
+            for l in range(k, 4):
+                ws[_KA + 4 * k + l] += wei * ddn[k] * ddn[l] + wlam * dn[k] * dn[l]
+        if dqx_bed != 0.0:
+            wq = wl * dqx_bed
+            for k in range(4):
+                for l in range(k, 4):
+                    ws[_KX + 4 * k + l] += wq * nn_[k] * nn_[l]
+        off = (0, 2, 5, 7)
+        if (dxx != 0.0 or dxz != 0.0 or dzx != 0.0 or dzz != 0.0 or dqx_dx != 0.0
+                or dqz_dx != 0.0 or my != 0.0):
+            # load stiffness -N_k dq_i/du_(l,j), and the moment's H-free term
+            for k in range(4):
+                wn = wl * nn_[k]
+                wd = wl * my * dn[k]
+                ik = off[k]
+                for l in range(4):
+                    jl = off[l]
+                    ke[ik, jl] -= wn * (dxx * dn[l] + dqx_dx * nn_[l])
+                    ke[ik, jl + 1] -= wn * dxz * dn[l] + wd * dn[l]
+                    ke[ik + 1, jl] -= wn * (dzx * dn[l] + dqz_dx * nn_[l]) - wd * dn[l]
+                    ke[ik + 1, jl + 1] -= wn * dzz * dn[l]
+        for m in range(2):
+            pm = p0 if m == 0 else p1
+            lm = _LA if m == 0 else _LB
+            wp = wl * pm
+            ex = 0.0
+            ez_ = 0.0
+            ew = 0.0
+            if extensible:
+                ex = wp * de_deps * 2.0 * ei * xpp / ea
+                ez_ = wp * de_deps * 2.0 * ei * zpp / ea
+                ew = wp * de_deps * deps_dx
+                ke[lm, _LA] -= wp * p0 * de_deps / ea
+                ke[lm, _LB] -= wp * p1 * de_deps / ea
+            for k in range(4):
+                ik = off[k]
+                vx = wp * xp * dn[k]
+                vz = wp * zp * dn[k]
+                ke[ik, lm] += vx
+                ke[ik + 1, lm] += vz
+                ke[lm, ik] += vx - ex * ddn[k] - ew * nn_[k]
+                ke[lm, ik + 1] += vz - ez_ * ddn[k]
+
+    if want_tangent:
+        off = (0, 2, 5, 7)
+        for k in range(4):
+            for l in range(4):
+                kl = 4 * k + l if l >= k else 4 * l + k
+                v = ws[_KA + kl]
+                ke[off[k], off[l]] += v - ws[_KX + kl]
+                ke[off[k] + 1, off[l] + 1] += v
+
+    # (after the spread: _cut_jumps takes ws's first slots as its scratch)
+    if (want_tangent or want_dle) and ncut > 1:
+        _cut_jumps(2, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm)
