@@ -6,25 +6,27 @@ import math
 
 import numpy as np
 
-from .._jit import jit
+from .._jit import jit, phase
 from . import layout as L
 from .banded import band_add_block
 from .element import WORK_SIZE, element_force_ws
 from .element2d import element_2d
 
 
-@jit(_nrt=False)
+@phase
 def element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """One element's G, dG/du and dG/dle: the planar kernel in 2D
     (:func:`.element2d.element_2d`), the spatial one in 3D
-    (:func:`.element.element_force_ws`); the arguments are the latter's."""
+    (:func:`.element.element_force_ws`); the arguments are the latter's.
+    (Inlined into its callers: a kernel of its own would be optimised once
+    more with both element kernels linked in, about a second of compile.)"""
     if nd == 2:
         element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm)
     else:
         element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
 
 
-@jit
+@phase
 def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes, bcols):
     """Global residual ``g`` (= internal - distributed external forces) and tangent.
 
@@ -37,6 +39,8 @@ def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnod
     in the same pass: the mesh maps node i to s_a[i] + sum_b s_b[b, i] s_bd[b],
     so s_b changes element e's length at the rate s_b[b, e+1] - s_b[b, e], and
     the column is the sum of the elements' dG/dle times those rates.
+
+    (Inlined: it only allocates the loop's scratch, :func:`_assemble_elements`.)
     """
     ne = 2 * (2 * nd + 1)
     _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes,

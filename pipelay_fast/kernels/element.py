@@ -116,6 +116,28 @@ def hermite_crossing(xa, pa, xb, pb, le, level):
 
 
 @jit(_nrt=False)
+def level_cuts(props, le, xa, pa, xb, pb, cuts, cutlev):
+    """The pieces an element is integrated in: split where its height x
+    (nodal xa, xb and slopes pa, pb) crosses the water surface or the
+    contents level. Writes the abscissae 0 = cuts[0] < ... < cuts[ncut] = 1
+    and the level each inner cut crosses (``cutlev``); returns ncut."""
+    cuts[0] = 0.0
+    ncut = 1
+    for lev in range(2):
+        level = props[L.DEPTH] if lev == 0 else props[L.H_CONT]
+        xi_c = hermite_crossing(xa, pa, xb, pb, le, level)
+        if xi_c > 0.0:
+            cuts[ncut] = xi_c
+            cutlev[ncut] = level
+            ncut += 1
+    cuts[ncut] = 1.0
+    if ncut == 3 and cuts[1] > cuts[2]:
+        cuts[1], cuts[2] = cuts[2], cuts[1]
+        cutlev[1], cutlev[2] = cutlev[2], cutlev[1]
+    return ncut
+
+
+@jit(_nrt=False)
 def _cross3(a, b, out):
     out[0] = a[1] * b[2] - a[2] * b[1]
     out[1] = a[2] * b[0] - a[0] * b[2]
@@ -251,23 +273,7 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
     # so the jump of the effective weight is integrated exactly.
     cuts = ws[_CUTS:_CUTS + 4]
     cutlev = ws[_CUTLEV:_CUTLEV + 4]
-    cuts[0] = 0.0
-    ncut = 1
-    for lev in range(2):
-        level = props[L.DEPTH] if lev == 0 else props[L.H_CONT]
-        xi_c = hermite_crossing(ue[0], ue[nd], ue[ndn], ue[ndn + nd], le, level)
-        if xi_c > 0.0:
-            cuts[ncut] = xi_c
-            cutlev[ncut] = level
-            ncut += 1
-    cuts[ncut] = 1.0
-    if ncut == 3 and cuts[1] > cuts[2]:
-        tmp = cuts[1]
-        cuts[1] = cuts[2]
-        cuts[2] = tmp
-        tmp = cutlev[1]
-        cutlev[1] = cutlev[2]
-        cutlev[2] = tmp
+    ncut = level_cuts(props, le, ue[0], ue[nd], ue[ndn], ue[ndn + nd], cuts, cutlev)
     for gg in range(4 * ncut):
         part = gg // 4
         g = gg % 4

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from .._jit import jit
 from . import layout as L
-from .element import _CUTLEV, _CUTS, GAUSS_W, GAUSS_XI, _cut_jumps, hermite_crossing
+from .element import _CUTLEV, _CUTS, GAUSS_W, GAUSS_XI, _cut_jumps, level_cuts
 from .loads import current_speed, effective_weight, wall_minus_effective
 
 # element unknowns: node a (x, z, x', z', lam) then node b
@@ -95,19 +95,7 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
 
     cuts = ws[_CUTS:_CUTS + 4]
     cutlev = ws[_CUTLEV:_CUTLEV + 4]
-    cuts[0] = 0.0
-    ncut = 1
-    for lev in range(2):
-        level = props[L.DEPTH] if lev == 0 else props[L.H_CONT]
-        xi_c = hermite_crossing(xa, xpa, ue[_XB], xpb, le, level)
-        if xi_c > 0.0:
-            cuts[ncut] = xi_c
-            cutlev[ncut] = level
-            ncut += 1
-    cuts[ncut] = 1.0
-    if ncut == 3 and cuts[1] > cuts[2]:
-        cuts[1], cuts[2] = cuts[2], cuts[1]
-        cutlev[1], cutlev[2] = cutlev[2], cutlev[1]
+    ncut = level_cuts(props, le, xa, xpa, ue[_XB], xpb, cuts, cutlev)
 
     for gg in range(4 * ncut):
         part = gg // 4
