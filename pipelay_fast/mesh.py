@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .kernels.grading import place_nodes, span_tables
+
 GROWTH = 1.2
 
 
@@ -34,15 +36,13 @@ def _anchors(length, foci):
 def _span_tables(a, b, focus, h_max, h_min, growth):
     """For each stretch (rows of ``a``, ``b`` [m], its foci the row of
     ``focus`` [m], padded with inf): samples t [m] and the element count
-    phi(t) = int 1/h ds [-] from a, both (rows, _SAMPLES), all stretches in
-    one pass (t is numpy's linspace(a, b, _SAMPLES), sample by sample)."""
-    step = (b - a) / (_SAMPLES - 1)
-    t = np.arange(_SAMPLES)[None, :] * step[:, None] + a[:, None]
-    t[:, -1] = b
-    dist = np.min(np.abs(t[:, :, None] - focus[:, None, :]), axis=2)
-    inv = 1.0 / np.minimum(h_max, h_min + (growth - 1.0) * dist)
-    phi = np.zeros_like(t)
-    np.cumsum(0.5 * (inv[:, 1:] + inv[:, :-1]) * np.diff(t, axis=1), axis=1, out=phi[:, 1:])
+    phi(t) = int 1/h ds [-] from a, both (rows, _SAMPLES)
+    (:func:`.kernels.grading.span_tables`)."""
+    t = np.empty((a.size, _SAMPLES))
+    phi = np.empty((a.size, _SAMPLES))
+    nfocus = np.isfinite(focus).sum(axis=1)
+    span_tables(a, b, np.ascontiguousarray(focus, dtype=float), nfocus.astype(np.int64),
+                float(h_max), float(h_min), float(growth), t, phi)
     return t, phi
 
 
@@ -88,17 +88,12 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=
 
 def _place(t, phi, b, counts):
     """Node positions [m]: ``counts[j]`` elements in stretch j (row j of the
-    tables ``t``, ``phi`` and of its ends ``b``), at equal steps of phi (the
-    targets are numpy's linspace(0, phi_end, count + 1), point by point)."""
-    parts = [np.zeros(1)]
-    for j, count in enumerate(counts):
-        end = phi[j, -1]
-        targets = np.arange(1, count + 1) * (end / count)
-        targets[-1] = end
-        nodes = np.interp(targets, phi[j], t[j])
-        nodes[-1] = b[j]
-        parts.append(nodes)
-    return np.concatenate(parts)
+    tables ``t``, ``phi`` and of its ends ``b``), at equal steps of phi
+    (:func:`.kernels.grading.place_nodes`)."""
+    counts = np.asarray(counts, dtype=np.int64)
+    nodes = np.empty(1 + int(counts.sum()))
+    place_nodes(t, phi, np.ascontiguousarray(b, dtype=float), counts, nodes)
+    return nodes
 
 
 def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):

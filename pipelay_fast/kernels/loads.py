@@ -138,21 +138,23 @@ def drag_force(model, nd, x, rp, q, dq_drp, dq_dx, work):
         return False
     for i in range(nd):
         q[i] = c * a * m * vn[i]
-    # df/dVn = m I + vn vn^T / m ;  dVn/dt = -t v^T - (v.t) I ;  dt/dr' = (I - t t^T)/a
-    # so (df/dVn)(dVn/dt) a (dt/dr') = (df/dVn)(dVn/dt)(I - t t^T); d(a)/dr' = t^T
-    for i in range(nd):
-        for j in range(nd):
-            acc = 0.0
-            for k in range(nd):
-                dfdvn = m * (1.0 if i == k else 0.0) + vn[i] * vn[k] / m
-                for l in range(nd):
-                    dvndt = -t[k] * v[l] - vt * (1.0 if k == l else 0.0)
-                    pj = (1.0 if l == j else 0.0) - t[l] * t[j]
-                    acc += dfdvn * dvndt * pj
-            dq_drp[i, j] = c * (m * vn[i] * t[j] + acc)
+    # dVn/dr' = B = -(t V^T + (V.t) I) P with P = (I - t t^T) / a = dt/dr', so
+    # B_ij = -(t_i (P V)_j + (V.t) P_ij) (P symmetric); dm/dr' = Vn^T B / m and
+    # dq/dr' = C (m Vn t^T + a Vn (dm/dr') + a m B) (d|r'|/dr' = t^T)
+    vt_over_a = vt / a
+    for j in range(nd):
+        # (P V)_j = (V_j - (V.t) t_j) / a = Vn_j / a
         acc = 0.0
-        for k in range(nd):
-            dfdvn = m * (1.0 if i == k else 0.0) + vn[i] * vn[k] / m
-            acc += dfdvn * dvn[k]
-        dq_dx[i] = c * a * acc
+        for i in range(nd):
+            b_ij = -(t[i] * vn[j] / a + vt_over_a * ((1.0 if i == j else 0.0) - t[i] * t[j]))
+            acc += vn[i] * b_ij
+        dm_j = acc / m
+        for i in range(nd):
+            b_ij = -(t[i] * vn[j] / a + vt_over_a * ((1.0 if i == j else 0.0) - t[i] * t[j]))
+            dq_drp[i, j] = c * (m * vn[i] * t[j] + a * vn[i] * dm_j + a * m * b_ij)
+    vdv = 0.0
+    for k in range(nd):
+        vdv += vn[k] * dvn[k]
+    for i in range(nd):
+        dq_dx[i] = c * a * (m * dvn[i] + vn[i] * vdv / m)
     return True
