@@ -23,6 +23,7 @@ import contextlib
 import errno
 import hashlib
 import json
+import math
 import os
 import uuid
 from dataclasses import dataclass
@@ -170,9 +171,8 @@ def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None)
     meta = {"sweep": sweep, "scene": scene}
     profiles = None
     if profile is not None:
-        frame = pd.DataFrame({k: profile[k] for k in PROFILE_COLUMNS})
-        profiles = encode_table(frame, PROFILE_COLUMNS, meta)
-    summary = encode_table(summary_frame(rows), SUMMARY_COLUMNS, meta)
+        profiles = encode_arrays(profile, PROFILE_COLUMNS, meta)
+    summary = _encode(summary_table(rows), SUMMARY_COLUMNS, meta)
     failed = sum(r["status"] != "ok" for r in rows)
     return Chunk(scene, name, summary, profiles, len(rows), failed)
 
@@ -181,12 +181,26 @@ def encode_table(df: pd.DataFrame, units: dict, metadata: dict) -> bytes:
     """``df`` as the bytes of a Parquet file carrying the unit of every column,
     laid out as :func:`pipelay_fast.io.write_table` does (field metadata
     ``unit``, schema metadata ``units``); dictionary encoding for strings only."""
-    table = pa.Table.from_pandas(df, preserve_index=False)
+    return _encode(pa.Table.from_pandas(df, preserve_index=False), units, metadata)
+
+
+def encode_arrays(columns: dict, units: dict, metadata: dict) -> bytes:
+    """The columns ``units`` names, from the arrays of ``columns`` (no
+    DataFrame between: the profiles of a chunk are some 40 solves' arrays),
+    as :func:`encode_table` lays them out; strings as large_string, the type
+    pandas gives them."""
+    arrays = [pa.array(columns[k], type=pa.large_string())
+              if np.asarray(columns[k]).dtype.kind in "OUS" else pa.array(columns[k])
+              for k in units]
+    return _encode(pa.Table.from_arrays(arrays, names=list(units)), units, metadata)
+
+
+def _encode(table: pa.Table, units: dict, metadata: dict) -> bytes:
     fields = [f.with_metadata({b"unit": units[f.name].encode()}) for f in table.schema]
     schema_metadata = {
         **(table.schema.metadata or {}),
         **{str(k).encode(): str(v).encode() for k, v in metadata.items()},
-        b"units": json.dumps({column: units[column] for column in df.columns}).encode(),
+        b"units": json.dumps({column: units[column] for column in table.column_names}).encode(),
     }
     table = table.cast(pa.schema(fields, metadata=schema_metadata))
     strings = [f.name for f in table.schema if not pa.types.is_floating(f.type)]
@@ -206,19 +220,50 @@ def _write_bytes(path: Path, data: bytes):
         raise
 
 
-def summary_frame(rows: list[dict]) -> pd.DataFrame:
-    """Summary rows as a DataFrame with the dataset's fixed column types."""
-    frame = pd.DataFrame(rows, columns=list(SUMMARY_COLUMNS))
+def _summary_columns(rows: list[dict]):
+    """Each summary column's values from ``rows``, in the dataset's fixed
+    types: (name, values, kind), kind "int" (None where missing), "bool",
+    "str" ("" where missing) or "float" (NaN where missing)."""
     for column, unit in SUMMARY_COLUMNS.items():
+        values = [row.get(column) for row in rows]
         if column in _INTEGER:
-            frame[column] = frame[column].astype("Int64")
+            yield column, [None if _missing(v) else int(v) for v in values], "int"
         elif column in _BOOLEAN:
-            frame[column] = frame[column].astype(bool)
+            yield column, [bool(v) for v in values], "bool"
         elif unit == "":
-            frame[column] = frame[column].fillna("").astype(str)
+            yield column, ["" if _missing(v) else str(v) for v in values], "str"
         else:
-            frame[column] = frame[column].astype(np.float64)
-    return frame
+            yield column, [math.nan if v is None else v for v in values], "float"
+
+
+def summary_frame(rows: list[dict]) -> pd.DataFrame:
+    """Summary rows as a DataFrame with the dataset's fixed column types
+    (integers Int64, flags bool, text str, the rest float64)."""
+    pandas_types = {"int": "Int64", "bool": bool, "str": str, "float": np.float64}
+    return pd.DataFrame({column: pd.array(values, dtype=pandas_types[kind])
+                         for column, values, kind in _summary_columns(rows)})
+
+
+_ARROW_TYPES = {"int": pa.int64(), "bool": pa.bool_(), "str": pa.large_string(),
+                "float": pa.float64()}
+_summary_schema = None
+
+
+def summary_table(rows: list[dict]) -> pa.Table:
+    """Summary rows as the Arrow table :func:`summary_frame` would give
+    (built from the rows' values; the pandas metadata, which tells pandas to
+    read the integers back as Int64, taken once from a one-row frame)."""
+    global _summary_schema
+    if _summary_schema is None:
+        _summary_schema = pa.Table.from_pandas(summary_frame(rows[:1]),
+                                               preserve_index=False).schema
+    arrays = [pa.array(values, type=_ARROW_TYPES[kind], from_pandas=True)  # NaN as null
+              for _column, values, kind in _summary_columns(rows)]
+    return pa.Table.from_arrays(arrays, schema=_summary_schema)
+
+
+def _missing(value) -> bool:
+    return value is None or (isinstance(value, float) and math.isnan(value))
 
 
 def read_summary(root: str | os.PathLike, filters=None) -> pd.DataFrame:
