@@ -29,6 +29,7 @@ just removed) are ignored: the import never fails because of the cache.
 from __future__ import annotations
 
 import hashlib
+import inspect
 import os
 import sys
 import tempfile
@@ -41,27 +42,38 @@ KERNEL_DIR = os.path.join(_PACKAGE_DIR, "kernels")
 STAMP_NAME = "pipelay_fast-kernels.sha256"
 
 
-def jit(func=None, **overrides):
-    """Decorate a kernel with the project's numba policy (see module docstring)."""
+def jit(func=None, *, by_dimension=False, **overrides):
+    """Decorate a kernel with the project's numba policy (see module docstring).
+
+    ``by_dimension``: the kernel is compiled for its callers' dimension, its
+    argument ``nd`` a literal 2 or 3 (:func:`plain_calls`), so that its loops
+    over components have constant bounds and a dimension's choice between
+    kernels is made when it is typed (:func:`.kernels.assembly.element_forces`:
+    a planar solve never compiles the spatial element). The Newton kernel's
+    entries :func:`.kernels.newton.newton_2d` and ``newton_3d`` give it."""
     options = {"cache": True, "nogil": True, "error_model": "numpy"}
     options.update(overrides)
+    keep = ("nd",) if by_dimension else ()
     if func is None:
-        return lambda f: plain_calls(numba.njit(**options)(f))
-    return plain_calls(numba.njit(**options)(func))
+        return lambda f: plain_calls(numba.njit(**options)(f), keep)
+    return plain_calls(numba.njit(**options)(func), keep)
 
 
-def plain_calls(dispatcher):
+def plain_calls(dispatcher, keep=()):
     """Compile ``dispatcher`` for its callers' plain argument types, never for
-    a literal value: numba types a constant argument (``want_tangent=False``,
-    ``nd`` written as 2) as a literal and compiles one more specialisation of
-    the callee, and of everything it calls, for each. The element kernels were
-    compiled four times and their helpers eight (the first S67 solve: 158
-    compilations, 57 s)."""
+    a literal value (but for the arguments named in ``keep``): numba types a
+    constant argument (``want_tangent=False``, ``nd`` written as 2) as a
+    literal and compiles one more specialisation of the callee, and of
+    everything it calls, for each. The element kernels were compiled four
+    times and their helpers eight (the first S67 solve: 158 compilations,
+    57 s)."""
     get = dispatcher.get_call_template
+    kept = [name in keep for name in inspect.signature(dispatcher.py_func).parameters]
 
     def get_call_template(args, kws):
-        return get(tuple(types.unliteral(a) for a in args),
-                   {k: types.unliteral(v) for k, v in kws.items()})
+        return get(tuple(a if i < len(kept) and kept[i] else types.unliteral(a)
+                         for i, a in enumerate(args)),
+                   {k: v if k in keep else types.unliteral(v) for k, v in kws.items()})
 
     dispatcher.get_call_template = get_call_template
     return dispatcher

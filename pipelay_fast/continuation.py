@@ -30,8 +30,10 @@ from .kernels.newton import (
     I_RES,
     I_TOP_RES,
     N_INFO,
-    _system,
-    newton,
+    newton_2d,
+    newton_3d,
+    system_2d,
+    system_3d,
 )
 from .kernels.types import Mesh, Settings
 from .limits import IterationBudget
@@ -88,8 +90,8 @@ def run_newton(pb: Problem, g_off, tol, maxit):
     settings = Settings(float(tol), float(pb.fref), float(pb.href), int(maxit),
                         not pb.in_balance, boundary_step(pb))
     pb.in_balance = False
-    status = newton(pb.nd, pb.u, mesh, pb.model(), pb.supports(), pb.ends(g_off), settings,
-                    react, info)
+    kernel = newton_2d if pb.nd == 2 else newton_3d
+    status = kernel(pb.u, mesh, pb.model(), pb.supports(), pb.ends(g_off), settings, react, info)
     pb.update_nodes()
     return status, react, info
 
@@ -98,10 +100,12 @@ def _residual(pb: Problem):
     """Residual at the current state with constrained rows zeroed (for the homotopy)."""
     g = np.zeros_like(pb.u)
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
-    _system(pb.nd, pb.s_el, pb.u, pb.model(), torques, np.zeros((1, 1)), 1, 1, g,
-            pb.ends(np.zeros_like(pb.u)), False, np.zeros((pb.bnodes.size, pb.nn)),
-            np.full(pb.bnodes.size, -1, dtype=np.int64), np.zeros((pb.bnodes.size, 1)))
-    friction_forces(pb.nd, pb.u, g, np.zeros((1, 1)), 0, pb.model(), pb.bed_active, pb.fric,
+    no_band = np.zeros((2, 1)).T  # (column-major, as the Newton kernel's band: one compile)
+    system = system_2d if pb.nd == 2 else system_3d
+    system(pb.s_el, pb.u, pb.model(), torques, no_band, g, pb.ends(np.zeros_like(pb.u)), False,
+           np.zeros((pb.bnodes.size, pb.nn)), np.full(pb.bnodes.size, -1, dtype=np.int64),
+           np.zeros((pb.bnodes.size, 1)))
+    friction_forces(pb.nd, pb.u, g, no_band, 0, pb.model(), pb.bed_active, pb.fric,
                     np.zeros_like(pb.u), pb.s)
     g[pb.fix_mask != 0] = 0.0
     g[0::pb.ndn][pb.bed_active != 0] = 0.0

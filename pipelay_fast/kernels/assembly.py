@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba.core import types
+from numba.extending import overload
 
 from .._jit import jit, phase
 from . import layout as L
@@ -13,17 +15,42 @@ from .element import WORK_SIZE, element_force_ws
 from .element2d import element_2d
 
 
-@phase
 def element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """One element's G, dG/du and dG/dle: the planar kernel in 2D
     (:func:`.element2d.element_2d`), the spatial one in 3D
     (:func:`.element.element_force_ws`); the arguments are the latter's.
-    (Inlined into its callers: a kernel of its own would be optimised once
-    more with both element kernels linked in, about a second of compile.)"""
+
+    In a kernel compiled for its dimension (``nd`` a literal, see
+    :func:`pipelay_fast._jit.plain_calls`) the choice is made when it is
+    typed, so only that dimension's element kernel is compiled
+    (:func:`_element_forces_impl`); from Python, or with ``nd`` a plain
+    integer, it branches at run time."""
     if nd == 2:
         element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm)
     else:
         element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+
+
+@overload(element_forces, prefer_literal=True, jit_options={"_nrt": False})
+def _element_forces_impl(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws,
+                         wm):
+    if isinstance(nd, types.IntegerLiteral) and nd.literal_value == 2:
+        def planar(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+            element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+        return planar
+    if isinstance(nd, types.IntegerLiteral):
+        def spatial(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+            element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle,
+                             ws, wm)
+        return spatial
+
+    def either(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+        if nd == 2:
+            element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+        else:
+            element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle,
+                             ws, wm)
+    return either
 
 
 @phase
@@ -48,7 +75,7 @@ def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnod
                        np.empty((3, 3)))
 
 
-@jit(_nrt=False)
+@jit(by_dimension=True, _nrt=False)
 def _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes,
                        bcols, fe, ke, dfe, ws, wm):
     """:func:`assemble`'s loop, with its scratch ``fe``, ``ke``, ``dfe``, ``ws``,
@@ -216,3 +243,9 @@ def curve_node(nd, ab, kl, ku, g, node, fp, fpp, zp, want_tangent):
         ab[kv + q2 - q, q] += fpp * g[p2]
     g[q] += fp * g[p] + cz * g[p2]
     g[q2] += fp * g[p2]
+
+
+@jit
+def element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+    """:func:`element_forces` callable from Python (tests, one-off calls)."""
+    element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)

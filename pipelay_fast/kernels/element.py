@@ -175,16 +175,16 @@ def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=No
     one, :func:`.element2d.element_2d`; in 3D :func:`element_force_ws`) for
     tests and one-off calls; it always calls it with the same argument types.
     """
-    from .assembly import element_forces  # (assembly imports this module)
+    from .assembly import element_forces_py  # (assembly imports this module)
 
     want_dle = dfe is not None
     model = Model(props, table, load_factors(current_factor, False))
-    element_forces(nd, le, ue, model, torque, fe, ke, want_tangent,
-                   dfe if want_dle else np.zeros(ue.size), want_dle,
+    element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent,
+                      dfe if want_dle else np.zeros(ue.size), want_dle,
                    np.empty(WORK_SIZE), np.empty((3, 3)))
 
 
-@jit(_nrt=False)
+@jit(by_dimension=True, _nrt=False)
 def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due, and dG/dle of one element.
 
@@ -434,7 +434,7 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
                 ke[off[k], off[l]] -= kx[kl]
 
 
-@jit(_nrt=False)
+@jit(by_dimension=True, _nrt=False)
 def _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm):
     """The movement of the cuts: the load q jumps at a crossed level (the
     weight at the water surface and the contents level, the drag at the water
@@ -489,7 +489,7 @@ def _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, wan
                     dfe[off[k] + i] += a * dle_x * le
 
 
-@jit(_nrt=False)
+@jit(by_dimension=True, _nrt=False)
 def _dle_gauss_point(nd, le, ue, props, torque, wl, p0, p1, lam, cval, de_deps, deps_dx,
                      dqx_dx, has_drag, ws, wm, dfe):
     """Add one Gauss point's share of dG/dle to ``dfe`` (module docstring).

@@ -85,7 +85,7 @@ def current_speed(props, table, x):
     return table[n - 1, 1], 0.0
 
 
-@jit(_nrt=False)
+@jit(by_dimension=True, _nrt=False)
 def drag_force(model, nd, x, rp, q, dq_drp, dq_dx, work):
     """Morison drag per unstretched length on the current normal to the pipe.
 

@@ -141,7 +141,7 @@ I_PAST = 5  # PAST_TIP: how far [m] along the pipe the step would take lift-off 
 N_INFO = 6
 
 
-@jit
+@jit(by_dimension=True)
 def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b, bnodes, bcols):
     """Residual (+ tangent, global frame, and the boundaries' columns dG/ds_b
     of the elements, :func:`.assembly.assemble`) with the nodal loads, the
@@ -426,7 +426,7 @@ def _tangency(nd, u, stinger, b, node, row):
     return u[base + nd] - fp * zp
 
 
-@jit
+@jit(by_dimension=True)
 def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
     """Touchdown's equation: the moment at touchdown on the free side, the
     residual [N m] of the first free element at the slope unknown of its lower
@@ -1194,7 +1194,7 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
             or (has_bnd and m1 <= MERIT_RISE * merit0) or (has_lo and not hold and m1 < 1e300))
 
 
-@jit
+@jit(by_dimension=True)
 def _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd):
     """The state a fraction ``alpha`` along the step (:func:`_take_step`,
     from ``w.u_old`` and the bottom tension ``tb_old``) and its merit
@@ -1265,8 +1265,36 @@ def _points_update(nd, u, mesh, sup, react, settings):
 
 
 @jit
+def newton_2d(u, mesh, model, sup, ends, settings, react, info):
+    """:func:`newton` in the plane (nd = 2), compiled with the planar
+    element kernel alone."""
+    return newton(2, u, mesh, model, sup, ends, settings, react, info)
+
+
+@jit
+def newton_3d(u, mesh, model, sup, ends, settings, react, info):
+    """:func:`newton` in space (nd = 3), compiled with the spatial element
+    kernel alone."""
+    return newton(3, u, mesh, model, sup, ends, settings, react, info)
+
+
+@jit
+def system_2d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
+    """:func:`_system` in the plane, from Python (kl = ku = 9)."""
+    _system(2, s_el, u, model, torques, ab, 9, 9, g, ends, want_tangent, s_b, bnodes, bcols)
+
+
+@jit
+def system_3d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
+    """:func:`_system` in space, from Python (kl = ku = 13)."""
+    _system(3, s_el, u, model, torques, ab, 13, 13, g, ends, want_tangent, s_b, bnodes, bcols)
+
+
+@phase
 def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     """Solve G(u) = reactions for one load level; see the module docstring.
+    Inlined into its entries :func:`newton_2d` and :func:`newton_3d`, each
+    compiled for its dimension (``nd`` a constant there).
 
     Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
     ----------
