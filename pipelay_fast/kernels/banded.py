@@ -126,6 +126,36 @@ def band_solve(ab, kl, ku, ipiv, b):
                 b[i] -= ab[kv + i - j, j] * bj
 
 
+@jit(_nrt=False)
+def band_solve_many(ab, kl, ku, ipiv, b, m):
+    """Solve ``A X = B`` in place for the first ``m`` columns of ``b`` (n, >= m),
+    with the factors of :func:`band_factor`: :func:`band_solve`'s arithmetic
+    on every column, the band read once for all (the Newton step and its
+    border columns: 2 to 5 right-hand sides)."""
+    n = ab.shape[1]
+    kv = kl + ku
+    for j in range(n - 1):
+        lm = min(kl, n - 1 - j)
+        p = ipiv[j]
+        if p != j:
+            for c in range(m):
+                tmp = b[p, c]
+                b[p, c] = b[j, c]
+                b[j, c] = tmp
+        for i in range(1, lm + 1):
+            lij = ab[kv + i, j]
+            for c in range(m):
+                b[j + i, c] -= lij * b[j, c]
+    for j in range(n - 1, -1, -1):
+        d = ab[kv, j]
+        for c in range(m):
+            b[j, c] /= d
+        for i in range(max(0, j - kv), j):
+            aij = ab[kv + i - j, j]
+            for c in range(m):
+                b[i, c] -= aij * b[j, c]
+
+
 def dense_to_band(a, kl, ku):
     """Pack a dense matrix into band storage (a test and debugging helper)."""
     n = a.shape[0]

@@ -112,7 +112,7 @@ import numpy as np
 from .._jit import jit, phase
 from . import layout as L
 from .assembly import assemble, curve_node, distribute_torque, element_forces, rotate_node
-from .banded import band_factor, band_solve
+from .banded import band_factor, band_solve_many
 from .contact import (
     ST_A,
     ST_B,
@@ -597,7 +597,7 @@ Work = namedtuple("Work", [
     "scale", "torques", "rows", "cols", "ys", "res_b", "d_b", "kind", "dz", "sm", "rh",
     "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
     "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate", "at_scratch", "sh",
-    "fr_stop"])
+    "fr_stop", "rhs"])
 
 
 @phase
@@ -627,7 +627,8 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.zeros((nbnd, n)), np.zeros(n), np.zeros(n), np.zeros(nbnd), np.zeros(nbnd),
         np.zeros(nbnd), np.zeros(nbnd), np.zeros(nn), np.zeros(n), np.zeros(0),
         np.zeros((1, 1)).T, np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
-        np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)), np.zeros(nn))
+        np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)), np.zeros(nn),
+        np.zeros((n, 1 + n_border)))
 
 
 @phase
@@ -1015,11 +1016,17 @@ def _condensed_solve(nd, w, nb):
         du[j] = w.delta[j] / scale[j]
     if band_factor(ab, kl, ku, w.ipiv) != 0:
         return False
-    band_solve(ab, kl, ku, w.ipiv, du)
-    for j in range(nb):
-        for i in range(n):
-            w.ys[j, i] = 0.0 if cmask[i] else w.cols[j, i] * scale[i]
-        band_solve(ab, kl, ku, w.ipiv, w.ys[j])
+    # the step and the border columns solved together, the band read once
+    rhs = w.rhs
+    for i in range(n):
+        rhs[i, 0] = du[i]
+        for j in range(nb):
+            rhs[i, 1 + j] = 0.0 if cmask[i] else w.cols[j, i] * scale[i]
+    band_solve_many(ab, kl, ku, w.ipiv, rhs, 1 + nb)
+    for i in range(n):
+        du[i] = rhs[i, 0]
+        for j in range(nb):
+            w.ys[j, i] = rhs[i, 1 + j]
     # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz
     for i2 in range(nb):
         acc = 0.0
