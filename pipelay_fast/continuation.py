@@ -100,7 +100,7 @@ def _residual(pb: Problem):
     """Residual at the current state with constrained rows zeroed (for the homotopy)."""
     g = np.zeros_like(pb.u)
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
-    no_band = np.zeros((2, 1)).T  # (column-major, as the Newton kernel's band: one compile)
+    no_band = np.zeros((2, 2)).T  # (column-major alone, as the Newton kernel's band: one compile)
     system = system_2d if pb.nd == 2 else system_3d
     system(pb.s_el, pb.u, pb.model(), torques, no_band, g, pb.ends(np.zeros_like(pb.u)), False,
            np.zeros((pb.bnodes.size, pb.nn)), np.full(pb.bnodes.size, -1, dtype=np.int64),

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import functools
 import hashlib
 import json
 import math
@@ -187,12 +188,20 @@ def encode_table(df: pd.DataFrame, units: dict, metadata: dict) -> bytes:
 def encode_arrays(columns: dict, units: dict, metadata: dict) -> bytes:
     """The columns ``units`` names, from the arrays of ``columns`` (no
     DataFrame between: the profiles of a chunk are some 40 solves' arrays),
-    as :func:`encode_table` lays them out; strings as large_string, the type
-    pandas gives them."""
-    arrays = [pa.array(columns[k], type=pa.large_string())
-              if np.asarray(columns[k]).dtype.kind in "OUS" else pa.array(columns[k])
+    as :func:`encode_table` lays them out: strings of the Arrow type pandas
+    gives them, NaN as null (``from_pandas``)."""
+    arrays = [pa.array(columns[k], type=_pandas_string_type(), from_pandas=True)
+              if np.asarray(columns[k]).dtype.kind in "OUS"
+              else pa.array(columns[k], from_pandas=True)
               for k in units]
     return _encode(pa.Table.from_arrays(arrays, names=list(units)), units, metadata)
+
+
+@functools.cache
+def _pandas_string_type() -> pa.DataType:
+    """The Arrow type pandas writes a column of text as (large_string with
+    pandas 3's str dtype, string with pandas 2's object columns)."""
+    return pa.Table.from_pandas(pd.DataFrame({"s": np.array(["x"])})).schema.field("s").type
 
 
 def _encode(table: pa.Table, units: dict, metadata: dict) -> bytes:
@@ -227,13 +236,20 @@ def _summary_columns(rows: list[dict]):
     for column, unit in SUMMARY_COLUMNS.items():
         values = [row.get(column) for row in rows]
         if column in _INTEGER:
-            yield column, [None if _missing(v) else int(v) for v in values], "int"
+            yield column, [None if _missing(v) else _integer(column, v) for v in values], "int"
         elif column in _BOOLEAN:
             yield column, [bool(v) for v in values], "bool"
         elif unit == "":
             yield column, ["" if _missing(v) else str(v) for v in values], "str"
         else:
-            yield column, [math.nan if v is None else v for v in values], "float"
+            yield column, [math.nan if _missing(v) else float(v) for v in values], "float"
+
+
+def _integer(column: str, value) -> int:
+    """``value`` as an integer, refused when it is not a whole number."""
+    if float(value) != int(value):
+        raise ValueError(f"summary column {column} = {value!r} is not an integer")
+    return int(value)
 
 
 def summary_frame(rows: list[dict]) -> pd.DataFrame:
@@ -244,8 +260,7 @@ def summary_frame(rows: list[dict]) -> pd.DataFrame:
                          for column, values, kind in _summary_columns(rows)})
 
 
-_ARROW_TYPES = {"int": pa.int64(), "bool": pa.bool_(), "str": pa.large_string(),
-                "float": pa.float64()}
+_ARROW_TYPES = {"int": pa.int64(), "bool": pa.bool_(), "float": pa.float64()}
 _summary_schema = None
 
 
@@ -257,13 +272,14 @@ def summary_table(rows: list[dict]) -> pa.Table:
     if _summary_schema is None:
         _summary_schema = pa.Table.from_pandas(summary_frame(rows[:1]),
                                                preserve_index=False).schema
-    arrays = [pa.array(values, type=_ARROW_TYPES[kind], from_pandas=True)  # NaN as null
+    arrays = [pa.array(values, type=_ARROW_TYPES.get(kind) or _pandas_string_type(),
+                       from_pandas=True)  # NaN as null
               for _column, values, kind in _summary_columns(rows)]
     return pa.Table.from_arrays(arrays, schema=_summary_schema)
 
 
 def _missing(value) -> bool:
-    return value is None or (isinstance(value, float) and math.isnan(value))
+    return value is None or value is pd.NA or (isinstance(value, float) and math.isnan(value))
 
 
 def read_summary(root: str | os.PathLike, filters=None) -> pd.DataFrame:

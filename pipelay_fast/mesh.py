@@ -108,6 +108,9 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):
     variants.extend([f + sign * step if i == j else f for i, f in enumerate(foci)]
                     for j in moving for sign in (1.0, -1.0))
     parts = [_anchors(length, v) for v in variants]
+    if any(p[0].size != parts[0][0].size for p in parts):
+        raise ValueError(f"grading_rates: moving foci {list(moving)} by {step} m changes the "
+                         f"mesh's stretches (foci {list(foci)} on a length of {length} m)")
     width = max(len(p[2]) for p in parts)
     a = np.concatenate([p[0] for p in parts])
     b = np.concatenate([p[1] for p in parts])

@@ -46,25 +46,11 @@ SUMMARY_UNITS = {
 
 @functools.lru_cache(maxsize=4096)
 def case_id(case: Case) -> str:
-    """Stable 16-hex-digit id of a case's inputs (the name is not an input).
-
-    The last few cases' ids are kept (with the cases, so that an object's id
-    is not reused while it is a key): a sweep names a case before it solves
-    it, and the solve's summary names it again (0.05 ms each)."""
-    hit = _RECENT_IDS.get(id(case))
-    if hit is not None and hit[0] is case:
-        return hit[1]
+    """Stable 16-hex-digit id of a case's inputs (the name is not an input)."""
     tables = case.to_dict()
     tables.pop("name", None)
     text = json.dumps(tables, sort_keys=True, separators=(",", ":"), default=float)
-    value = hashlib.sha1(text.encode()).hexdigest()[:16]
-    _RECENT_IDS[id(case)] = (case, value)
-    if len(_RECENT_IDS) > 16:
-        _RECENT_IDS.pop(next(iter(_RECENT_IDS)))
-    return value
-
-
-_RECENT_IDS: dict = {}  # id(case) -> (case, its id), oldest first
+    return hashlib.sha1(text.encode()).hexdigest()[:16]
 
 
 class Result:

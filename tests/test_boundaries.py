@@ -223,6 +223,13 @@ def test_grading_rates_are_the_graded_mesh_first_order():
         assert row[0] == row[-1] == 0.0
 
 
+def test_grading_rates_refuse_a_focus_moved_off_the_pipe():
+    """A focus on the upper end moved past it changes the mesh's stretches:
+    no rate at fixed element counts (review: the kernel read past its tables)."""
+    with pytest.raises(ValueError, match="changes the mesh's stretches"):
+        grading_rates(100.0, [50.0, 100.0], [1], 4.0, 0.5)
+
+
 def test_a_regraded_mesh_is_the_one_graded_at_the_boundaries_found():
     """S125 on 1 m elements, current off: the 3D solve's first pass stops one
     iteration later than the 2D one's (its lateral hold), so the two regrade
