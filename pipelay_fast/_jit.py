@@ -4,8 +4,10 @@ Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
 
 * ``cache=True`` so that worker processes and later sessions load machine code
   from numba's cache instead of recompiling (measured by
-  ``benchmarks/bench_jlay.py``: a cold import and first solve about 26 s, a
-  cached one about 0.9 s);
+  ``benchmarks/bench_compile.py``: a first solve in a fresh cache 32 to 34 s,
+  a cached start 0.7 s);
+* each kernel compiled once for its callers' plain argument types, and the
+  element chain once per dimension (:func:`plain_calls`, ``by_dimension``);
 * ``nopython`` (``njit``): no object mode, no Python objects inside kernels;
 * ``error_model="numpy"``: a division by zero gives inf/nan instead of raising,
   so kernels need no exception handling; kernels report failure through status
