@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from .checks import design_load_effects, lcc_axial_ratio, lcc_utilisation
+from .kernels.geometry import point_clearance
 
 __all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "lcc_profile",
            "lcc_sections", "tip_clearance"]
@@ -25,16 +26,7 @@ DESIGN_UNITS = {
 
 
 NEWTON_STEPS = 20  # for the foot of the normal; it converges in 3 to 5
-
-
-def _hermite_power(r, rp, s, k):
-    """Power-basis coefficients (c0, c1, c2, c3), each shape (len(k), dim),
-    of the cubic Hermite of elements ``k`` in xi in [0, 1]: the centreline
-    [m] is c0 + c1 xi + c2 xi^2 + c3 xi^3 (nodal slopes scaled by the element
-    length)."""
-    le = (s[k + 1] - s[k])[:, None]
-    p0, p1, m0, m1 = r[k], r[k + 1], le * rp[k], le * rp[k + 1]
-    return p0, m0, 3.0 * (p1 - p0) - 2.0 * m0 - m1, 2.0 * (p0 - p1) + m0 + m1
+SAMPLES = 33  # per element, where the foot of the normal is sought from
 
 
 def tip_clearance(r, rp, s, tip, up) -> float:
@@ -46,33 +38,13 @@ def tip_clearance(r, rp, s, tip, up) -> float:
     once: each sampled at 33 points, then refined from its nearest sample by
     Newton on the foot-of-normal condition (r - tip) . dr/dxi = 0 (xi kept
     in [0, 1]), so the distance is normal to the pipe; the nearest of the
-    refined points is the answer.
+    refined points is the answer (:func:`.kernels.geometry.point_clearance`).
     """
-    near = int(np.argmin(np.linalg.norm(r - tip, axis=1)))
-    elements = np.arange(max(near - 2, 0), min(near + 2, s.size - 1))
-    c0, c1, c2, c3 = (c[:, None, :] for c in _hermite_power(r, rp, s, elements))
-    xi = np.linspace(0.0, 1.0, 33)[None, :, None]
-    gaps = ((c3 * xi + c2) * xi + c1) * xi + c0 - tip
-    x = xi[0, np.argmin((gaps * gaps).sum(axis=2), axis=1), 0]  # each element's nearest sample
-    c0, c1, c2, c3 = (c[:, 0, :] for c in (c0, c1, c2, c3))
-    moving = np.ones(x.size, dtype=bool)
-    for _ in range(NEWTON_STEPS):
-        xs = x[:, None]
-        gap = ((c3 * xs + c2) * xs + c1) * xs + c0 - tip
-        slope = (3.0 * c3 * xs + 2.0 * c2) * xs + c1
-        rate = (slope * slope + gap * (6.0 * c3 * xs + 2.0 * c2)).sum(axis=1)
-        moving &= rate > 0.0
-        step = (gap * slope).sum(axis=1) / np.where(moving, rate, 1.0)
-        new = np.where(moving, np.minimum(np.maximum(x - step, 0.0), 1.0), x)
-        moving &= np.abs(new - x) >= 1e-13
-        x = new
-        if not moving.any():
-            break
-    xs = x[:, None]
-    gaps = ((c3 * xs + c2) * xs + c1) * xs + c0 - tip
-    lengths = np.linalg.norm(gaps, axis=1)
-    best = int(np.argmin(lengths))
-    return math.copysign(float(lengths[best]), float(gaps[best] @ up))
+    r, rp, s = (np.ascontiguousarray(v, dtype=float) for v in (r, rp, s))
+    nd = r.shape[1]
+    return float(point_clearance(r, rp, s, np.asarray(tip, dtype=float),
+                                 np.asarray(up, dtype=float), SAMPLES, NEWTON_STEPS,
+                                 np.empty(nd), np.empty(nd), np.empty(nd)))
 
 
 def _moment_vectors(cols: dict) -> np.ndarray:

@@ -335,7 +335,9 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         suspended = float(s[-1] - s_tdp)
     bearing = tip_force(pb)
     tip = 0.0 if bearing is None else bearing[1]
-    r, rp, _ = nodal_fields(pb.nd, s, pb.u)
+    ndn = 2 * pb.nd + 1
+    r = np.stack([pb.u[i::ndn] for i in range(pb.nd)], axis=1)  # (nodal_fields without r'')
+    rp = np.stack([pb.u[pb.nd + i::ndn] for i in range(pb.nd)], axis=1)
     departure = liftoff_angle if stinger is not None else float(cols["angle_deg"][-1])
     design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure)
     return {

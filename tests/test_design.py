@@ -281,40 +281,35 @@ def test_jlay_lcc_is_interior_peak():
 
 
 def test_power_basis_is_the_hermite(s67):
-    """tip_clearance's power-basis coefficients give the same centreline as
-    the elements' Hermite shape functions (:func:`.kernels.element.hermite`),
-    its slope and its curvature too."""
-    from pipelay_fast.design import _hermite_power
+    """tip_clearance's power basis (:func:`.kernels.geometry._at`) gives the
+    same centreline as the elements' Hermite shape functions
+    (:func:`.kernels.element.hermite`), its slope and its curvature too."""
     from pipelay_fast.kernels.element import hermite
+    from pipelay_fast.kernels.geometry import _at
 
     p = pf.solve(s67.with_changes({"lay.stinger.a": -0.0014})).profile
     s = p["s"].to_numpy()
     th = np.radians(p["angle_deg"].to_numpy())
     r = np.stack([p["x"].to_numpy(), p["z"].to_numpy()], axis=1)
     rp = np.stack([np.sin(th), np.cos(th)], axis=1)
-    k = np.arange(s.size - 1)
-    c0, c1, c2, c3 = _hermite_power(r, rp, s, k)
-    le = (s[1:] - s[:-1])[:, None]
-
-    def shape(xi):  # position, slope and curvature of every element at xi
-        n, dn, ddn = np.empty(4), np.empty(4), np.empty(4)
-        out = np.empty((3, k.size, 2))
-        for e in k:
-            hermite(xi, s[e + 1] - s[e], n, dn, ddn)
+    origin = np.zeros(2)
+    gap, slope_xi, curve_xi = np.empty(2), np.empty(2), np.empty(2)
+    n, dn, ddn = np.empty(4), np.empty(4), np.empty(4)
+    scale = max(np.abs(r).max(), 1.0)
+    worst = 0.0
+    for e in range(s.size - 1):
+        le = s[e + 1] - s[e]
+        for xi in (0.0, 0.3, 0.77, 1.0):
+            hermite(xi, le, n, dn, ddn)
             nodal = (r[e], rp[e], r[e + 1], rp[e + 1])
-            for row, f in enumerate((n, dn, ddn)):
-                out[row, e] = sum(f[j] * nodal[j] for j in range(4))
-        return out
-
-    for xi in (0.0, 0.3, 0.77, 1.0):
-        scale = max(np.abs(r).max(), 1.0)
-        point, slope, curvature = shape(xi)
-        np.testing.assert_allclose(((c3 * xi + c2) * xi + c1) * xi + c0,
-                                   point, rtol=0, atol=1e-12 * scale)
-        np.testing.assert_allclose(((3 * c3 * xi + 2 * c2) * xi + c1) / le,
-                                   slope, rtol=0, atol=1e-12)
-        # c2, c3 are differences of coordinates of size `scale`: their round-off
-        # (a few eps scale), divided by le^2, bounds the curvature's; measured
-        # 5 eps (1.1e-12 1/m on 0.5 m elements 400 m from the origin)
-        err = np.abs((6 * c3 * xi + 2 * c2) / le**2 - curvature) * le**2 / scale
-        assert err.max() < 1e-14
+            point, slope, curvature = (sum(f[j] * nodal[j] for j in range(4))
+                                       for f in (n, dn, ddn))
+            _at(r, rp, s, e, xi, origin, gap, slope_xi, curve_xi)
+            np.testing.assert_allclose(gap, point, rtol=0, atol=1e-12 * scale)
+            np.testing.assert_allclose(slope_xi / le, slope, rtol=0, atol=1e-12)
+            # the power basis's c2, c3 are differences of coordinates of size
+            # `scale`: their round-off (a few eps scale), divided by le^2,
+            # bounds the curvature's (measured 5 eps: 1.1e-12 1/m on 0.5 m
+            # elements 400 m from the origin)
+            worst = max(worst, np.abs(curve_xi / le**2 - curvature).max() * le**2 / scale)
+    assert worst < 1e-14
