@@ -178,17 +178,10 @@ def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None)
     return Chunk(scene, name, summary, profiles, len(rows), failed)
 
 
-def encode_table(df: pd.DataFrame, units: dict, metadata: dict) -> bytes:
-    """``df`` as the bytes of a Parquet file carrying the unit of every column,
-    laid out as :func:`pipelay_fast.io.write_table` does (field metadata
-    ``unit``, schema metadata ``units``); dictionary encoding for strings only."""
-    return _encode(pa.Table.from_pandas(df, preserve_index=False), units, metadata)
-
-
 def encode_arrays(columns: dict, units: dict, metadata: dict) -> bytes:
     """The columns ``units`` names, from the arrays of ``columns`` (no
     DataFrame between: the profiles of a chunk are some 40 solves' arrays),
-    as :func:`encode_table` lays them out: strings of the Arrow type pandas
+    as :func:`_encode` lays them out: strings of the Arrow type pandas
     gives them, NaN as null (``from_pandas``)."""
     arrays = [pa.array(columns[k], type=_pandas_string_type(), from_pandas=True)
               if np.asarray(columns[k]).dtype.kind in "OUS"
@@ -205,6 +198,10 @@ def _pandas_string_type() -> pa.DataType:
 
 
 def _encode(table: pa.Table, units: dict, metadata: dict) -> bytes:
+    """``table`` as the bytes of a Parquet file carrying the unit of every
+    column, laid out as :func:`pipelay_fast.io.write_table` does (field
+    metadata ``unit``, schema metadata ``units``); dictionary encoding for
+    strings only."""
     fields = [f.with_metadata({b"unit": units[f.name].encode()}) for f in table.schema]
     schema_metadata = {
         **(table.schema.metadata or {}),

@@ -24,11 +24,9 @@ def element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dl
     :func:`pipelay_fast._jit.plain_calls`) the choice is made when it is
     typed, so only that dimension's element kernel is compiled
     (:func:`_element_forces_impl`); from Python, or with ``nd`` a plain
-    integer, it branches at run time."""
-    if nd == 2:
-        element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm)
-    else:
-        element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+    integer, it branches at run time (called from Python, it runs
+    :func:`element_forces_py`)."""
+    element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
 
 
 @overload(element_forces, prefer_literal=True, jit_options={"_nrt": False})

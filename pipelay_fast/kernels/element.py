@@ -181,7 +181,7 @@ def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=No
     model = Model(props, table, load_factors(current_factor, False))
     element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent,
                       dfe if want_dle else np.zeros(ue.size), want_dle,
-                   np.empty(WORK_SIZE), np.empty((3, 3)))
+                      np.empty(WORK_SIZE), np.empty((3, 3)))
 
 
 @jit(by_dimension=True, _nrt=False)

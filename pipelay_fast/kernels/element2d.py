@@ -159,20 +159,19 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
         cmz = my * xp
 
         # --- residual -----------------------------------------------------
+        nn_ = (n0, n1, n2, n3)
+        dn = (d0, d1, d2, d3)
+        ddn = (dd0, dd1, dd2, dd3)
+        off = (0, 2, 5, 7)  # the x unknown of each shape function (z: + 1)
         bx = wl * ei * xpp
         bz = wl * ei * zpp
         ax = wl * (lam * xp + cmx)
         az = wl * (lam * zp + cmz)
         wqx = wl * qx
         wqz = wl * qz
-        fe[_XA] += bx * dd0 + ax * d0 - wqx * n0
-        fe[_ZA] += bz * dd0 + az * d0 - wqz * n0
-        fe[_XPA] += bx * dd1 + ax * d1 - wqx * n1
-        fe[_ZPA] += bz * dd1 + az * d1 - wqz * n1
-        fe[_XB] += bx * dd2 + ax * d2 - wqx * n2
-        fe[_ZB] += bz * dd2 + az * d2 - wqz * n2
-        fe[_XPB] += bx * dd3 + ax * d3 - wqx * n3
-        fe[_ZPB] += bz * dd3 + az * d3 - wqz * n3
+        for k in range(4):
+            fe[off[k]] += bx * ddn[k] + ax * dn[k] - wqx * nn_[k]
+            fe[off[k] + 1] += bz * ddn[k] + az * dn[k] - wqz * nn_[k]
         cval = 0.5 * (xp * xp + zp * zp - 1.0) - e
         fe[_LA] += wl * p0 * cval
         fe[_LB] += wl * p1 * cval
@@ -206,22 +205,19 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
             eaz = wl * (lam * dzp + my * dxp)
             eqx = wl * dqx
             eqz = wl * dqz
-            dfe[_XA] += -gbx * dd0 - gqx * n0 + ebx * dd0 + eax * d0 - eqx * n0
-            dfe[_ZA] += -gbz * dd0 - gqz * n0 + ebz * dd0 + eaz * d0 - eqz * n0
-            dfe[_XPA] += gax * d1 - 2.0 * gqx * n1 + ebx * dd1 + eax * d1 - eqx * n1
-            dfe[_ZPA] += gaz * d1 - 2.0 * gqz * n1 + ebz * dd1 + eaz * d1 - eqz * n1
-            dfe[_XB] += -gbx * dd2 - gqx * n2 + ebx * dd2 + eax * d2 - eqx * n2
-            dfe[_ZB] += -gbz * dd2 - gqz * n2 + ebz * dd2 + eaz * d2 - eqz * n2
-            dfe[_XPB] += gax * d3 - 2.0 * gqx * n3 + ebx * dd3 + eax * d3 - eqx * n3
-            dfe[_ZPB] += gaz * d3 - 2.0 * gqz * n3 + ebz * dd3 + eaz * d3 - eqz * n3
+            for k in range(4):
+                if k % 2 == 0:  # p_k = 0
+                    dfe[off[k]] += (ebx - gbx) * ddn[k] + eax * dn[k] - (eqx + gqx) * nn_[k]
+                    dfe[off[k] + 1] += (ebz - gbz) * ddn[k] + eaz * dn[k] - (eqz + gqz) * nn_[k]
+                else:  # p_k = 1
+                    dfe[off[k]] += ebx * ddn[k] + (eax + gax) * dn[k] - (eqx + 2.0 * gqx) * nn_[k]
+                    dfe[off[k] + 1] += (ebz * ddn[k] + (eaz + gaz) * dn[k]
+                                        - (eqz + 2.0 * gqz) * nn_[k])
 
         if not want_tangent:
             continue
 
         # --- tangent ------------------------------------------------------
-        nn_ = (n0, n1, n2, n3)
-        dn = (d0, d1, d2, d3)
-        ddn = (dd0, dd1, dd2, dd3)
         wei = wl * ei
         wlam = wl * lam
         for k in range(4):
@@ -232,7 +228,6 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
             for k in range(4):
                 for l in range(k, 4):
                     ws[_KX + 4 * k + l] += wq * nn_[k] * nn_[l]
-        off = (0, 2, 5, 7)
         if (dxx != 0.0 or dxz != 0.0 or dzx != 0.0 or dzz != 0.0 or dqx_dx != 0.0
                 or dqz_dx != 0.0 or my != 0.0):
             # load stiffness -N_k dq_i/du_(l,j), and the moment's H-free term

@@ -143,15 +143,15 @@ def drag_force(model, nd, x, rp, q, dq_drp, dq_dx, work):
     # dq/dr' = C (m Vn t^T + a Vn (dm/dr') + a m B) (d|r'|/dr' = t^T)
     vt_over_a = vt / a
     for j in range(nd):
-        # (P V)_j = (V_j - (V.t) t_j) / a = Vn_j / a
+        # B_ij into dq_drp first ((P V)_j = (V_j - (V.t) t_j) / a = Vn_j / a)
         acc = 0.0
         for i in range(nd):
             b_ij = -(t[i] * vn[j] / a + vt_over_a * ((1.0 if i == j else 0.0) - t[i] * t[j]))
+            dq_drp[i, j] = b_ij
             acc += vn[i] * b_ij
         dm_j = acc / m
         for i in range(nd):
-            b_ij = -(t[i] * vn[j] / a + vt_over_a * ((1.0 if i == j else 0.0) - t[i] * t[j]))
-            dq_drp[i, j] = c * (m * vn[i] * t[j] + a * vn[i] * dm_j + a * m * b_ij)
+            dq_drp[i, j] = c * (m * vn[i] * t[j] + a * vn[i] * dm_j + a * m * dq_drp[i, j])
     vdv = 0.0
     for k in range(nd):
         vdv += vn[k] * dvn[k]

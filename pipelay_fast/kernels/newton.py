@@ -504,6 +504,16 @@ def _over_point(nd, u, point, node, row):
     return e
 
 
+@phase
+def _bnd_equation(nd, u, sup, b, node, row):
+    """The equation of boundary b >= B_LO at its node: lift-off's tangency
+    (:func:`_tangency`) or a point's (:func:`_over_point`); ``row`` gets its
+    derivative d/du. (Touchdown's, a moment, comes from :func:`_evaluate`.)"""
+    if b == B_LO:
+        return _tangency(nd, u, sup.stinger, b, node, row)
+    return _over_point(nd, u, sup.points[b - B_PT], node, row)
+
+
 @jit
 def _element_at(s_old, node, t):
     """(element, xi) of material point ``t`` [m] on nodes ``s_old`` [m],
@@ -594,7 +604,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
-    "scale", "torques", "rows", "cols", "ys", "res_b", "d_b", "kind", "dz", "sm", "rh",
+    "scale", "torques", "rows", "cols", "res_b", "d_b", "kind", "dz", "sm", "rh",
     "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
     "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate", "at_scratch", "sh",
     "fr_stop", "rhs"])
@@ -621,7 +631,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.zeros((n, rows_ab)).T, np.zeros((n, rows_ab)).T, np.zeros(n, dtype=np.int64),
         np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n, dtype=np.bool_),
         np.zeros(n), np.zeros(n), np.zeros(n), scale, np.full(nel, props[L.TORQUE]),
-        np.zeros((n_border, n)), np.zeros((n_border, n)), np.zeros((n_border, n)),
+        np.zeros((n_border, n)), np.zeros((n_border, n)),
         np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border, dtype=np.int64),
         np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border),
         np.zeros((nbnd, n)), np.zeros(n), np.zeros(n), np.zeros(nbnd), np.zeros(nbnd),
@@ -761,13 +771,8 @@ def _to_nodal_residual(nd, u, mesh, sup, w, m_td):
     _to_nodal_frames(nd, w.g, u, sup, w)
     w.res_bnd[0] = m_td
     for b in range(B_LO, mesh.bnodes.shape[0]):
-        node = mesh.bnodes[b]
-        if node < 0:
-            continue
-        if b == B_LO:
-            w.res_bnd[b] = _tangency(nd, u, sup.stinger, b, node, w.row_t)
-        else:
-            w.res_bnd[b] = _over_point(nd, u, sup.points[b - B_PT], node, w.row_t)
+        if mesh.bnodes[b] >= 0:
+            w.res_bnd[b] = _bnd_equation(nd, u, sup, b, mesh.bnodes[b], w.row_t)
 
 
 @jit
@@ -805,10 +810,8 @@ def _border(nd, u, mesh, sup, ends, w, te_top):
         if b == B_TD:  # (evaluated by _evaluate)
             w.row_t[:] = w.row_td
             d_own = w.own_td[0]
-        elif b == B_LO:
-            w.res_bnd[b] = _tangency(nd, u, sup.stinger, b, node, w.row_t)
         else:
-            w.res_bnd[b] = _over_point(nd, u, sup.points[b - B_PT], node, w.row_t)
+            w.res_bnd[b] = _bnd_equation(nd, u, sup, b, node, w.row_t)
         _to_nodal_frames(nd, w.col_t, u, sup, w)
         _to_nodal_frames(nd, w.row_t, u, sup, w)
         w.rows[nb, :] = w.row_t
@@ -1017,6 +1020,7 @@ def _condensed_solve(nd, w, nb):
     if band_factor(ab, kl, ku, w.ipiv) != 0:
         return False
     # the step and the border columns solved together, the band read once
+    # (column 0 the step y0, column 1 + j the border column Y_j)
     rhs = w.rhs
     for i in range(n):
         rhs[i, 0] = du[i]
@@ -1025,8 +1029,6 @@ def _condensed_solve(nd, w, nb):
     band_solve_many(ab, kl, ku, w.ipiv, rhs, 1 + nb)
     for i in range(n):
         du[i] = rhs[i, 0]
-        for j in range(nb):
-            w.ys[j, i] = rhs[i, 1 + j]
     # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz
     for i2 in range(nb):
         acc = 0.0
@@ -1036,13 +1038,13 @@ def _condensed_solve(nd, w, nb):
         for j in range(nb):
             acc = 0.0
             for k in range(n):
-                acc += w.rows[i2, k] * scale[k] * w.ys[j, k]
+                acc += w.rows[i2, k] * scale[k] * rhs[k, 1 + j]
             w.sm[i2, j] = acc - w.d_b[i2, j]
     if nb > 0 and not _solve_dense(nb, w.sm, w.rh, w.dz):
         return False
     for j in range(nb):
         for i in range(n):
-            du[i] -= w.dz[j] * w.ys[j, i]
+            du[i] -= w.dz[j] * rhs[i, 1 + j]
     return True
 
 
@@ -1172,11 +1174,10 @@ def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td):
     tdr = 0.0
     if bnodes[B_TD] >= 0 and not hold:
         tdr += (m_td / (fref * href)) ** 2
-    if bnodes[B_LO] >= 0 and not hold:
-        tdr += _tangency(nd, u, sup.stinger, B_LO, bnodes[B_LO], w.row_t) ** 2
-    for b in range(B_PT, bnodes.shape[0]):
+    for b in range(B_LO, bnodes.shape[0]):
         if bnodes[b] >= 0 and not hold:
-            tdr += (_over_point(nd, u, sup.points[b - B_PT], bnodes[b], w.row_t) / href) ** 2
+            tdr += (_bnd_equation(nd, u, sup, b, bnodes[b], w.row_t)
+                    / _bnd_scale(b, fref, href)) ** 2
     _to_nodal_frames(nd, w.g_trial, u, sup, w)
     _rm, rs = _weighted_max(nd, w.g_trial, w.cmask, fref, href)
     return rs + tr * tr + tdr
