@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.optimize import brentq
 
+from .kernels import layout as L
 from .kernels.contact import ST_ON, tip_geometry
 from .kernels.newton import B_LO
 from .mesh import graded_nodes
@@ -76,7 +77,7 @@ def graded_on_boundaries(case: Case, pb: Problem) -> bool:
     does (:meth:`.Problem.follow_rates`), within O(d^2) of this one."""
     total = float(pb.s[-1])
     graded = graded_nodes(total, [touchdown_position(pb), total, *stinger_foci(case, pb)],
-                          pb.stats["h_max"], pb.stats["h_min"])
+                          pb.stats["h_max"], pb.stats["h_min"], nodes=over_rollers(pb))
     return (graded.size == pb.s.size
             and float(np.abs(graded - pb.s).max()) <= ON_FOCUS * pb.stats["h_min"])
 
@@ -119,9 +120,28 @@ def tip_position(pb: Problem):
     return float(pb.s[pb.tip_node])
 
 
+def over_rollers(pb: Problem) -> np.ndarray:
+    """Arc lengths [m] of the nodes over a roller stinger's rollers (empty
+    without rollers)."""
+    nodes = pb.roller_nodes
+    return pb.s[nodes[nodes >= 0]]
+
+
+def last_roller_in_contact(pb: Problem) -> int:
+    """The index of the last roller (from the vessel down) the pipe bears
+    on; -1 when it bears on none or there are no rollers."""
+    nodes = pb.roller_nodes
+    bearing = np.flatnonzero((pb.points[:nodes.size, L.PT_BEAR] != 0.0) & (nodes >= 0))
+    return int(bearing[-1]) if bearing.size else -1
+
+
 def liftoff_position(case: Case, pb: Problem):
     """Arc length of lift-off [m]: the tip when it bears, else where the pipe
-    leaves the stinger's curve; None without a stinger."""
+    leaves the stinger's curve; on a roller stinger the last roller it bears
+    on (the top when none); None without a stinger."""
+    if case.lay.has_rollers:
+        j = last_roller_in_contact(pb)
+        return float(pb.s[pb.roller_nodes[j]]) if j >= 0 else float(pb.s[-1])
     if pb.stinger[ST_ON] == 0.0:
         return None
     s_tip = tip_position(pb)

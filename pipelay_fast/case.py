@@ -56,6 +56,7 @@ __all__ = [
     "Pipe",
     "Seabed",
     "Solver",
+    "RollerStinger",
     "Stinger",
     "load_case",
 ]
@@ -448,6 +449,149 @@ class Stinger:
         return vectorised(
             z, lambda z: 2.0 * self.a / (1.0 + (2.0 * self.a * z + self.b) ** 2) ** 1.5)
 
+    def roller_positions(self, spacing: float) -> list[list[float]]:
+        """Rollers on this curve for a roller stinger's ``rollers``: evenly
+        along its arc from the upper end down, about ``spacing`` [m] apart
+        (the arc divided into the nearest whole number of spans), the last
+        on the tip; (x, z) [m] pairs, from the vessel down. The arc is
+        integrated by the trapezoidal rule on 200 000 intervals."""
+        if not spacing > 0.0:
+            fail("spacing", spacing, "must be positive")
+        z = np.linspace(self.upper[1], self.lower[1], 200001)
+        x = self.height(z)
+        arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(z)))])
+        n = max(1, round(arc[-1] / spacing))
+        zr = np.interp(arc[-1] / n * np.arange(1, n + 1), arc, z)
+        return [[float(a), float(b)] for a, b in zip(self.height(zr), zr, strict=True)]
+
+
+ROLLER_TYPES = ("v", "flat")
+
+
+@dataclass(frozen=True, slots=True)
+class RollerStinger:
+    """Roller stinger: rigid rollers at discrete stations, table
+    ``[lay.stinger]`` with ``rollers`` (or ``radius``) instead of ``a``.
+
+    The pipe spans freely between the rollers and bears on each one it
+    reaches (a unilateral, frictionless point contact,
+    :mod:`pipelay_fast.kernels.newton`). The positions are those of the
+    pipe's axis over each roller, as the quadratic stinger's curve is the
+    axis's path: a roller top raised by the pipe's outer radius (coating
+    included) along the pipe's normal.
+
+    Attributes
+    ----------
+    rollers : list of (float, float) or None
+        (x, z) [m] of each roller, from the vessel down: z falling and x
+        falling from one to the next, all above the seabed and below and
+        behind ``lay.top``.
+    radius, arc_length, spacing : float or None
+        Or the rollers placed on a path from ``lay.top`` along
+        ``lay.top_angle``: ``straight_length`` [m] straight, then a circular
+        arc of ``radius`` [m] turning the pipe down over ``arc_length`` [m],
+        a roller every ``spacing`` [m] of the path from its start (the first
+        at ``spacing``, the last at or before the arc's end).
+    straight_length : float
+        The path's straight part [m]; default 0.
+    height_step : float or None
+        Roller heights rounded to multiples of it [m] (the pin holes of a
+        roller box set heights in steps); None: not rounded. With
+        ``rollers`` given it is not allowed (round them yourself).
+    roller_type : str or list of str
+        "v" (default): a roller box with side rollers, which in 3D holds the
+        pipe laterally (y = 0) while it bears; "flat": it does not. One for
+        all rollers, or one per roller.
+
+    A roller stinger needs ``lay.top`` (where the vessel holds the pipe) and
+    ``lay.top_angle`` (degrees, or "pinned" with ``rollers`` given).
+    """
+
+    rollers: tuple[tuple[float, float], ...] | None = None
+    radius: float | None = None
+    arc_length: float | None = None
+    spacing: float | None = None
+    straight_length: float = 0.0
+    height_step: float | None = None
+    roller_type: str | tuple[str, ...] = "v"
+
+    def __post_init__(self):
+        p = "lay.stinger"
+        path_keys = ("radius", "arc_length", "spacing")
+        given = [k for k in path_keys if getattr(self, k) is not None]
+        if self.rollers is not None:
+            if given:
+                fail(f"{p}.{given[0]}", getattr(self, given[0]),
+                     f"is given with {p}.rollers: give the rollers, or the path "
+                     "(radius, arc_length, spacing), not both")
+            if self.height_step is not None:
+                fail(f"{p}.height_step", self.height_step,
+                     f"rounds generated rollers only; {p}.rollers are taken as given")
+            if not isinstance(self.rollers, (list, tuple)) or not self.rollers:
+                fail(f"{p}.rollers", self.rollers, "must be a non-empty list of [x, z] pairs")
+            pts = tuple(vector(f"{p}.rollers[{i}]", r, 2) for i, r in enumerate(self.rollers))
+            assign(self, "rollers", pts)
+            for i in range(1, len(pts)):
+                (x0, z0), (x1, z1) = pts[i - 1], pts[i]
+                if not (z1 < z0 and x1 < x0):
+                    fail(f"{p}.rollers[{i}]", list(pts[i]),
+                         f"must lie below and behind {p}.rollers[{i - 1}] = {list(pts[i - 1])} "
+                         "(x and z falling from the vessel down)")
+            for i, (x, _z) in enumerate(pts):
+                if x < 0.0:
+                    fail(f"{p}.rollers[{i}]", list(pts[i]), "is below the seabed (x < 0)")
+        else:
+            if len(given) != 3:
+                missing = [k for k in path_keys if k not in given]
+                raise ValueError(f"{p}: a roller stinger needs {p}.rollers, or {p}.radius, "
+                                 f"{p}.arc_length and {p}.spacing (missing "
+                                 f"{', '.join(p + '.' + k for k in missing)})")
+            set_numbers(self, p, positive=path_keys, non_negative=("straight_length",))
+            if self.height_step is not None:
+                set_numbers(self, p, positive=("height_step",))
+            if self.spacing > self.straight_length + self.arc_length:
+                fail(f"{p}.spacing", self.spacing, "is longer than the roller path "
+                     f"(straight_length + arc_length = "
+                     f"{self.straight_length + self.arc_length:g} m): no roller on it")
+        kinds = self.roller_type
+        if isinstance(kinds, (list, tuple)):
+            kinds = tuple(choice(f"{p}.roller_type[{i}]", k, ROLLER_TYPES)
+                          for i, k in enumerate(kinds))
+            if self.rollers is not None and len(kinds) != len(self.rollers):
+                fail(f"{p}.roller_type", list(kinds), f"has {len(kinds)} entries for "
+                     f"{len(self.rollers)} rollers: give one per roller, or one for all")
+        else:
+            kinds = choice(f"{p}.roller_type", kinds, ROLLER_TYPES)
+        assign(self, "roller_type", kinds)
+
+    def positions(self, top, top_angle) -> np.ndarray:
+        """(n, 2) roller positions (x, z) [m]: ``rollers``, or placed on the
+        path from ``top`` (x, z) [m] along ``top_angle`` [deg]."""
+        if self.rollers is not None:
+            return np.array(self.rollers, dtype=float)
+        length = self.straight_length + self.arc_length
+        n = int(math.floor(length / self.spacing * (1.0 + 1e-12)))
+        sigma = self.spacing * np.arange(1, n + 1)
+        theta0 = math.radians(top_angle)
+        arc = np.clip(sigma - self.straight_length, 0.0, None)
+        straight = sigma - arc
+        theta = theta0 + arc / self.radius
+        # along the straight, then the arc (the angle grows at 1/radius per m)
+        x = top[0] - straight * math.sin(theta0) - self.radius * (
+            np.cos(theta0) - np.cos(theta))
+        z = top[1] - straight * math.cos(theta0) - self.radius * (
+            np.sin(theta) - np.sin(theta0))
+        if self.height_step is not None:
+            x = self.height_step * np.round(x / self.height_step)
+        return np.stack([x, z], axis=1)
+
+    def lateral_hold(self, n: int) -> np.ndarray:
+        """(n,) 1.0 for each roller that holds the pipe laterally (a V roller)."""
+        kinds = self.roller_type
+        if isinstance(kinds, str):
+            return np.full(n, 1.0 if kinds == "v" else 0.0)
+        return np.array([1.0 if k == "v" else 0.0 for k in kinds])
+
 
 @dataclass(frozen=True, slots=True)
 class Lay:
@@ -499,7 +643,7 @@ class Lay:
 
     def __post_init__(self):
         if self.stinger is not None:
-            instance("lay.stinger", self.stinger, Stinger)
+            instance("lay.stinger", self.stinger, (Stinger, RollerStinger))
         if self.method is None:
             assign(self, "method", "J" if self.stinger is None else "S")
         choice("lay.method", self.method, METHODS)
@@ -521,7 +665,9 @@ class Lay:
         set_numbers(self, "lay", positive=given)
 
     def _check_top(self):
-        if self.method == "S":
+        if self.method == "S" and isinstance(self.stinger, RollerStinger):
+            self._check_rollers()
+        elif self.method == "S":
             if self.stinger is None:
                 raise ValueError("missing table lay.stinger: S-lay needs a [lay.stinger]")
             upper = self.stinger.upper
@@ -540,6 +686,9 @@ class Lay:
             assign(self, "top", vector("lay.top", self.top, 2))
         if self.top[0] <= 0:
             fail("lay.top", self.top, "must be above the seabed (x > 0)")
+        self._check_top_angle()
+
+    def _check_top_angle(self):
         if isinstance(self.top_angle, str):
             if self.top_angle != "pinned":
                 fail("lay.top_angle", self.top_angle, 'must be a number of degrees or "pinned"')
@@ -547,6 +696,58 @@ class Lay:
             set_numbers(self, "lay", finite=("top_angle",))
             if not 0.0 < self.top_angle <= 90.0:
                 fail("lay.top_angle", self.top_angle, "must lie in (0, 90] degrees")
+
+    def _check_rollers(self):
+        """A roller stinger's top, top angle and rollers: the rollers below
+        and behind the top, falling from one to the next, above the seabed."""
+        st, p = self.stinger, "lay.stinger"
+        if self.top is None:
+            raise ValueError("missing required key lay.top: (x, z) [m] where the vessel holds "
+                             "the pipe, above the roller stinger")
+        assign(self, "top", vector("lay.top", self.top, 2))
+        if self.top_angle is None:
+            raise ValueError("missing required key lay.top_angle: with a roller stinger give "
+                             "the firing line's angle [deg] (or \"pinned\" with "
+                             "lay.stinger.rollers)")
+        self._check_top_angle()
+        if st.rollers is None:
+            if self.top_angle == "pinned":
+                fail("lay.top_angle", self.top_angle, f"gives no direction for the roller path "
+                     f"({p}.radius starts along lay.top_angle): give it in degrees")
+            turn = self.top_angle + math.degrees(st.arc_length / st.radius)
+            if turn > MAX_STINGER_TURN:
+                fail(f"{p}.arc_length", st.arc_length,
+                     f"turns the pipe to {turn:.4g} deg from lay.top_angle = {self.top_angle!r} "
+                     f"deg with {p}.radius = {st.radius!r} m: beyond {MAX_STINGER_TURN:g} deg the "
+                     "stinger overhangs the pipe coming from the vessel")
+        pts = self.roller_positions()
+        where = f"{p}.rollers" if st.rollers is not None else f"{p} (generated rollers)"
+        if not isinstance(st.roller_type, str) and len(st.roller_type) != len(pts):
+            fail(f"{p}.roller_type", list(st.roller_type),
+                 f"has {len(st.roller_type)} entries for the {len(pts)} rollers the path "
+                 "places: give one per roller, or one for all")
+        x_top, z_top = self.top
+        if not (pts[0, 0] < x_top and pts[0, 1] < z_top):
+            fail(f"{where}[0]", pts[0].tolist(), f"must lie below and behind lay.top = "
+                 f"{list(self.top)} (the vessel holds the pipe above the stinger)")
+        for i in range(1, len(pts)):
+            if not (pts[i, 0] < pts[i - 1, 0] and pts[i, 1] < pts[i - 1, 1]):
+                fail(f"{where}[{i}]", pts[i].tolist(),
+                     f"must lie below and behind roller {i - 1} at {pts[i - 1].tolist()} (x and "
+                     "z falling from the vessel down; a coarse height_step can merge heights)")
+        if pts[-1, 0] < 0.0:
+            fail(f"{where}[{len(pts) - 1}]", pts[-1].tolist(), "is below the seabed (x < 0)")
+
+    def roller_positions(self) -> np.ndarray | None:
+        """(n, 2) roller positions (x, z) [m] of a roller stinger; None otherwise."""
+        if not isinstance(self.stinger, RollerStinger):
+            return None
+        angle = 0.0 if self.top_angle == "pinned" else self.top_angle
+        return self.stinger.positions(self.top, angle)
+
+    @property
+    def has_rollers(self) -> bool:
+        return isinstance(self.stinger, RollerStinger)
 
 
 @dataclass(frozen=True, slots=True)
@@ -840,8 +1041,22 @@ def _build(cls, table, path):
     kwargs = dict(table)
     for key, sub in _SUBTABLES.items():
         if key in names and key in kwargs:
+            if key == "stinger":
+                sub = _stinger_class(kwargs[key], f"{path}.{key}")
             kwargs[key] = _build(sub, kwargs[key], f"{path}.{key}")
     return cls(**kwargs)
+
+
+def _stinger_class(table, path):
+    """The quadratic stinger (key ``a``) or the roller stinger (``rollers`` or
+    ``radius``) a ``[lay.stinger]`` table describes."""
+    if not isinstance(table, Mapping):
+        fail(path, table, "must be a table")
+    rollers = [k for k in ("rollers", "radius") if k in table]
+    if "a" in table and rollers:
+        fail(f"{path}.{rollers[0]}", table[rollers[0]], f"is given with {path}.a: a stinger is "
+             "the quadratic curve (a, lower, upper) or rollers (rollers, or radius), not both")
+    return RollerStinger if rollers else Stinger
 
 
 def load_case(source: str | os.PathLike | Mapping) -> Case:

@@ -55,11 +55,13 @@ def _parser() -> argparse.ArgumentParser:
     solve_cmd = commands.add_parser(
         "solve", help="solve one case and print its summary",
         description="Solve one case file, print the summary (display units), "
-        "optionally write summary.parquet and profile.parquet (SI units).",
+        "optionally write summary.parquet and profile.parquet (and rollers.parquet for a "
+        "roller stinger; SI units).",
     )
     solve_cmd.add_argument("case", type=Path, metavar="CASE.toml", help="case file")
     solve_cmd.add_argument("--out", type=Path, metavar="DIR",
-                           help="write summary.parquet and profile.parquet into DIR")
+                           help="write summary.parquet and profile.parquet (rollers.parquet "
+                           "too for a roller stinger) into DIR")
     solve_cmd.add_argument("--quiet", action="store_true", help="print nothing but errors")
     solve_cmd.set_defaults(run=_solve)
 

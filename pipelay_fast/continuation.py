@@ -10,6 +10,8 @@ path, which seabed friction makes path dependent (:func:`apply_current`).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .boundaries import (
@@ -24,6 +26,7 @@ from .errors import SolveError
 from .kernels import layout as L
 from .kernels.contact import friction_forces
 from .kernels.newton import (
+    B_PT,
     I_DELTA,
     I_ITER,
     I_PAST,
@@ -109,6 +112,22 @@ def _residual(pb: Problem):
                     np.zeros_like(pb.u), pb.s)
     g[pb.fix_mask != 0] = 0.0
     g[0::pb.ndn][pb.bed_active != 0] = 0.0
+    # and the rows of the points the pipe bears on: their normal (along the
+    # pipe's normal, the kernel's frame there) and, a V roller's in 3D, y
+    nd, ndn = pb.nd, pb.ndn
+    for b in range(B_PT, pb.bnodes.size):
+        k = int(pb.bnodes[b])
+        point = pb.points[b - B_PT]
+        if k < 0 or point[L.PT_BEAR] == 0.0:
+            continue
+        base = k * ndn
+        phi = math.atan2(pb.u[base + nd], pb.u[base + 2 * nd - 1])
+        c, s = math.cos(phi), math.sin(phi)
+        normal = c * g[base] - s * g[base + nd - 1]
+        g[base] -= normal * c
+        g[base + nd - 1] += normal * s
+        if nd == 3 and point[L.PT_HOLD] != 0.0:
+            g[base + 1] = 0.0
     return g
 
 

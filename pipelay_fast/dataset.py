@@ -47,7 +47,7 @@ RUN_UNITS = {"chain": "", "chain_position": "", "warm_started": ""}
 SUMMARY_COLUMNS = {**SUMMARY_UNITS, **INPUT_UNITS, **TARGET_UNITS, **RUN_UNITS}
 PROFILE_COLUMNS = {"case_id": "", "node": "", **PROFILE_UNITS}
 _INTEGER = ("n_elements", "n_iterations", "n_current_steps", "max_current_step_iterations",
-            "n_meshes", "chain_position")
+            "n_meshes", "chain_position", "last_roller_in_contact")
 _BOOLEAN = ("warm_started",)
 
 

@@ -113,7 +113,8 @@ def lcc_profile(case, cols: dict) -> np.ndarray:
 
 
 def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
-                   bearing: bool, departure_angle: float) -> dict:
+                   bearing: bool, departure_angle: float,
+                   roller_clearance: float | None = None) -> dict:
     """The columns of ``DESIGN_UNITS`` of a solved case.
 
     ``cols``: the profile columns; ``r``, ``rp``: nodal position and slope in
@@ -121,7 +122,9 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
     the nodes of each region (``sagbend`` None: the J-lay span behind
     touchdown, whose peak is its interior maximum); ``bearing``: the pipe
     bears on the stinger's tip; ``departure_angle``: the angle where the
-    pipe leaves the stinger (S-lay) or the vessel (J-lay) [deg].
+    pipe leaves the stinger (S-lay) or the vessel (J-lay) [deg];
+    ``roller_clearance``: a roller stinger's clearance at its last roller
+    [m], its ``tip_clearance``.
     """
     from .results import interior_peak
 
@@ -132,6 +135,8 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
     layback = math.hypot(cols["z"][-1] - at_tdp["z"], cols["y"][-1] - at_tdp["y"])
     if stinger is None:
         clearance = math.nan
+    elif roller_clearance is not None:  # a roller stinger's: its last roller's
+        clearance = roller_clearance
     elif bearing:
         clearance = 0.0
     else:

@@ -12,6 +12,7 @@ the bending boundary layers, which shift touchdown by about sqrt(EI/h).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -262,3 +263,24 @@ def shape(case: Case, g: Guess, s):
         te[on_st] = cat.h + _rise(cat.w1, cat.w2, depth, x[on_st])
         kappa[on_st] = 2.0 * st.a / (1.0 + slope**2) ** 1.5
     return x, z, th, te, kappa
+
+
+@functools.lru_cache(maxsize=256)
+def guide_case(case: Case) -> Case:
+    """A roller stinger's guide: the case with its rollers replaced by a
+    quadratic stinger from the last roller up to ``lay.top``, its ``a`` the
+    least-squares fit of the rollers' heights (the ends passed through; a <=
+    0, concave down), held at the top at ``lay.top_angle`` (along the
+    curve's tangent when pinned). Its answer is where a roller stinger's
+    solve starts (:func:`pipelay_fast.problem.roller_problem`)."""
+    lay = case.lay
+    pts = lay.roller_positions()
+    (x_u, z_u), (x_l, z_l) = lay.top, pts[-1]
+    x, z = pts[:, 0], pts[:, 1]
+    chord = x_l + (x_u - x_l) * (z - z_l) / (z_u - z_l)
+    bow = (z - z_l) * (z - z_u)  # the quadratic's part that vanishes at both ends
+    norm = float(bow @ bow)
+    a = min(float((x - chord) @ bow) / norm, 0.0) if norm > 0.0 else 0.0
+    angle = None if lay.top_angle == "pinned" else lay.top_angle
+    return case.with_changes({"lay.stinger": {"a": a, "lower": [x_l, z_l], "upper": [x_u, z_u]},
+                              "lay.top": None, "lay.top_angle": angle})

@@ -18,7 +18,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from .results import PROFILE_UNITS, SUMMARY_UNITS, Result
+from .results import PROFILE_UNITS, ROLLER_UNITS, SUMMARY_UNITS, Result
 
 __all__ = ["read_units", "write_result", "write_table"]
 
@@ -85,10 +85,13 @@ def read_units(path: str | os.PathLike) -> dict[str, str]:
     return json.loads(metadata[b"units"])
 
 
-def write_result(result: Result, out_dir: str | os.PathLike) -> tuple[Path, Path]:
-    """Write ``summary.parquet`` (one row) and ``profile.parquet`` into ``out_dir``.
+def write_result(result: Result, out_dir: str | os.PathLike) -> tuple[Path, ...]:
+    """Write ``summary.parquet`` (one row) and ``profile.parquet`` into
+    ``out_dir``, and ``rollers.parquet`` (one row per roller) for a roller
+    stinger.
 
-    ``out_dir`` is created if missing. Returns the two paths (summary, profile).
+    ``out_dir`` is created if missing. Returns the paths written (summary,
+    profile, then rollers).
     """
     from . import __version__
 
@@ -103,4 +106,7 @@ def write_result(result: Result, out_dir: str | os.PathLike) -> tuple[Path, Path
         pd.DataFrame([result.summary]), out / "summary.parquet", SUMMARY_UNITS, metadata
     )
     profile = write_table(result.profile, out / "profile.parquet", PROFILE_UNITS, metadata)
-    return summary, profile
+    if result.rollers is None:
+        return summary, profile
+    return summary, profile, write_table(result.rollers, out / "rollers.parquet", ROLLER_UNITS,
+                                         metadata)

@@ -23,11 +23,13 @@ GROWTH = 1.2
 _SAMPLES = 129  # samples of each span's element count phi(t)
 
 
-def _anchors(length, foci):
-    """The stretches between anchors (the ends and the foci inside): their
-    ends a, b [m] (stretches shorter than 1e-9 m dropped) and the foci [m]."""
+def _anchors(length, foci, nodes=()):
+    """The stretches between anchors (the ends, the foci and the plain
+    ``nodes`` inside): their ends a, b [m] (stretches shorter than 1e-9 m
+    dropped) and the foci [m]."""
     inside = [float(f) for f in foci if 0.0 < f <= length]
-    anchors = sorted({0.0, float(length), *inside})
+    plain_nodes = [float(f) for f in nodes if 0.0 < f <= length]
+    anchors = sorted({0.0, float(length), *inside, *plain_nodes})
     pairs = [(a, b) for a, b in zip(anchors[:-1], anchors[1:], strict=True) if b - a > 1e-9]
     focus = inside or [0.0]
     return np.array([p[0] for p in pairs]), np.array([p[1] for p in pairs]), focus
@@ -54,7 +56,8 @@ def _span_count(phi):
     return max(1, int(np.ceil(phi[-1] - 1e-9)))
 
 
-def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=None):
+def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=None,
+                 nodes=()):
     """Node positions s in [0, length] [m], graded towards each focus point.
 
     Parameters
@@ -72,13 +75,25 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=
     check : callable or None
         Called with the element count before any node is placed (it may
         raise to refuse a mesh too large).
+    nodes : sequence of float
+        Arc lengths [m] kept as nodes without grading there (the material
+        points over a roller stinger's rollers); ungraded, each stretch
+        between them is uniform.
     """
     if not grading:
+        if len(nodes):
+            a, b, _focus = _anchors(length, (), nodes)
+            counts = [max(1, int(np.ceil((hi - lo) / h_max - 1e-9)))
+                      for lo, hi in zip(a, b, strict=True)]
+            if check is not None:
+                check(sum(counts))
+            return np.concatenate([[0.0], *[np.linspace(lo, hi, n + 1)[1:]
+                                             for lo, hi, n in zip(a, b, counts, strict=True)]])
         n = _uniform_count(length, h_max)
         if check is not None:
             check(n)
         return np.linspace(0.0, length, n + 1)
-    a, b, focus = _anchors(length, foci)
+    a, b, focus = _anchors(length, foci, nodes)
     t, phi = _span_tables(a, b, np.tile(focus, (a.size, 1)), h_max, h_min, growth)
     counts = [_span_count(row) for row in phi]
     if check is not None:
@@ -96,18 +111,22 @@ def _place(t, phi, b, counts):
     return nodes
 
 
-def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):
+def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4, nodes=()):
     """ds_i/df [-] of the nodes of :func:`graded_nodes` (graded) with respect
     to the foci ``foci[j]`` for j in ``moving``, at fixed element counts per
     span: central differences over ``step`` [m] (the nodes are smooth in the
     foci between changes of count). One row per entry of ``moving``; a
     focus's own node moves with it at rate 1, the other anchors at 0. The
     stretches of the mesh and of every moved set of foci are tabulated in
-    one pass (:func:`_span_tables`)."""
-    variants = [list(foci)]
-    variants.extend([f + sign * step if i == j else f for i, f in enumerate(foci)]
+    one pass (:func:`_span_tables`). ``nodes``: the plain nodes of
+    :func:`graded_nodes`; an entry j of ``moving`` past the foci moves
+    nodes[j - len(foci)]."""
+    points = [*foci, *nodes]
+    nf = len(foci)
+    variants = [points]
+    variants.extend([f + sign * step if i == j else f for i, f in enumerate(points)]
                     for j in moving for sign in (1.0, -1.0))
-    parts = [_anchors(length, v) for v in variants]
+    parts = [_anchors(length, v[:nf], v[nf:]) for v in variants]
     if any(p[0].size != parts[0][0].size for p in parts):
         raise ValueError(f"grading_rates: moving foci {list(moving)} by {step} m changes the "
                          f"mesh's stretches (foci {list(foci)} on a length of {length} m)")
@@ -131,10 +150,10 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4):
         row += pa.size
     base = meshes[0]
     rates = np.zeros((len(moving), base.size))
-    anchors = np.isin(base, [0.0, length, *foci])
+    anchors = np.isin(base, [0.0, length, *points])
     for r, j in enumerate(moving):
         rates[r] = (meshes[1 + 2 * r] - meshes[2 + 2 * r]) / (2.0 * step)
-        own = int(np.argmin(np.abs(base - foci[j])))
+        own = int(np.argmin(np.abs(base - points[j])))
         rates[r, anchors] = 0.0
         rates[r, own] = 1.0
     return rates

@@ -65,7 +65,13 @@ def plot_result(result, path: str | os.PathLike | None = None):
     ax.axhline(0.0, color="saddlebrown", lw=1.0, label="seabed")
     ax.axhline(case.environment.water_depth, color="C9", lw=1.0, ls="--", label="water line")
     stinger = case.lay.stinger
-    if stinger is not None:
+    rollers = result.rollers
+    if rollers is not None:  # bearing rollers filled, clear ones open
+        on = rollers["in_contact"].to_numpy()
+        ax.plot(rollers["z"][on], rollers["x"][on], "o", color="k", ms=4, label="roller, bearing")
+        ax.plot(rollers["z"][~on], rollers["x"][~on], "o", color="k", ms=4, mfc="none",
+                label="roller, clear")
+    elif stinger is not None:
         zs = np.linspace(stinger.lower[1], stinger.upper[1], 101)
         ax.plot(zs, stinger.height(zs), color="k", lw=2.5, alpha=0.5, label="stinger")
     ax.plot([sm["tdp_z"]], [0.0], "v", color="C3", label="touchdown")

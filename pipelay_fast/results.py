@@ -30,6 +30,11 @@ PROFILE_UNITS = {
     "reaction_x": "N", "reaction_y": "N", "reaction_z": "N", "slipping": "", "contact": "",
 }
 
+ROLLER_UNITS = {
+    "roller": "", "x": "m", "z": "m", "s": "m", "reaction": "N", "lateral_reaction": "N",
+    "clearance": "m", "in_contact": "",
+}
+
 SUMMARY_UNITS = {
     "case_id": "", "method": "", "dimension": "", "a": "1/m", "water_depth": "m",
     "current_speed": "m/s", "current_heading_deg": "deg", "status": "", "message": "",
@@ -38,6 +43,7 @@ SUMMARY_UNITS = {
     "max_von_mises": "Pa", "overbend_max_von_mises": "Pa", "sagbend_max_von_mises": "Pa",
     "overbend_max_moment": "N m", "sagbend_max_moment": "N m", "max_strain": "-",
     "max_lateral_deflection": "m", "tip_reaction": "N", "liftoff_reaction": "N",
+    "max_roller_reaction": "N", "last_roller_in_contact": "",
     **DESIGN_UNITS,
     "n_elements": "", "n_iterations": "", "n_current_steps": "",
     "max_current_step_iterations": "", "n_meshes": "", "solve_seconds": "s",
@@ -64,6 +70,12 @@ class Result:
     profile : pandas.DataFrame
         One row per node (units in ``PROFILE_UNITS``); built on first access
         from ``columns``, the same data as numpy arrays.
+    rollers : pandas.DataFrame or None
+        A roller stinger's rollers, one row each from the vessel down (units
+        in ``ROLLER_UNITS``): position, the arc length of the material point
+        over it, its normal and lateral reactions, the pipe's clearance
+        above it and whether the pipe bears on it; None without rollers.
+        Built on first access from ``roller_columns``.
     state : object
         The solved problem (mesh, unknowns, constraints) for warm starts.
     target : dict or None
@@ -71,19 +83,28 @@ class Result:
         goal, the varied key, its value and the number of solves.
     """
 
-    def __init__(self, case: Case, summary: dict, columns: dict, state=None):
+    def __init__(self, case: Case, summary: dict, columns: dict, state=None,
+                 roller_columns: dict | None = None):
         self.case = case
         self.summary = summary
         self.columns = columns
+        self.roller_columns = roller_columns
         self.state = state
         self.target = None
         self._profile = None
+        self._rollers = None
 
     @property
     def profile(self) -> pd.DataFrame:
         if self._profile is None:
             self._profile = pd.DataFrame(self.columns)
         return self._profile
+
+    @property
+    def rollers(self) -> pd.DataFrame | None:
+        if self._rollers is None and self.roller_columns is not None:
+            self._rollers = pd.DataFrame(self.roller_columns)
+        return self._rollers
 
     def plot(self, path=None):
         """The lay's figure (:func:`pipelay_fast.plot.plot_result`): elevation,
@@ -222,6 +243,47 @@ def tip_force(pb):
     return int(pb.tip_node), float(pb.tip[1])
 
 
+def roller_gaps(pb) -> np.ndarray:
+    """The pipe's clearance [m] above each roller of a roller stinger: its
+    axis at the node over the roller, along the pipe's normal there (the
+    Newton kernel's gap, :func:`.kernels.newton._point_gap`); negative:
+    below it."""
+    nodes = pb.roller_nodes
+    nd = pb.nd
+    base = nodes * pb.ndn
+    x, z = pb.u[base], pb.u[base + nd - 1]
+    phi = np.arctan2(pb.u[base + nd], pb.u[base + 2 * nd - 1])
+    pts = pb.points
+    return np.cos(phi) * (x - pts[:, L.PT_X]) - np.sin(phi) * (z - pts[:, L.PT_Z])
+
+
+def build_rollers(case: Case, pb, react) -> dict | None:
+    """The columns of ``ROLLER_UNITS`` (one value per roller, from the vessel
+    down) of a solved problem with a roller stinger; None without one. The
+    clearance is the pipe's axis above the roller along the pipe's normal
+    at the node over it (0 to round-off where it bears), the reactions the
+    multipliers of its contact (normal) and of its lateral hold (a V roller
+    bearing, 3D)."""
+    if not case.lay.has_rollers:
+        return None
+    nodes = pb.roller_nodes
+    nd = pb.nd
+    base = nodes * pb.ndn
+    pts = pb.points
+    clearance = roller_gaps(pb)
+    bearing = pts[:, L.PT_BEAR] != 0.0
+    lateral = np.zeros(nodes.size)
+    if nd == 3:
+        held = bearing & (pts[:, L.PT_HOLD] != 0.0)
+        lateral[held] = react[base[held] + 1]
+    return {
+        "roller": np.arange(nodes.size), "x": pts[:, L.PT_X].copy(),
+        "z": pts[:, L.PT_Z].copy(), "s": pb.s[nodes].copy(),
+        "reaction": np.where(bearing, pts[:, L.PT_R], 0.0), "lateral_reaction": lateral,
+        "clearance": np.where(bearing, 0.0, clearance), "in_contact": bearing,
+    }
+
+
 def build_profile(case: Case, pb, react) -> dict:
     """The columns of ``PROFILE_UNITS`` (numpy arrays, one value per node) of a solved problem."""
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
@@ -284,6 +346,11 @@ def build_profile(case: Case, pb, react) -> dict:
         stinger[k] += normal
         if contact[k] == "free":
             contact[k] = "tip"
+    if case.lay.has_rollers:  # the nodes over the rollers the pipe bears on
+        on = pb.points[:, L.PT_BEAR] != 0.0
+        nodes = pb.roller_nodes[on]
+        stinger[nodes] += pb.points[on, L.PT_R]
+        contact[nodes] = "roller"
     return {
         "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,
         "effective_tension": te, "wall_tension": tw,
@@ -298,7 +365,7 @@ def build_profile(case: Case, pb, react) -> dict:
 
 
 def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
-                  s_liftoff: float | None = None) -> dict:
+                  s_liftoff: float | None = None, rollers: dict | None = None) -> dict:
     """The summary row of one solved case from its profile columns.
 
     Overbend and sagbend are told apart by the sign of the in-plane bending
@@ -339,12 +406,21 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
     r = np.stack([pb.u[i::ndn] for i in range(pb.nd)], axis=1)  # (nodal_fields without r'')
     rp = np.stack([pb.u[pb.nd + i::ndn] for i in range(pb.nd)], axis=1)
     departure = liftoff_angle if stinger is not None else float(cols["angle_deg"][-1])
-    design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure)
+    last_roller = -1  # (none: no roller bears, or no roller stinger)
+    max_roller = nan
+    last_clearance = None
+    if rollers is not None:  # the tip's clearance is the last roller's
+        bears = np.flatnonzero(rollers["in_contact"])
+        last_roller = int(bears[-1]) if bears.size else -1
+        max_roller = float(rollers["reaction"].max())
+        last_clearance = float(rollers["clearance"][-1])
+    design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure,
+                            last_clearance)
     return {
         "case_id": case_id(case),
         "method": case.lay.method,
         "dimension": f"{pb.nd}d",
-        "a": stinger.a if stinger is not None else nan,
+        "a": getattr(stinger, "a", nan),
         "water_depth": case.environment.water_depth,
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,
@@ -366,6 +442,8 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "max_lateral_deflection": float(np.abs(cols["y"]).max()),
         "tip_reaction": tip,
         "liftoff_reaction": liftoff_reaction(s, cols["stinger_reaction"], pb.lo_node),
+        "max_roller_reaction": max_roller,
+        "last_roller_in_contact": last_roller,
         **design,
         "n_elements": int(s.size - 1),
         "n_iterations": int(stats["iterations"]),

@@ -39,6 +39,7 @@ from .boundaries import (
 from .case import Case
 from .continuation import ShortLaid, apply_current, newton_with_fallback
 from .errors import SolveError
+from .guess import guide_case
 from .kernels import layout as L
 from .kernels.contact import ST_ZL, friction_track
 from .limits import IterationBudget, strain_beyond_line
@@ -49,10 +50,11 @@ from .problem import (
     friction_path,
     remesh,
     restore,
+    roller_problem,
     snapshot,
     warm_problem,
 )
-from .results import Result, build_profile, build_summary
+from .results import Result, build_profile, build_rollers, build_summary
 
 MAX_MESH_PASSES = 4
 # The first mesh's Newton tolerance [-]. That mesh is to find where the
@@ -122,15 +124,23 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
     t0 = time.perf_counter()
-    pb = build_problem(case) if warm is None else warm_problem(case, warm)
+    guided = 0
+    if warm is not None:
+        pb = warm_problem(case, warm)
+    elif case.lay.has_rollers:
+        pb, guided = _from_guide(case, budget)
+    else:
+        pb = build_problem(case)
     # friction is path dependent: gravity first, then the current in steps
     path = friction_path(case)
     if path:
         pb.on_gravity_path()
     # graded, the first mesh only to LOOSE_TOLERANCE: it is to find where
     # the boundaries are, and is graded anew there unless it already is
-    pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE) if case.solver.grading else None
+    pb.tolerance = (max(case.solver.tolerance, LOOSE_TOLERANCE)
+                    if case.solver.grading and not guided else None)
     pb, react, stats = _solve_gravity(case, pb, budget)
+    stats["iterations"] += guided
     passes = 1
     while True:
         s_t = touchdown_position(pb)
@@ -208,6 +218,27 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     stats["meshes"] = passes + stats.pop("laid_added")
     stats["seconds"] = time.perf_counter() - t0
     return pb, react, stats, s_t, liftoff_position(case, pb)
+
+
+def _from_guide(case: Case, budget: IterationBudget):
+    """A roller stinger's start: its guide (the quadratic stinger through the
+    rollers, :func:`.guess.guide_case`) solved under gravity on its first
+    mesh to LOOSE_TOLERANCE, then the roller problem built from that answer
+    (:func:`.problem.roller_problem`). From the first guess itself the
+    rollers' contacts swung for 5 to 30 iterations while the pipe found its
+    balance (S67 2D at 1 to 8 m elements, rollers on the paper's curve every
+    1.5 to 12 m; 1.5 m diverged); the curve's single boundary does not, and
+    from its answer the rollers take 3 to 6 more (the grid: 7 to 9 in all).
+
+    Returns (problem, the guide's Newton iterations)."""
+    guide = guide_case(case)
+    used = budget.used
+    pb = build_problem(guide)
+    if friction_path(guide):
+        pb.on_gravity_path()
+    pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
+    pb, _react, _stats = _solve_gravity(guide, pb, budget)
+    return roller_problem(case, pb), budget.used - used
 
 
 def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
@@ -293,7 +324,8 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     pb, react, stats, s_t, s_l = solve_problem(case, warm)
     _check_regime(case, pb)
     columns = build_profile(case, pb, react)
-    summary = build_summary(case, pb, columns, stats, s_t, s_l)
+    rollers = build_rollers(case, pb, react)
+    summary = build_summary(case, pb, columns, stats, s_t, s_l, rollers)
     bad = [key for key, val in summary.items() if isinstance(val, float) and np.isinf(val)]
     bad += [key for key, col in columns.items()
             if col.dtype.kind == "f" and not np.isfinite(col).all()]
@@ -303,7 +335,7 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     beyond = strain_beyond_line(case, columns)
     if beyond is not None:
         raise SolveError(f"case {case.name!r}: {beyond}")
-    return Result(case, summary, columns, state=pb)
+    return Result(case, summary, columns, state=pb, roller_columns=rollers)
 
 
 def _check_regime(case: Case, pb: Problem):

@@ -65,7 +65,7 @@ FR_S = 5  # arc length [m] of the material point the anchors belong to
 N_FRIC = 6
 
 # --- rigid point contacts (rows of ``Supports.points``) ------------------------
-# A rigid point in the lay plane (the stinger's tip; later each roller) holds
+# A rigid point in the lay plane (the stinger's tip, or a roller) holds
 # the pipe from below by a unilateral contact: a node follows the material
 # point over it (a boundary unknown of Newton, :mod:`.newton`) and its normal
 # contact is chosen by the complementarity min(R, c g) = 0.
@@ -73,7 +73,8 @@ PT_X = 0  # the point's x [m] (the vertical, as the nodal unknown x)
 PT_Z = 1  # the point's z [m]
 PT_BEAR = 2  # 1 while the pipe bears on it, else 0 (the complementarity's branch)
 PT_R = 3  # its normal reaction [N] while it bears
-N_PT = 4
+PT_HOLD = 4  # 1: while it bears it holds the pipe laterally, y = 0 (a V roller; 3D)
+N_PT = 5
 
 # --- current profiles ---------------------------------------------------------
 PROFILE_UNIFORM = 0
@@ -96,7 +97,8 @@ STATUS_TEXT = {
     MAX_ITERATIONS: "maximum number of Newton iterations reached",
     SINGULAR: "singular tangent matrix (a mechanism: is the pipe held?)",
     NOT_FINITE: "non-finite or runaway residual (the iteration diverged)",
-    TIP_CYCLE: "the tip's contact kept switching between bearing and clear",
+    TIP_CYCLE: ("a point contact (the stinger's tip, or a roller) kept switching between bearing "
+                "and clear"),
     PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
                "down, after the switches to bearing on the tip that a solve may make"),
     SPAN_CLOSED: ("bearing on the stinger's tip, Newton closes the gap span between re-contact "

@@ -242,7 +242,7 @@ def _weights_of_chords(case, x, lengths):
 
 def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
           bed_stiffness: float = BED_STIFFNESS, stinger_stiffness: float = STINGER_STIFFNESS,
-          path_stiffness: float = PATH_STIFFNESS,
+          path_stiffness: float = PATH_STIFFNESS, curve=None,
           log=None) -> PeerResult:
     """Solve the planar scene of ``case`` (no current) in OpenSees.
 
@@ -257,6 +257,13 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
         natural catenary's touchdown.
     bed_stiffness, stinger_stiffness : float
         Penalty stiffnesses [N/m per m of pipe].
+    curve : pipelay_fast.case.Stinger or None
+        A roller stinger's rollers lie on this quadratic curve (from
+        ``lay.top``, held along its tangent there, to the last roller): the
+        rollers are compression-only supports at the nodes the curve's arc
+        length from the top puts over them, each on the curve's tangent line
+        there, the line cut into elements of exactly ``element_length`` (a
+        divisor of the rollers' spacing along the curve puts a node on each).
     log : str or None
         OpenSees log file; None sends OpenSees' messages to /dev/null.
     """
@@ -270,7 +277,13 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
     slay = lay.method == "S"
     if not slay and lay.top_angle not in (None, "pinned"):
         raise ValueError("peer model: J-lay with a pinned top only")
-    if slay and lay.top_angle is not None:
+    rollers = lay.roller_positions()
+    if rollers is not None:
+        if curve is None:
+            raise ValueError("peer model: a roller stinger needs the curve its rollers lie on")
+        if abs(lay.top_angle - float(curve.angle(curve.upper[1]))) > 1e-6:
+            raise ValueError("peer model: rollers with the top held along the curve's tangent")
+    elif slay and lay.top_angle is not None:
         raise ValueError("peer model: S-lay with the firing-line top only")
     ei = pipe.bending_stiffness
     x_top, z_top = lay.top
@@ -278,7 +291,7 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
     w_sub = float(case.effective_weight(0.0))
     w_dry = float(case.effective_weight(depth + 1.0))
     lift = w_sub * min(x_top, depth) + w_dry * max(x_top - depth, 0.0)  # int_0^x_top w dx
-    st = _Stinger(lay.stinger) if slay else None
+    st = _Stinger(curve if rollers is not None else lay.stinger) if slay else None
 
     # bottom tension: exact statics (pinned top) / its clamped-top value as the start
     h_bottom = lay.top_tension - lift
@@ -298,6 +311,8 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
         length = hang + laid_flex * flex
         alpha = math.asin(x_top / length)
     n_el = max(2, math.ceil(length / element_length - 1e-9))
+    if rollers is not None:  # nodes a whole number of elements from the top
+        length = n_el * element_length
     s = np.linspace(0.0, length, n_el + 1)  # from the lower end
     nn = s.size
     c_al, s_al = math.cos(alpha), math.sin(alpha)
@@ -337,13 +352,20 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
 
     # stinger springs: node at arc s_top below the top -> stinger point at the same arc
     st_nodes, st_target = [], []
+    if rollers is not None:  # the node the curve's arc puts over each roller
+        sigma = np.interp(rollers[:, 1], st._z, st._sigma)
+        over = [int(np.argmin(np.abs(length - s - sg))) for sg in sigma]
     if slay:
         for k in range(nn - 1):
             s_from_top = length - s[k]
             if s_from_top > st.length:
                 continue
+            if rollers is not None and k not in over:
+                continue
             zt = float(st.z_at_arc(s_from_top))
             xt = float(st.height(zt))
+            if rollers is not None:
+                xt, zt = (float(v) for v in rollers[over.index(k)])
             u = float(st.slope(zt))
             nz, nx = -u / math.hypot(1.0, u), 1.0 / math.hypot(1.0, u)  # normal, up
             gap0 = (X0[k] - zt) * nz + (Y0[k] - xt) * nx
@@ -550,6 +572,8 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
         over_m = over_vm = liftoff_z = math.nan
     pen_bed = max(0.0, float(-x[on_bed].min())) if on_bed.any() else 0.0
     stats.update(_stinger_checks(st, st_nodes, st_target, on_st, z, x) if slay else {})
+    if rollers is not None:
+        stats["roller_reactions"] = st_force[over]
     stats.update({
         "bed_penetration_max": pen_bed,
         "seabed_reaction_sum": float(bed_force.sum()),

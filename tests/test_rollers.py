@@ -1,0 +1,272 @@
+"""The roller stinger (``[lay.stinger]`` with ``rollers`` or ``radius``).
+
+Each roller is a point contact of the contact mechanism (a node over the
+roller's material point, its branch by the complementarity): the kernel's
+answers on three points against the continuous beam of small-deflection
+theory are in tests/test_points.py. Here the engine's answers through the
+case:
+
+* rollers on the paper's S67 curve converge to the continuous stinger's
+  answer as their spacing shrinks (12, 6, 3, 1.5 m);
+* the reactions of the rollers, the seabed and the top balance the weight;
+* lowering the tip rollers lifts the pipe off them, each reaction falling
+  linearly (fixed contacts, small deflections) to zero where it lifts off,
+  never pulling;
+* in 3D under a lateral current V rollers hold the pipe on the stinger's
+  plane and flat rollers let it swing, mirrored by the current's heading;
+* the rollers placed on a radius lie on its circle;
+* bad roller stingers are refused, naming the key.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+import pipelay_fast as pf
+from pipelay_fast.case import RollerStinger
+
+from .helpers import EXAMPLES, weights
+
+
+def example_case(name):
+    return pf.load_case(EXAMPLES / f"{name}.toml")
+
+
+def still_s67(**changes):
+    """S67 in still water with its bottom tension given (the top tension an
+    answer), held at the top along the stinger's tangent."""
+    base = example_case("s67")
+    st = base.lay.stinger
+    return base.with_changes({"environment.current.speed": 0.0, "lay.top_tension": None,
+                              "lay.bottom_tension": 471e3,
+                              "lay.top_angle": float(st.angle(st.upper[1])), **changes})
+
+
+def on_rollers(case, spacing, **changes):
+    st = case.lay.stinger
+    return case.with_changes({"lay.stinger": {"rollers": st.roller_positions(spacing)},
+                              "lay.top": list(st.upper), **changes})
+
+
+def test_rollers_converge_to_the_continuous_stinger():
+    """Rollers on the paper's curve: the sagbend peak, touchdown and top
+    tension approach the continuous stinger's as the spacing shrinks
+    (within 0.5 % and 0.2 m at 3 m), and so does the rollers' total
+    reaction, the continuous stinger's integrated one (within 1 % at 1.5 m,
+    each halving of the spacing bringing it closer: the first roller lies a
+    spacing below the held top, which takes that span's share)."""
+    cont = pf.solve(still_s67())
+    ref = cont.summary
+    support = cont.profile["stinger_reaction"].sum()
+    errors = {}
+    for spacing in (12.0, 6.0, 3.0, 1.5):
+        res = pf.solve(on_rollers(still_s67(), spacing))
+        sm = res.summary
+        errors[spacing] = (abs(sm["sagbend_max_von_mises"] / ref["sagbend_max_von_mises"] - 1.0),
+                           abs(sm["tdp_z"] - ref["tdp_z"]),
+                           abs(sm["top_tension"] / ref["top_tension"] - 1.0),
+                           abs(res.rollers["reaction"].sum() / support - 1.0))
+    sag, tdp, top, _total = errors[3.0]
+    assert sag < 5e-3 and top < 5e-3 and tdp < 0.2
+    assert errors[1.5][3] < 0.01
+    totals = [errors[sp][3] for sp in (12.0, 6.0, 3.0, 1.5)]
+    assert all(b < a for a, b in zip(totals[:-1], totals[1:], strict=True))
+    tdps = [errors[sp][1] for sp in (12.0, 6.0, 3.0)]
+    assert all(b < a for a, b in zip(tdps[:-1], tdps[1:], strict=True))
+
+
+def test_reactions_balance_the_weight():
+    """A submerged S67 on rollers in still water: the constraint forces of
+    every node (rollers, seabed, top, the held lower end) carry the weight,
+    w L, vertically, and horizontally balance the bottom tension the lower
+    end is pulled back with (frictionless rollers, no drag), to 1e-6."""
+    case = on_rollers(still_s67(**{"environment.water_depth": 80.0}), 6.0)
+    res = pf.solve(case)
+    prof = res.profile
+    weight = weights(case)[0] * prof["s"].iloc[-1]  # submerged, from the pipe's data
+    assert prof["reaction_x"].sum() == pytest.approx(weight, rel=1e-6)
+    assert prof["reaction_z"].sum() == pytest.approx(case.lay.bottom_tension, rel=1e-6)
+    # the rollers' reactions are their nodes' constraint forces, normal to the pipe
+    ro = res.rollers
+    nodes = np.searchsorted(prof["s"].to_numpy(), ro["s"].to_numpy())
+    force = np.hypot(prof["reaction_x"].to_numpy()[nodes], prof["reaction_z"].to_numpy()[nodes])
+    assert force == pytest.approx(ro["reaction"].to_numpy(), rel=1e-9, abs=1e-6 * weight)
+
+
+def test_lowering_the_tip_rollers_lifts_the_pipe_off_them_continuously():
+    """The last three rollers lowered in 5 cm steps, each solve warm from the
+    last: no roller pulls; the tip roller's reaction falls linearly with the
+    drop while the contacts hold (small deflections), so the line through its
+    last two values crosses zero within the step where it lifts off."""
+    case = example_case("s67_rollers")
+    base = [list(p) for p in case.lay.stinger.rollers]
+    prev = None
+    drops, tip = [], []
+    for drop in np.arange(0.0, 0.56, 0.05):
+        rollers = [p[:] for p in base]
+        for j in (-3, -2, -1):
+            rollers[j][0] -= drop
+        prev = pf.solve(case.with_changes({"lay.stinger.rollers": rollers}), warm=prev)
+        ro = prev.rollers
+        assert (ro["reaction"] >= 0.0).all()
+        assert (ro["reaction"][~ro["in_contact"]] == 0.0).all()
+        assert (ro["clearance"][~ro["in_contact"]] > 0.0).all()
+        drops.append(drop)
+        tip.append(float(ro["reaction"].iloc[-1]))
+    tip = np.array(tip)
+    off = int(np.flatnonzero(tip == 0.0)[0])
+    assert off >= 3 and (np.diff(tip[1:off]) < 0.0).all()
+    slope = (tip[off - 1] - tip[off - 2]) / (drops[off - 1] - drops[off - 2])
+    crossing = drops[off - 1] - tip[off - 1] / slope
+    assert drops[off - 1] < crossing <= drops[off]
+    # and the pipe stays off it once it has left
+    assert (tip[off:] == 0.0).all()
+
+
+@pytest.fixture(scope="module")
+def lateral():
+    """S67 on rollers in 3D under a 1 m/s current across the lay (+y and -y),
+    with V rollers and with flat ones."""
+    case = example_case("s67_rollers")
+    out = {}
+    for kind in ("v", "flat"):
+        for heading in (90.0, -90.0):
+            out[kind, heading] = pf.solve(case.with_changes({
+                "environment.current.heading": heading, "lay.stinger.roller_type": kind}))
+    return out
+
+
+def test_v_rollers_hold_the_pipe_laterally(lateral):
+    res = lateral["v", 90.0]
+    assert res.summary["dimension"] == "3d"
+    ro, prof = res.rollers, res.profile
+    y = np.interp(ro["s"], prof["s"], prof["y"])
+    bearing = ro["in_contact"].to_numpy()
+    assert bearing.sum() > 10
+    assert np.abs(y[bearing]).max() < 1e-9
+    # holding, in all, against a current towards +y (one by one they
+    # alternate: the rollers pin y, not y', and the suspended span's pull at
+    # the tip bends the pipe from roller to roller, as a continuous beam)
+    assert ro["lateral_reaction"].sum() < -1e3
+    assert (ro["lateral_reaction"][~bearing] == 0.0).all()
+
+
+def test_flat_rollers_let_the_pipe_swing(lateral):
+    res = lateral["flat", 90.0]
+    ro, prof = res.rollers, res.profile
+    y = np.interp(ro["s"], prof["s"], prof["y"])
+    assert (ro["lateral_reaction"] == 0.0).all()
+    assert y[-1] > 1.0  # the tip's rollers, far from the held top
+    # and further than V rollers let it
+    assert (res.summary["max_lateral_deflection"]
+            > lateral["v", 90.0].summary["max_lateral_deflection"])
+
+
+@pytest.mark.parametrize("kind", ["v", "flat"])
+def test_a_current_from_the_other_side_mirrors_the_lay(lateral, kind):
+    a, b = lateral[kind, 90.0], lateral[kind, -90.0]
+    scale = np.abs(a.profile["y"]).max()
+    assert np.abs(a.profile["y"] + b.profile["y"]).max() < 1e-7 * scale
+    assert a.rollers["reaction"].to_numpy() == pytest.approx(b.rollers["reaction"].to_numpy(),
+                                                             rel=1e-7, abs=1e-3)
+    assert (a.rollers["lateral_reaction"].to_numpy()
+            == pytest.approx(-b.rollers["lateral_reaction"].to_numpy(), rel=1e-7, abs=1e-3))
+
+
+def test_rollers_placed_on_a_quadratic_lie_on_it_evenly():
+    """Stinger.roller_positions: on the curve, from below the upper end to the
+    tip, equal arcs apart (arc lengths by adaptive quadrature of the curve's
+    speed, sqrt(1 + x'(z)^2))."""
+    st = example_case("s67").lay.stinger
+    pts = np.array(st.roller_positions(6.0))
+    assert pts[:, 0] == pytest.approx(st.height(pts[:, 1]), abs=1e-12)
+    assert pts[-1] == pytest.approx(st.lower, abs=1e-9)
+    ends = np.concatenate([[st.upper[1]], pts[:, 1]])
+    arcs = [quad(lambda z: math.hypot(1.0, st.slope(z)), lo, hi)[0]
+            for hi, lo in zip(ends[:-1], ends[1:], strict=True)]
+    assert len(arcs) == round(sum(arcs) / 6.0)
+    assert np.array(arcs) == pytest.approx(sum(arcs) / len(arcs), rel=1e-8)
+
+
+def test_rollers_placed_on_a_radius_lie_on_its_circle():
+    """A straight then a circular path from the top along its angle: the
+    rollers on the straight lie on the top's line, those on the arc at the
+    radius from the circle's centre (below the path, normal to the top's
+    direction at the straight's end), a path length ``spacing`` apart; the
+    rounded heights are multiples of the step, within half a step."""
+    top, angle = (72.0, 400.0), 5.0
+    st = RollerStinger(radius=300.0, arc_length=100.0, spacing=7.0, straight_length=20.0)
+    pts = st.positions(top, angle)
+    assert len(pts) == math.floor(120.0 / 7.0)
+    t = np.radians(angle)
+    direction = np.array([-math.sin(t), -math.cos(t)])  # (x, z) down the path
+    normal = np.array([-math.cos(t), math.sin(t)])  # towards the centre (below the path)
+    straight = np.arange(1, len(pts) + 1) * 7.0 <= 20.0
+    rel = pts[straight] - np.array(top)
+    assert np.abs(rel @ normal).max() < 1e-9
+    centre = np.array(top) + 20.0 * direction + 300.0 * normal
+    assert np.abs(np.hypot(*(pts[~straight] - centre).T) - 300.0).max() < 1e-9
+    arc_pts = pts[~straight]
+    chords = np.hypot(*np.diff(arc_pts, axis=0).T)
+    assert chords == pytest.approx(2.0 * 300.0 * math.sin(7.0 / 600.0), rel=1e-12)
+    rounded = RollerStinger(radius=300.0, arc_length=100.0, spacing=7.0, straight_length=20.0,
+                            height_step=0.05).positions(top, angle)
+    steps = rounded[:, 0] / 0.05
+    assert np.abs(steps - np.round(steps)).max() < 1e-9
+    assert np.abs(rounded[:, 0] - pts[:, 0]).max() <= 0.025 + 1e-12
+    assert rounded[:, 1] == pytest.approx(pts[:, 1], abs=0.0)
+
+
+def test_the_radius_example_solves_on_its_generated_rollers():
+    case = example_case("s67_radius")
+    res = pf.solve(case)
+    pts = case.lay.roller_positions()
+    assert len(res.rollers) == len(pts) == 23
+    assert res.rollers[["x", "z"]].to_numpy() == pytest.approx(pts, abs=0.0)
+    assert res.summary["last_roller_in_contact"] == int(
+        np.flatnonzero(res.rollers["in_contact"])[-1])
+
+
+@pytest.mark.parametrize("changes, key", [
+    ({"lay.stinger.rollers": [[71.0, 394.0], [71.5, 388.0]]}, "lay.stinger.rollers[1]"),
+    ({"lay.stinger.rollers": [[73.0, 394.0], [71.0, 388.0]]}, "lay.stinger.rollers[0]"),
+    ({"lay.stinger.rollers": [[71.0, 394.0], [-1.0, 300.0]]}, "lay.stinger.rollers[1]"),
+    ({"lay.stinger.rollers": []}, "lay.stinger.rollers"),
+    ({"lay.stinger.rollers": [[71.0, 394.0]], "lay.stinger.a": -0.001}, "lay.stinger.rollers"),
+    ({"lay.stinger.height_step": 0.05}, "lay.stinger.height_step"),
+    ({"lay.stinger.roller_type": ["v", "flat"]}, "lay.stinger.roller_type"),
+    ({"lay.stinger.roller_type": "u"}, "lay.stinger.roller_type"),
+    ({"lay.top_angle": None}, "lay.top_angle"),
+    ({"lay.top": None}, "lay.top"),
+])
+def test_bad_roller_stingers_are_refused_naming_the_key(changes, key):
+    case = example_case("s67_rollers")
+    with pytest.raises(ValueError, match=key.replace("[", r"\[").replace("]", r"\]")):
+        case.with_changes(changes)
+
+
+@pytest.mark.parametrize("changes, key", [
+    ({"lay.stinger.spacing": None}, "lay.stinger.spacing"),
+    ({"lay.stinger.arc_length": 700.0}, "lay.stinger.arc_length"),  # turns it to 93 deg
+    ({"lay.stinger.spacing": 200.0}, "lay.stinger.spacing"),
+    ({"lay.top_angle": "pinned"}, "lay.top_angle"),
+    ({"lay.stinger.radius": -5.0}, "lay.stinger.radius"),
+    ({"lay.stinger.rollers": [[71.0, 394.0]]}, "lay.stinger.radius"),
+])
+def test_bad_roller_paths_are_refused_naming_the_key(changes, key):
+    case = example_case("s67_radius")
+    with pytest.raises(ValueError, match=key):
+        case.with_changes(changes)
+
+
+def test_a_warm_start_needs_the_same_rollers():
+    case = example_case("s67_rollers")
+    res = pf.solve(case)
+    fewer = case.with_changes({"lay.stinger.rollers": [list(p) for p in
+                                                        case.lay.stinger.rollers[:-1]]})
+    with pytest.raises(ValueError, match="rollers"):
+        pf.solve(fewer, warm=res)
