@@ -502,6 +502,12 @@ class RollerStinger:
         "v" (default): a roller box with side rollers, which in 3D holds the
         pipe laterally (y = 0) while it bears; "flat": it does not. One for
         all rollers, or one per roller.
+    height_shift : float
+        Added to the heights x of the rollers ``shifted`` [m] (after any
+        rounding); default 0. The sweep axis ``roller_shift`` varies it.
+    shifted : list of int or None
+        The rollers ``height_shift`` moves (indices from the vessel down,
+        from 0); None (default): all of them.
 
     A roller stinger needs ``lay.top`` (where the vessel holds the pipe) and
     ``lay.top_angle`` (degrees, or "pinned" with ``rollers`` given).
@@ -514,9 +520,19 @@ class RollerStinger:
     straight_length: float = 0.0
     height_step: float | None = None
     roller_type: str | tuple[str, ...] = "v"
+    height_shift: float = 0.0
+    shifted: tuple[int, ...] | None = None
 
     def __post_init__(self):
         p = "lay.stinger"
+        set_numbers(self, p, finite=("height_shift",))
+        if self.shifted is not None:
+            if not isinstance(self.shifted, (list, tuple)) or not self.shifted:
+                fail(f"{p}.shifted", self.shifted, "must be a non-empty list of roller indices")
+            picks = tuple(integer(f"{p}.shifted[{i}]", k, 0) for i, k in enumerate(self.shifted))
+            if len(set(picks)) != len(picks):
+                fail(f"{p}.shifted", list(picks), "names a roller twice")
+            assign(self, "shifted", picks)
         path_keys = ("radius", "arc_length", "spacing")
         given = [k for k in path_keys if getattr(self, k) is not None]
         if self.rollers is not None:
@@ -564,14 +580,20 @@ class RollerStinger:
             kinds = choice(f"{p}.roller_type", kinds, ROLLER_TYPES)
         assign(self, "roller_type", kinds)
 
+    @property
+    def count(self) -> int:
+        """The number of rollers (on a path: one every ``spacing`` of it)."""
+        if self.rollers is not None:
+            return len(self.rollers)
+        length = self.straight_length + self.arc_length
+        return int(math.floor(length / self.spacing * (1.0 + 1e-12)))
+
     def positions(self, top, top_angle) -> np.ndarray:
         """(n, 2) roller positions (x, z) [m]: ``rollers``, or placed on the
         path from ``top`` (x, z) [m] along ``top_angle`` [deg]."""
         if self.rollers is not None:
-            return np.array(self.rollers, dtype=float)
-        length = self.straight_length + self.arc_length
-        n = int(math.floor(length / self.spacing * (1.0 + 1e-12)))
-        sigma = self.spacing * np.arange(1, n + 1)
+            return self._shift(np.array(self.rollers, dtype=float))
+        sigma = self.spacing * np.arange(1, self.count + 1)
         theta0 = math.radians(top_angle)
         arc = np.clip(sigma - self.straight_length, 0.0, None)
         straight = sigma - arc
@@ -583,7 +605,14 @@ class RollerStinger:
             np.sin(theta) - np.sin(theta0))
         if self.height_step is not None:
             x = self.height_step * np.round(x / self.height_step)
-        return np.stack([x, z], axis=1)
+        return self._shift(np.stack([x, z], axis=1))
+
+    def _shift(self, pts: np.ndarray) -> np.ndarray:
+        """``pts`` with ``height_shift`` added to the heights of the ``shifted`` rollers."""
+        if self.height_shift != 0.0:
+            rows = slice(None) if self.shifted is None else list(self.shifted)
+            pts[rows, 0] += self.height_shift
+        return pts
 
     def lateral_hold(self, n: int) -> np.ndarray:
         """(n,) 1.0 for each roller that holds the pipe laterally (a V roller)."""
@@ -720,6 +749,9 @@ class Lay:
                      f"turns the pipe to {turn:.4g} deg from lay.top_angle = {self.top_angle!r} "
                      f"deg with {p}.radius = {st.radius!r} m: beyond {MAX_STINGER_TURN:g} deg the "
                      "stinger overhangs the pipe coming from the vessel")
+        n = st.count
+        if st.shifted is not None and max(st.shifted) >= n:
+            fail(f"{p}.shifted", list(st.shifted), f"names a roller past the last of the {n}")
         pts = self.roller_positions()
         where = f"{p}.rollers" if st.rollers is not None else f"{p} (generated rollers)"
         if not isinstance(st.roller_type, str) and len(st.roller_type) != len(pts):

@@ -5,15 +5,16 @@ Layout of ``OUT/``::
     sweep.json                           the sweep's scenes (base cases, axes)
     summary/scene=<name>/<chunk>.parquet  one row per case
     profiles/scene=<name>/<chunk>.parquet one row per node per case (column case_id)
+    rollers/scene=<name>/<chunk>.parquet  one row per roller per case of a roller stinger
     selection.parquet                    written by ``pipelay-fast select``
 
 Every file carries the unit of each column in its schema metadata, as
 :func:`pipelay_fast.io.write_table` writes it. A worker encodes each chunk (a
 task's cases) to Parquet bytes; the parent, the only writer, writes them
-atomically (temporary name, then rename), profiles first and summary last,
-under the same file name in both tables: the summary file is the chunk's
-commit mark. On opening, leftovers of an
-interrupted run (temporary files, profile chunks without their summary) are
+atomically (temporary name, then rename), profiles and rollers first and
+summary last, under the same file name in every table: the summary file is
+the chunk's commit mark. On opening, leftovers of an interrupted run
+(temporary files, profile and roller chunks without their summary) are
 removed, so a rerun sees exactly the committed cases and recomputes the rest.
 """
 
@@ -35,17 +36,18 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from .results import PROFILE_UNITS, SUMMARY_UNITS
+from .results import PROFILE_UNITS, ROLLER_UNITS, SUMMARY_UNITS
 from .sweep import INPUT_UNITS, TARGET_UNITS, Sweep
 
-__all__ = ["Chunk", "Dataset", "PROFILE_COLUMNS", "SUMMARY_COLUMNS", "encode_chunk",
-           "read_profiles", "read_summary"]
+__all__ = ["Chunk", "Dataset", "PROFILE_COLUMNS", "ROLLER_COLUMNS", "SUMMARY_COLUMNS",
+           "encode_chunk", "read_profiles", "read_rollers", "read_summary"]
 
 # bookkeeping columns of the summary: the chain and place of a case, whether
 # it was given the previous solution of its chain to start from
 RUN_UNITS = {"chain": "", "chain_position": "", "warm_started": ""}
 SUMMARY_COLUMNS = {**SUMMARY_UNITS, **INPUT_UNITS, **TARGET_UNITS, **RUN_UNITS}
 PROFILE_COLUMNS = {"case_id": "", "node": "", **PROFILE_UNITS}
+ROLLER_COLUMNS = {"case_id": "", **ROLLER_UNITS}
 _INTEGER = ("n_elements", "n_iterations", "n_current_steps", "max_current_step_iterations",
             "n_meshes", "chain_position", "last_roller_in_contact")
 _BOOLEAN = ("warm_started",)
@@ -102,9 +104,10 @@ class Dataset:
     def _clean(self):
         for tmp in self.root.glob("*/scene=*/.*.tmp"):
             tmp.unlink(missing_ok=True)
-        for chunk in self.root.glob("profiles/scene=*/*.parquet"):
-            if not (self.root / "summary" / chunk.parent.name / chunk.name).exists():
-                chunk.unlink()
+        for table in ("profiles", "rollers"):
+            for chunk in self.root.glob(f"{table}/scene=*/*.parquet"):
+                if not (self.root / "summary" / chunk.parent.name / chunk.name).exists():
+                    chunk.unlink()
 
     def _write_spec(self, sweep: Sweep):
         """Store the scenes in ``sweep.json``; refuse a scene redefined under an old name."""
@@ -135,9 +138,10 @@ class Dataset:
     # ------------------------------------------------------------------ writing
 
     def write_chunk(self, chunk: Chunk) -> None:
-        """Write an encoded chunk: its profiles, then its summary (the commit)."""
+        """Write an encoded chunk: its profiles and rollers, then its summary (the commit)."""
         part = f"scene={chunk.scene}"
-        tables = [("profiles", chunk.profiles), ("summary", chunk.summary)]
+        tables = [("profiles", chunk.profiles), ("rollers", chunk.rollers),
+                  ("summary", chunk.summary)]
         for table, data in tables:
             if data is None:
                 continue
@@ -150,8 +154,9 @@ class Dataset:
 class Chunk:
     """The Parquet files of one chunk, encoded (by a worker) and ready to write.
 
-    ``summary`` and ``profiles`` are Parquet file contents (``profiles`` None
-    when there are no profile rows); ``rows`` and ``failed`` count the cases.
+    ``summary``, ``profiles`` and ``rollers`` are Parquet file contents
+    (``profiles``, ``rollers`` None when there are no such rows); ``rows`` and
+    ``failed`` count the cases.
     """
 
     scene: str
@@ -160,12 +165,15 @@ class Chunk:
     profiles: bytes | None
     rows: int
     failed: int
+    rollers: bytes | None = None
 
 
-def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None) -> Chunk:
-    """Encode the summary rows of one scene (and their profile columns) as a chunk.
+def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None,
+                 rollers: dict | None = None) -> Chunk:
+    """Encode the summary rows of one scene (and their profile and roller
+    columns) as a chunk.
 
-    The file name hashes the chunk's case ids, the same in both tables.
+    The file name hashes the chunk's case ids, the same in every table.
     """
     ids = "".join(sorted(r["case_id"] for r in rows))
     name = f"chunk-{hashlib.sha1(ids.encode()).hexdigest()[:16]}.parquet"
@@ -173,9 +181,12 @@ def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None)
     profiles = None
     if profile is not None:
         profiles = encode_arrays(profile, PROFILE_COLUMNS, meta)
+    roller_rows = None
+    if rollers is not None:
+        roller_rows = encode_arrays(rollers, ROLLER_COLUMNS, meta)
     summary = _encode(summary_table(rows), SUMMARY_COLUMNS, meta)
     failed = sum(r["status"] != "ok" for r in rows)
-    return Chunk(scene, name, summary, profiles, len(rows), failed)
+    return Chunk(scene, name, summary, profiles, len(rows), failed, roller_rows)
 
 
 def encode_arrays(columns: dict, units: dict, metadata: dict) -> bytes:
@@ -292,6 +303,13 @@ def read_summary(root: str | os.PathLike, filters=None) -> pd.DataFrame:
 def read_profiles(root: str | os.PathLike, filters=None) -> pd.DataFrame:
     """The profiles table of a results directory (``scene`` a column)."""
     return _read(Path(root) / "profiles", filters)
+
+
+def read_rollers(root: str | os.PathLike, filters=None) -> pd.DataFrame:
+    """The rollers table of a results directory (``scene`` a column): one row
+    per roller per case of a roller stinger, columns ``case_id`` and those of
+    ``pipelay_fast.results.ROLLER_UNITS``."""
+    return _read(Path(root) / "rollers", filters)
 
 
 def _read(folder: Path, filters) -> pd.DataFrame:

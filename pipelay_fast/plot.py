@@ -123,11 +123,12 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     when given. Returns the matplotlib Figure.
 
     One panel per S-lay scene, dimension and current whose cases span
-    several ``a``: overbend and sagbend peak von Mises stress against ``a``,
-    with ``select``'s equal-peaks ``a`` (when ``selection.parquet`` holds
-    it) as a vertical line; then, for each method solved at several water
-    depths with one case per depth (a lay table), top tension and max
-    utilisation against depth.
+    several values of a stinger design axis (``a``, or a roller stinger's
+    ``stinger_radius`` or ``roller_shift``): overbend and sagbend peak von
+    Mises stress against it, with ``select``'s equal-peaks and least-stress values (when
+    ``selection.parquet`` holds it) as a vertical line; then, for each
+    method solved at several water depths with one case per depth (a lay
+    table), top tension and max utilisation against depth.
 
     Raises
     ------
@@ -137,6 +138,9 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     import pandas as pd
 
     from .dataset import read_summary
+    from .sweep import AXES, DESIGN_AXES
+
+    units = {axis: AXES[axis][2] for axis in DESIGN_AXES}
 
     root = Path(root)
     summary = read_summary(root)
@@ -144,9 +148,12 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
         raise ValueError(f"{root}: no solved case to plot (run a sweep into it first)")
     ok = summary[summary["status"] == "ok"]
     slay = ok[ok["method"] == "S"]
-    groups = [(dict(zip(GROUP_KEYS, k, strict=True)), g.sort_values("a"))
-              for k, g in slay.groupby(list(GROUP_KEYS), sort=True, observed=True, dropna=False)
-              if g["a"].nunique() > 1]
+    groups = []  # (key, the design axis it varies, its cases along it)
+    for k, g in slay.groupby(list(GROUP_KEYS), sort=True, observed=True, dropna=False):
+        varied = [v for v in DESIGN_AXES if g[v].nunique() > 1]
+        if varied:
+            groups.append((dict(zip(GROUP_KEYS, k, strict=True)), varied[0],
+                           g.sort_values(varied[0])))
     # a lay table: one case per water depth (a sweep with several cases at a
     # depth, over a or the current, is drawn against a above instead)
     depth_groups = [(m, g.sort_values("water_depth")) for m, g in ok.groupby("method", sort=True)
@@ -159,14 +166,18 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     fig = _figure(math.ceil(panels / cols), cols)
     axes = np.atleast_1d(fig.subplots(math.ceil(panels / cols), cols)).ravel()
     selection = _selection(root, pd)
-    for ax, (key, g) in zip(axes, groups, strict=False):
-        ax.plot(g["a"], g["overbend_max_von_mises"] / 1e6, "o-", color="C0", label="overbend")
-        ax.plot(g["a"], g["sagbend_max_von_mises"] / 1e6, "s-", color="C1", label="sagbend")
-        chosen = _chosen_a(selection, key)
-        if chosen is not None:
-            ax.axvline(chosen, color="C3", ls="--", lw=1.0, label=f"equal peaks a = {chosen:.6f}")
+    for ax, (key, variable, g) in zip(axes, groups, strict=False):
+        ax.plot(g[variable], g["overbend_max_von_mises"] / 1e6, "o-", color="C0",
+                label="overbend")
+        ax.plot(g[variable], g["sagbend_max_von_mises"] / 1e6, "s-", color="C1",
+                label="sagbend")
+        for what, style in (("equal_peaks", "--"), ("min_stress", ":")):
+            chosen = _chosen(selection, key, f"{variable}_{what}")
+            if chosen is not None:
+                ax.axvline(chosen, color="C3", ls=style, lw=1.0,
+                           label=f"{what.replace('_', ' ')} {variable} = {chosen:.6g}")
         given = [_given(name, key[name]) for name in GROUP_KEYS[4:] if np.isfinite(key[name])]
-        ax.set(xlabel="a [1/m]", ylabel="peak von Mises [MPa]",
+        ax.set(xlabel=f"{variable} [{units[variable]}]", ylabel="peak von Mises [MPa]",
                title=f"{key['scene']} {key['dimension']}, current {key['current_speed']:g} m/s "
                      f"at {key['current_heading_deg']:g} deg" + "".join(f", {t}" for t in given))
         ax.legend(fontsize="small")
@@ -203,9 +214,11 @@ def _selection(root: Path, pd):
     return pd.read_parquet(file) if file.is_file() else None
 
 
-def _chosen_a(selection, key: dict):
-    """``select``'s equal-peaks ``a`` of the group ``key`` (NaN keys match NaN)."""
-    if selection is None:
+def _chosen(selection, key: dict, choice: str):
+    """``select``'s choice ``choice`` (a column: ``a_equal_peaks``,
+    ``stinger_radius_min_stress``, ...) of the group ``key`` (NaN keys match
+    NaN); None when it has none."""
+    if selection is None or choice not in selection:
         return None
     match = np.ones(len(selection), dtype=bool)
     for name, value in key.items():
@@ -215,6 +228,6 @@ def _chosen_a(selection, key: dict):
         else:
             match &= (column == value).to_numpy()
     row = selection[match]
-    if row.empty or not np.isfinite(row["a_equal_peaks"].iloc[0]):
+    if row.empty or not np.isfinite(row[choice].iloc[0]):
         return None
-    return float(row["a_equal_peaks"].iloc[0])
+    return float(row[choice].iloc[0])

@@ -36,7 +36,8 @@ ROLLER_UNITS = {
 }
 
 SUMMARY_UNITS = {
-    "case_id": "", "method": "", "dimension": "", "a": "1/m", "water_depth": "m",
+    "case_id": "", "method": "", "dimension": "", "a": "1/m", "stinger_radius": "m",
+    "roller_shift": "m", "water_depth": "m",
     "current_speed": "m/s", "current_heading_deg": "deg", "status": "", "message": "",
     "top_tension": "N", "bottom_tension": "N", "tdp_z": "m", "liftoff_z": "m",
     "liftoff_angle_deg": "deg", "top_angle_deg": "deg", "suspended_length": "m",
@@ -421,6 +422,8 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "method": case.lay.method,
         "dimension": f"{pb.nd}d",
         "a": getattr(stinger, "a", nan),
+        "stinger_radius": float(getattr(stinger, "radius", None) or nan),
+        "roller_shift": float(getattr(stinger, "height_shift", nan)),
         "water_depth": case.environment.water_depth,
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,

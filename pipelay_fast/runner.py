@@ -177,7 +177,7 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
     and "solve_cpu" in ``pf.solve``, "task_cpu" of the whole task; the pid).
     """
     start_cpu = time.process_time()
-    rows, parts, times = [], [], {"solve": 0.0, "solve_cpu": 0.0}
+    rows, parts, roller_parts, times = [], [], [], {"solve": 0.0, "solve_cpu": 0.0}
     for chain in task:
         for sc, row, result, dt, cpu in solve_chain(chain, warm_start):
             rows.append(row)
@@ -187,10 +187,18 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
                 n = len(result.columns["s"])
                 parts.append({"case_id": np.full(n, sc.case_id), "node": np.arange(n),
                               **result.columns})
-    profile = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]} if parts else None
-    chunk = encode_chunk(sweep, task[0][0].scene, rows, profile)
+            if result is not None and result.roller_columns is not None:
+                n = len(result.roller_columns["roller"])
+                roller_parts.append({"case_id": np.full(n, sc.case_id),
+                                     **result.roller_columns})
+    chunk = encode_chunk(sweep, task[0][0].scene, rows, _joined(parts), _joined(roller_parts))
     times["task_cpu"] = time.process_time() - start_cpu
     return chunk, times, os.getpid()
+
+
+def _joined(parts: list[dict]) -> dict | None:
+    """The columns of ``parts`` (dicts of arrays) end to end; None when empty."""
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]} if parts else None
 
 
 def solve_chain(chain: list[SweepCase], warm_start: bool = True):
@@ -243,7 +251,13 @@ def solve_case(case, warm=None, target=None):
 
 def _compatible(previous, sc: SweepCase) -> bool:
     return (previous is not None and previous.case.lay.method == sc.case.lay.method
-            and previous.summary["dimension"] == sc.case.resolved_dimension)
+            and previous.summary["dimension"] == sc.case.resolved_dimension
+            and _rollers(previous.case) == _rollers(sc.case))
+
+
+def _rollers(case) -> int:
+    """A case's number of rollers (-1: a quadratic stinger or none)."""
+    return case.lay.stinger.count if case.lay.has_rollers else -1
 
 
 def _given(sc: SweepCase) -> dict:

@@ -1,4 +1,9 @@
-"""Choosing the stinger curvature ``a`` from a sweep's results.
+"""Choosing the stinger from a sweep's results: its curvature ``a``, or a
+roller stinger's radius (``stinger_radius``) or the shift of its rollers'
+heights (``roller_shift``), whichever of these design axes the scene varies
+(the selection's ``variable``; ``a`` below stands for it, and each choice is
+written in the columns of its name: ``a_min_stress``,
+``stinger_radius_min_stress``, ...).
 
 For every S-lay scene and every combination of the other inputs (current speed
 and heading, tension) two choices are made from the grid of ``a`` values:
@@ -34,7 +39,7 @@ from scipy.optimize import brentq, minimize_scalar
 from .dataset import read_summary
 from .io import write_table
 from .runner import CASE_ERRORS, solve_case
-from .sweep import AXES, Scene, Sweep
+from .sweep import AXES, DESIGN_AXES, Scene, Sweep
 
 __all__ = ["SELECTION_UNITS", "select"]
 
@@ -46,7 +51,10 @@ SELECTION_UNITS = {
     "a_min_stress": "1/m", "min_max_von_mises": "Pa",
     "a_equal_peaks": "1/m", "equal_peaks_von_mises": "Pa",
     "equal_peaks_max_utilisation": "-", "equal_peaks_tip_clearance": "m",
-    "reference_a": "1/m", "n_solves": "", "note": "",
+    "reference_a": "1/m", "n_solves": "", "note": "", "variable": "",
+    # a roller stinger's design axes, as a's four columns
+    **{f"{axis}_{what}": AXES[axis][2] for axis in DESIGN_AXES[1:]
+       for what in ("grid_min", "grid_max", "min_stress", "equal_peaks")},
 }
 # the inputs that, with the scene, make one selection group
 GROUP_COLUMNS = ("current_speed", "current_heading_deg", "given_top_tension",
@@ -74,7 +82,8 @@ def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) 
     for key, group in ok.groupby(keys, dropna=False, sort=True):
         values = dict(zip(keys, key, strict=True))
         scene = sweep.scene(values["scene"]) if sweep is not None else None
-        rows.append(_select_group(group.sort_values("a"), values, scene))
+        variable = _variable(scene, group)
+        rows.append(_select_group(group.sort_values(variable), values, scene, variable))
     table = pd.DataFrame(rows, columns=list(SELECTION_UNITS))
     for column, unit in SELECTION_UNITS.items():
         table[column] = table[column].astype(str if unit == "" else np.float64) \
@@ -84,24 +93,42 @@ def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) 
     return table
 
 
-def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dict:
-    a = group["a"].to_numpy()
+def _variable(scene: Scene | None, group: pd.DataFrame) -> str:
+    """The design axis a group is chosen over: the one its scene varies (from
+    the results when the scene is not at hand: the one whose column varies,
+    else the one the cases give)."""
+    if scene is not None:
+        varied = [axis for axis in DESIGN_AXES if axis in scene.axes]
+        if varied:
+            return varied[0]
+    columns = [AXES[axis][1] for axis in DESIGN_AXES]
+    for column in columns:
+        if group[column].nunique() > 1:
+            return column
+    given = [c for c in columns if group[c].notna().any()]
+    return given[0] if given else "a"
+
+
+def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None,
+                  variable: str = "a") -> dict:
+    a = group[variable].to_numpy()
     vm = group["max_von_mises"].to_numpy()
     gap = (group["overbend_max_von_mises"] - group["sagbend_max_von_mises"]).to_numpy()
     first = group.iloc[0]
     row = {**values, "method": first["method"], "dimension": first["dimension"],
-           "water_depth": first["water_depth"], "n_grid": len(a),
-           "a_grid_min": float(a.min()), "a_grid_max": float(a.max()),
+           "water_depth": first["water_depth"], "n_grid": len(a), "variable": variable,
+           f"{variable}_grid_min": float(a.min()), f"{variable}_grid_max": float(a.max()),
            "reference_a": scene.reference_a if scene is not None else math.nan}
     notes = []
-    evaluate = _Evaluator(scene, values, group) if scene is not None and len(a) > 1 else None
+    evaluate = (_Evaluator(scene, values, group, variable)
+                if scene is not None and len(a) > 1 else None)
 
     i = int(np.argmin(vm))
-    row["a_min_stress"], row["min_max_von_mises"] = float(a[i]), float(vm[i])
+    row[f"{variable}_min_stress"], row["min_max_von_mises"] = float(a[i]), float(vm[i])
     flat = a[vm <= (1.0 + FLAT_SHARE) * vm[i]]
     if len(flat) > 1:
-        notes.append(f"flat minimum: max stress within {100 * FLAT_SHARE:g} % of it for a in "
-                     f"[{flat.min():.6f}, {flat.max():.6f}]")
+        notes.append(f"flat minimum: max stress within {100 * FLAT_SHARE:g} % of it for "
+                     f"{variable} in [{flat.min():.6g}, {flat.max():.6g}]")
     if len(a) < 3 or i in (0, len(a) - 1):
         notes.append("stress minimum at the end of the grid" if len(a) > 1 else "one grid point")
     elif evaluate is not None:
@@ -111,11 +138,12 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
                                    bounds=(a[i - 1], a[i + 1]),
                                    options={"xatol": XTOL_FRACTION * step})
             if best.fun <= vm[i]:
-                row["a_min_stress"], row["min_max_von_mises"] = float(best.x), float(best.fun)
+                row[f"{variable}_min_stress"] = float(best.x)
+                row["min_max_von_mises"] = float(best.fun)
         except CASE_ERRORS as err:
             notes.append(f"minimum not refined: {evaluate.failure(err)}")
 
-    row["a_equal_peaks"] = row["equal_peaks_von_mises"] = math.nan
+    row[f"{variable}_equal_peaks"] = row["equal_peaks_von_mises"] = math.nan
     row.update(dict.fromkeys(EQUAL_PEAKS_ANSWERS.values(), math.nan))
     finite = np.isfinite(gap)
     brackets = [j for j in range(len(a) - 1) if finite[j] and finite[j + 1]
@@ -125,7 +153,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
     else:
         j = min(brackets, key=lambda j: max(vm[j], vm[j + 1]))
         k = j if abs(gap[j]) <= abs(gap[j + 1]) else j + 1  # grid estimate
-        row["a_equal_peaks"], row["equal_peaks_von_mises"] = float(a[k]), float(vm[k])
+        row[f"{variable}_equal_peaks"], row["equal_peaks_von_mises"] = float(a[k]), float(vm[k])
         row.update(_answers(group.iloc[k]))
         if gap[j] == 0.0 or gap[j + 1] == 0.0:
             pass
@@ -133,7 +161,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None) -> dic
             try:
                 root = brentq(lambda x: _gap(evaluate(x)), a[j], a[j + 1],
                               xtol=XTOL_FRACTION * (a[j + 1] - a[j]))
-                row["a_equal_peaks"] = float(root)
+                row[f"{variable}_equal_peaks"] = float(root)
                 row["equal_peaks_von_mises"] = evaluate(root)["max_von_mises"]
                 row.update(_answers(evaluate(root)))
             except CASE_ERRORS as err:
@@ -155,14 +183,16 @@ def _gap(summary: dict) -> float:
 
 
 class _Evaluator:
-    """Summary of the group's case at a given ``a``, solved warm from the nearest
-    ``a`` solved so far (the first from cold), for the scene's target when it
-    has one; repeated ``a`` values are cached."""
+    """Summary of the group's case at a given value of its design axis
+    ``variable`` (``a``), solved warm from the nearest value solved so far
+    (the first from cold), for the scene's target when it has one; repeated
+    values are cached."""
 
-    def __init__(self, scene: Scene, values: dict, group: pd.DataFrame):
+    def __init__(self, scene: Scene, values: dict, group: pd.DataFrame, variable: str = "a"):
         self.scene = scene
+        self.variable = variable
         given = {name: values[column] for name, (_, column, _) in AXES.items()
-                 if name in scene.axes and name != "a"}
+                 if name in scene.axes and name not in DESIGN_AXES}
         self.values = given
         self.results: dict[float, object] = {}
         self.solves = 0
@@ -172,7 +202,7 @@ class _Evaluator:
         a = self.last = float(a)
         if a in self.results:
             return self.results[a].summary
-        case = self.scene.case_for({**self.values, "a": a})
+        case = self.scene.case_for({**self.values, self.variable: a})
         warm = None
         if self.results:
             warm = self.results[min(self.results, key=lambda b: abs(b - a))]
@@ -183,19 +213,22 @@ class _Evaluator:
 
     def failure(self, err: Exception) -> str:
         """A short note on the failed solve (the full message: solve that case)."""
-        return f"{type(err).__name__} at a = {self.last:.6f}"
+        return f"{type(err).__name__} at {self.variable} = {self.last:.6g}"
 
 
 def format_selection(table: pd.DataFrame) -> str:
-    """The selection as a plain-text table: a in 1/m, stresses in MPa."""
-    lines = [f"{'scene':<10} {'dim':<3} {'current':>10} {'a_min_stress':>13} {'max VM':>8} "
-             f"{'a_equal_peaks':>13} {'peak VM':>8} {'max util':>8} {'tip m':>6} "
+    """The selection as a plain-text table: the variable's choices (a in 1/m,
+    a radius or a shift in m), stresses in MPa."""
+    lines = [f"{'scene':<10} {'dim':<3} {'current':>10} {'variable':>14} {'min_stress':>13} "
+             f"{'max VM':>8} {'equal_peaks':>13} {'peak VM':>8} {'max util':>8} {'tip m':>6} "
              f"{'reference_a':>11}  note"]
     for _, r in table.iterrows():
         current = f"{r['current_speed']:.2g}@{r['current_heading_deg']:.0f}°"
+        v = r["variable"]
         lines.append(
-            f"{r['scene']:<10} {r['dimension']:<3} {current:>10} {_a(r['a_min_stress']):>13} "
-            f"{_mpa(r['min_max_von_mises']):>8} {_a(r['a_equal_peaks']):>13} "
+            f"{r['scene']:<10} {r['dimension']:<3} {current:>10} {v:>14} "
+            f"{_a(r[f'{v}_min_stress']):>13} "
+            f"{_mpa(r['min_max_von_mises']):>8} {_a(r[f'{v}_equal_peaks']):>13} "
             f"{_mpa(r['equal_peaks_von_mises']):>8} {_num(r['equal_peaks_max_utilisation']):>8} "
             f"{_num(r['equal_peaks_tip_clearance']):>6} {_a(r['reference_a']):>11}  {r['note']}")
     return "\n".join(lines)

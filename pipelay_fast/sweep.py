@@ -23,7 +23,9 @@ A sweep file is TOML (examples in ``sweeps/``)::
     vary = { a = [-0.0011, -0.0012] }   # replaces the file's axis of that name
 
 Axes (the inputs that vary, with their summary column): ``a`` (``a``, 1/m; S-lay
-scenes only, J-lay scenes ignore it), ``current_speed`` (m/s),
+scenes only, J-lay scenes ignore it), a roller stinger's ``stinger_radius``
+(m, rollers placed on a radius) and ``roller_shift`` (m, the heights of
+``lay.stinger.shifted`` shifted), ``current_speed`` (m/s),
 ``current_heading`` (``current_heading_deg``, deg), ``top_tension``,
 ``bottom_tension`` (``given_top_tension``, ``given_bottom_tension``, N) and
 ``pipe_length`` (``given_pipe_length``, m); a tension axis replaces whichever
@@ -48,8 +50,9 @@ case of the scenes a target solve (:func:`pipelay_fast.solve_for`)::
 The key solved for must not be one that an axis varies; its value is the
 summary's ``target_value`` and the target itself its ``target`` (text).
 
-Cases that differ only in the chain axis (``a``; for J-lay the first varied of
-current speed, tension, heading) form a chain, solved in order with warm starts.
+Cases that differ only in the chain axis (``a``, a roller stinger's radius or
+shift; for J-lay the first varied of current speed, tension, heading) form a
+chain, solved in order with warm starts.
 """
 
 from __future__ import annotations
@@ -78,6 +81,8 @@ __all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains", "load_sweep"]
 # axis name -> (case key, summary column, unit)
 AXES = {
     "a": ("lay.stinger.a", "a", "1/m"),
+    "stinger_radius": ("lay.stinger.radius", "stinger_radius", "m"),
+    "roller_shift": ("lay.stinger.height_shift", "roller_shift", "m"),
     "current_speed": ("environment.current.speed", "current_speed", "m/s"),
     "current_heading": ("environment.current.heading", "current_heading_deg", "deg"),
     "top_tension": ("lay.top_tension", "given_top_tension", "N"),
@@ -86,8 +91,12 @@ AXES = {
 }
 TENSION_AXES = ("top_tension", "bottom_tension", "pipe_length")
 # the chain axis is the first of these that a scene varies
-CHAIN_ORDER = ("a", "current_speed", "top_tension", "bottom_tension", "pipe_length",
-               "current_heading")
+CHAIN_ORDER = ("a", "stinger_radius", "roller_shift", "current_speed", "top_tension",
+               "bottom_tension", "pipe_length", "current_heading")
+# the stinger's design axes, which `select` chooses a value of: the quadratic
+# stinger's a, a roller stinger's radius (rollers placed on a radius) or the
+# shift of its rollers' heights
+DESIGN_AXES = ("a", "stinger_radius", "roller_shift")
 # a chain longer than this is cut into pieces (each starts cold), so that one
 # long axis still spreads over the workers; independent of the worker count
 MAX_CHAIN_LENGTH = 64
@@ -364,7 +373,8 @@ def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
             changes[case_key] = table[key]
     changes.update(_dotted(f"{path}.set", table.get("set", {})))
     if method == "J":
-        scene_axes.pop("a", None)  # no stinger to vary
+        for axis in DESIGN_AXES:
+            scene_axes.pop(axis, None)  # no stinger to vary
     reference = table.get("reference_a", math.nan)
     if isinstance(reference, bool) or not isinstance(reference, numbers.Real):
         fail(f"{path}.reference_a", reference, "must be a number (1/m)")
@@ -373,12 +383,28 @@ def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
         case = base.with_changes(changes)
     except ValueError as err:
         raise ValueError(f"{path} ({name}): {err}") from None
+    _check_design_axes(path, name, case, scene_axes)
     target_path = f"{path}.target" if "target" in table else "target"
     if "target" in table:
         target = _target(target_path, table["target"])
     if target is not None:
         _check_target(target_path, target, case, scene_axes)
     return Scene(name, case, scene_axes, float(reference), target)
+
+
+def _check_design_axes(path, name, case, axes):
+    """Refuse a stinger axis the scene's stinger does not have: ``a`` on a
+    roller stinger, ``stinger_radius`` without rollers placed on a radius,
+    ``roller_shift`` without rollers."""
+    rollers = case.lay.has_rollers
+    need = {"a": (not rollers, "a quadratic stinger (lay.stinger.a)"),
+            "stinger_radius": (rollers and case.lay.stinger.radius is not None,
+                               "rollers placed on a radius (lay.stinger.radius)"),
+            "roller_shift": (rollers, "a roller stinger (lay.stinger.rollers or radius)")}
+    for axis, (ok, what) in need.items():
+        if axis in axes and case.lay.method == "S" and not ok:
+            raise ValueError(f"{path} ({name}): the axis {axis!r} needs {what}; the scene's "
+                             "case does not have one")
 
 
 def _target(path, table) -> dict:
@@ -542,7 +568,9 @@ def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dic
     inputs = {
         "method": ref.lay.method,
         "dimension": ref.resolved_dimension if case is not None else "",
-        "a": lay.stinger.a if lay.stinger is not None else math.nan,
+        "a": getattr(lay.stinger, "a", math.nan),
+        "stinger_radius": _float(getattr(lay.stinger, "radius", None)),
+        "roller_shift": _float(getattr(lay.stinger, "height_shift", None)),
         "water_depth": ref.environment.water_depth,
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,
@@ -554,6 +582,10 @@ def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dic
     for name, value in values.items():  # the requested values, valid or not
         inputs[AXES[name][1]] = value
     return inputs
+
+
+def _float(value) -> float:
+    return math.nan if value is None else float(value)
 
 
 def _raw_id(scene: Scene, values: Mapping[str, float]) -> str:

@@ -96,17 +96,19 @@ A_SWEEP = {"name": "a_sweep", "set": {"solver.element_length": 8.0},
 def test_sweep_plot_marks_the_chosen_a(tmp_path):
     root = tmp_path / "a"
     run_sweep(load_sweep(A_SWEEP), root, workers=1, progress=False)
-    chosen = select(root)["a_equal_peaks"].iloc[0]
+    table = select(root)
+    chosen, least = table["a_equal_peaks"].iloc[0], table["a_min_stress"].iloc[0]
     path = tmp_path / "a.png"
     fig = plot_sweep(root, path)
     assert png_size(path) == (round(PANEL_SIZE[0] * DPI), round(PANEL_SIZE[1] * DPI))
     (ax,) = fig.axes
     summary = read_summary(root).sort_values("a")
-    over, sag, mark = ax.lines
+    over, sag, mark, least_mark = ax.lines
     np.testing.assert_array_equal(over.get_xdata(), summary["a"])
     np.testing.assert_allclose(over.get_ydata(), summary["overbend_max_von_mises"] / 1e6)
     np.testing.assert_allclose(sag.get_ydata(), summary["sagbend_max_von_mises"] / 1e6)
     assert np.isfinite(chosen) and mark.get_xdata()[0] == chosen
+    assert np.isfinite(least) and least_mark.get_xdata()[0] == least
     assert _holds(ax.get_xlim(), summary["a"])
     assert _holds(ax.get_ylim(), summary[["overbend_max_von_mises",
                                           "sagbend_max_von_mises"]].to_numpy() / 1e6)

@@ -28,6 +28,11 @@ from scipy.integrate import quad
 
 import pipelay_fast as pf
 from pipelay_fast.case import RollerStinger
+from pipelay_fast.dataset import read_rollers, read_summary
+from pipelay_fast.io import read_units
+from pipelay_fast.runner import run_sweep
+from pipelay_fast.select import select
+from pipelay_fast.sweep import load_sweep
 
 from .helpers import EXAMPLES, weights
 
@@ -270,3 +275,75 @@ def test_a_warm_start_needs_the_same_rollers():
                                                         case.lay.stinger.rollers[:-1]]})
     with pytest.raises(ValueError, match="rollers"):
         pf.solve(fewer, warm=res)
+
+
+RADIUS_SWEEP = {"name": "radius", "set": {"solver.element_length": 8.0},
+                "scenes": [{"name": "S67R", "case": "s67_radius",
+                            "vary": {"stinger_radius": [400.0, 450.0, 500.0]}},
+                           {"name": "S67T", "case": "s67_rollers",
+                            "set": {"lay.stinger.shifted": [22]},
+                            "vary": {"roller_shift": [-0.1, 0.0, 0.1]}}]}
+
+
+@pytest.fixture(scope="module")
+def radius_sweep(tmp_path_factory):
+    root = tmp_path_factory.mktemp("rollers") / "radius"
+    run_sweep(load_sweep(RADIUS_SWEEP), root, workers=1, progress=False)
+    return root
+
+
+def test_a_roller_sweep_writes_each_case_s_rollers(radius_sweep):
+    """The rollers table holds every case's roller table, as a direct solve
+    gives it, with its case id (the sweep's warm from its neighbour, the
+    direct one cold: their meshes differ a little, 4e-8 in the reactions)."""
+    summary = read_summary(radius_sweep)
+    rollers = read_rollers(radius_sweep)
+    assert (summary["status"] == "ok").all() and len(summary) == 6
+    row = summary[(summary["scene"] == "S67R") & (summary["stinger_radius"] == 450.0)].iloc[0]
+    mine = rollers[rollers["case_id"] == row["case_id"]].sort_values("roller")
+    direct = pf.solve(example_case("s67_radius").with_changes(
+        {"solver.element_length": 8.0, "lay.stinger.radius": 450.0})).rollers
+    assert len(mine) == len(direct) == 23
+    for column in ("x", "z", "s", "reaction", "clearance"):
+        np.testing.assert_allclose(mine[column].to_numpy(), direct[column].to_numpy(),
+                                   rtol=1e-6, atol=1e-9 * direct["reaction"].max(),
+                                   err_msg=column)
+    assert (mine["in_contact"].to_numpy() == direct["in_contact"].to_numpy()).all()
+    assert row["last_roller_in_contact"] == int(np.flatnonzero(direct["in_contact"])[-1])
+    shifted = summary[summary["scene"] == "S67T"].sort_values("roller_shift")
+    assert shifted["roller_shift"].tolist() == [-0.1, 0.0, 0.1]
+    assert shifted["a"].isna().all() and shifted["stinger_radius"].isna().all()
+
+
+def test_select_chooses_the_radius_and_the_shift_of_least_stress(radius_sweep):
+    """By a's rules: the least peak stress, refined between the grid points
+    around the grid's least; a direct solve at the choice gives that stress
+    (to 1e-5: the refinement's solve is warm, on its neighbour's mesh at 8 m
+    elements), no more than the grid's."""
+    table = select(radius_sweep)
+    assert read_units(radius_sweep / "selection.parquet")["stinger_radius_min_stress"] == "m"
+    by_scene = {row.scene: row for row in table.itertuples()}
+    radius, shift = by_scene["S67R"], by_scene["S67T"]
+    assert (radius.variable, shift.variable) == ("stinger_radius", "roller_shift")
+    assert math.isnan(radius.a_min_stress) and math.isnan(radius.roller_shift_min_stress)
+    grid = read_summary(radius_sweep)
+    for row, scene, key, column in ((radius, "S67R", "lay.stinger.radius", "stinger_radius"),
+                                    (shift, "S67T", "lay.stinger.height_shift",
+                                     "roller_shift")):
+        cases = grid[grid["scene"] == scene]
+        chosen = getattr(row, f"{column}_min_stress")
+        assert cases[column].min() < chosen < cases[column].max()
+        assert row.min_max_von_mises <= cases["max_von_mises"].min()
+        base = example_case("s67_radius" if scene == "S67R" else "s67_rollers")
+        extra = {} if scene == "S67R" else {"lay.stinger.shifted": [22]}
+        at = pf.solve(base.with_changes({"solver.element_length": 8.0, key: chosen, **extra}))
+        assert at.summary["max_von_mises"] == pytest.approx(row.min_max_von_mises, rel=1e-5)
+
+
+@pytest.mark.parametrize("axis, case", [("a", "s67_rollers"), ("stinger_radius", "s67_rollers"),
+                                        ("roller_shift", "s67"), ("stinger_radius", "s67")])
+def test_a_stinger_axis_the_scene_s_stinger_lacks_is_refused(axis, case):
+    spec = {"name": "bad", "scenes": [{"name": "X", "case": case,
+                                       "vary": {axis: [1.0, 2.0]}}]}
+    with pytest.raises(ValueError, match=f"the axis '{axis}' needs"):
+        load_sweep(spec)
