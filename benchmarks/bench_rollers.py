@@ -16,6 +16,12 @@ stinger's, and warm sweeps of roller heights.
    case warm from the last (Newton iterations per case, time), with the
    cold solves of the same cases for the answers' agreement (peak stress).
    Target: at most 3 iterations a case.
+3. Random roller stingers (``--random N``, ``--seed``): S67's pipe on rollers
+   placed on a radius (250 to 700 m, 3 to 12 m apart, 100 to 160 m of arc
+   from a top 2 to 15 deg, 5 m above the surface, in 40 to 150 m of water),
+   580 to 1200 kN at the top, a current of 0 to 1.5 m/s along the lay (2D)
+   or at 30 to 90 deg (3D, friction 0.5), V rollers or flat; cold solves:
+   refused inputs, failures, iterations, rollers pulling.
 
 Prints markdown tables (machine and versions first) and writes
 ``rollers.json`` into --out (default benchmarks/out).
@@ -25,6 +31,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import statistics
 import time
 from pathlib import Path
@@ -68,7 +75,7 @@ def cold_part(repeats):
                      "iterations": int(res.summary["n_iterations"]),
                      "elements": int(res.summary["n_elements"]),
                      "max_von_mises_MPa": res.summary["max_von_mises"] / 1e6,
-                     "last_roller_in_contact": int(res.summary["last_roller_in_contact"])})
+                     "last_roller_in_contact": res.summary["last_roller_in_contact"]})
     base = {"S67": rows[0]["median_ms"], "S125": rows[2]["median_ms"]}
     for row in rows:
         row["vs_quadratic"] = row["median_ms"] / base[row["case"].split()[0]]
@@ -107,6 +114,48 @@ def warm_part():
     return rows
 
 
+def random_part(n, seed):
+    """Cold solves of ``n`` random roller stingers (see the module's part 3)."""
+    rng = np.random.default_rng(seed)
+    base = pf.load_case(EXAMPLES / "s67_radius.toml")
+    rows = []
+    for k in range(n):
+        depth = float(rng.uniform(40.0, 150.0))
+        heading = float(rng.choice([0.0, rng.uniform(30.0, 90.0)]))
+        changes = {
+            "environment.water_depth": depth, "lay.top": [depth + 5.0, 400.0],
+            "lay.top_angle": float(rng.uniform(2.0, 15.0)),
+            "lay.top_tension": float(rng.uniform(580e3, 1200e3)),
+            "lay.stinger.radius": float(rng.uniform(250.0, 700.0)),
+            "lay.stinger.arc_length": float(rng.uniform(100.0, 160.0)),
+            "lay.stinger.spacing": float(rng.uniform(3.0, 12.0)),
+            "lay.stinger.roller_type": str(rng.choice(["v", "flat"])),
+            "environment.current.speed": float(rng.uniform(0.0, 1.5)),
+            "environment.current.heading": heading,
+        }
+        row = {"case": k, "dimension": "", "status": "", "iterations": 0, "seconds": math.nan,
+               "rollers": 0, "last_in_contact": -1, "pulling": 0, "message": ""}
+        try:
+            case = base.with_changes(changes)
+        except ValueError as err:
+            rows.append({**row, "status": "refused", "message": str(err)[:120]})
+            continue
+        t0 = time.perf_counter()
+        try:
+            res = pf.solve(case)
+        except pf.SolveError as err:
+            rows.append({**row, "status": "failed", "seconds": time.perf_counter() - t0,
+                         "message": str(err)[:160]})
+            continue
+        ro = res.rollers
+        rows.append({**row, "dimension": res.summary["dimension"], "status": "ok",
+                     "iterations": int(res.summary["n_iterations"]),
+                     "seconds": time.perf_counter() - t0, "rollers": len(ro),
+                     "last_in_contact": int(res.summary["last_roller_in_contact"]),
+                     "pulling": int((ro["reaction"] < 0.0).sum())})
+    return rows
+
+
 def markdown(rows):
     keys = list(rows[0])
     out = ["| " + " | ".join(keys) + " |", "| " + " | ".join("---" for _ in keys) + " |"]
@@ -119,6 +168,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=30)
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "out")
+    parser.add_argument("--random", type=int, default=40, help="random cases (part 3)")
+    parser.add_argument("--seed", type=int, default=13)
     args = parser.parse_args(argv)
     info = machine_info()
     print("## Machine\n")
@@ -130,9 +181,18 @@ def main(argv=None):
     warm = warm_part()
     print("\n## Warm sweeps of roller heights (S67, 23 rollers; each case from the last)\n")
     print(markdown(warm))
+    rand = random_part(args.random, args.seed)
+    if rand:
+        ok = [r for r in rand if r["status"] == "ok"]
+        counts = {st: sum(r["status"] == st for r in rand) for st in ("ok", "failed", "refused")}
+        print(f"\n## Random roller stingers (seed {args.seed}): {counts}; iterations of the "
+              f"solved: median {statistics.median(r['iterations'] for r in ok) if ok else 0}, "
+              f"max {max((r['iterations'] for r in ok), default=0)}; rollers pulling: "
+              f"{sum(r['pulling'] for r in ok)}\n")
+        print(markdown(rand))
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "rollers.json").write_text(json.dumps(
-        {"machine": info, "cold": cold, "warm": warm}, indent=1))
+        {"machine": info, "cold": cold, "warm": warm, "random": rand}, indent=1))
 
 
 if __name__ == "__main__":

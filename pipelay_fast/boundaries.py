@@ -20,11 +20,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.optimize import brentq
 
-from .kernels import layout as L
 from .kernels.contact import ST_ON, tip_geometry
 from .kernels.newton import B_LO
 from .mesh import graded_nodes
-from .results import foundation_exit
+from .results import foundation_exit, last_roller_in_contact
 
 if TYPE_CHECKING:
     from .case import Case
@@ -125,14 +124,6 @@ def over_rollers(pb: Problem) -> np.ndarray:
     without rollers)."""
     nodes = pb.roller_nodes
     return pb.s[nodes[nodes >= 0]]
-
-
-def last_roller_in_contact(pb: Problem) -> int:
-    """The index of the last roller (from the vessel down) the pipe bears
-    on; -1 when it bears on none or there are no rollers."""
-    nodes = pb.roller_nodes
-    bearing = np.flatnonzero((pb.points[:nodes.size, L.PT_BEAR] != 0.0) & (nodes >= 0))
-    return int(bearing[-1]) if bearing.size else -1
 
 
 def liftoff_position(case: Case, pb: Problem):

@@ -536,10 +536,11 @@ class RollerStinger:
         path_keys = ("radius", "arc_length", "spacing")
         given = [k for k in path_keys if getattr(self, k) is not None]
         if self.rollers is not None:
-            if given:
-                fail(f"{p}.{given[0]}", getattr(self, given[0]),
+            if given or self.straight_length != 0.0:
+                key = given[0] if given else "straight_length"
+                fail(f"{p}.{key}", getattr(self, key),
                      f"is given with {p}.rollers: give the rollers, or the path "
-                     "(radius, arc_length, spacing), not both")
+                     "(radius, arc_length, spacing, straight_length), not both")
             if self.height_step is not None:
                 fail(f"{p}.height_step", self.height_step,
                      f"rounds generated rollers only; {p}.rollers are taken as given")
@@ -573,12 +574,15 @@ class RollerStinger:
         if isinstance(kinds, (list, tuple)):
             kinds = tuple(choice(f"{p}.roller_type[{i}]", k, ROLLER_TYPES)
                           for i, k in enumerate(kinds))
-            if self.rollers is not None and len(kinds) != len(self.rollers):
-                fail(f"{p}.roller_type", list(kinds), f"has {len(kinds)} entries for "
-                     f"{len(self.rollers)} rollers: give one per roller, or one for all")
+            if len(kinds) != self.count:
+                fail(f"{p}.roller_type", list(kinds), f"has {len(kinds)} entries for the "
+                     f"{self.count} rollers: give one per roller, or one for all")
         else:
             kinds = choice(f"{p}.roller_type", kinds, ROLLER_TYPES)
         assign(self, "roller_type", kinds)
+        if self.shifted is not None and max(self.shifted) >= self.count:
+            fail(f"{p}.shifted", list(self.shifted),
+                 f"names a roller past the last of the {self.count}")
 
     @property
     def count(self) -> int:
@@ -638,7 +642,9 @@ class Lay:
         Unstretched length with a fixed lower end [m].
         Exactly one of the three tension keys is given.
     top : (float, float)
-        (x, z) of the pipe's upper end [m]; for S-lay the stinger upper end.
+        (x, z) of the pipe's upper end [m]; for S-lay on a quadratic stinger
+        its upper end; required with a roller stinger (where the vessel
+        holds the pipe, above the rollers).
     top_angle : float, "pinned" or None
         Prescribed top angle from horizontal [deg], in (0, 90], or "pinned".
         Omitted: pinned for J-lay; for S-lay the firing line, the pipe held
@@ -651,9 +657,12 @@ class Lay:
         const of the rod. The engine solves it so, as the firing line with the
         tension below the pin that much lower (:func:`pipelay_fast.model.pin_jump`);
         the profile's top node reports the pin's values (zero moment, the
-        tension above the jump).
-    stinger : Stinger or None
-        Required for S-lay, forbidden for J-lay.
+        tension above the jump). Required with a roller stinger: degrees (the
+        firing line; a radius path starts along it), or "pinned" with
+        explicit rollers (the top then simply pinned: no conforming pipe).
+    stinger : Stinger, RollerStinger or None
+        Required for S-lay, forbidden for J-lay: the quadratic curve
+        (``a``, ``lower``, ``upper``) or rollers (:class:`RollerStinger`).
     torque : float
         Torque at the ends H [N m]; default 0.
     distributed_moment : (float, float, float)
@@ -749,15 +758,8 @@ class Lay:
                      f"turns the pipe to {turn:.4g} deg from lay.top_angle = {self.top_angle!r} "
                      f"deg with {p}.radius = {st.radius!r} m: beyond {MAX_STINGER_TURN:g} deg the "
                      "stinger overhangs the pipe coming from the vessel")
-        n = st.count
-        if st.shifted is not None and max(st.shifted) >= n:
-            fail(f"{p}.shifted", list(st.shifted), f"names a roller past the last of the {n}")
         pts = self.roller_positions()
         where = f"{p}.rollers" if st.rollers is not None else f"{p} (generated rollers)"
-        if not isinstance(st.roller_type, str) and len(st.roller_type) != len(pts):
-            fail(f"{p}.roller_type", list(st.roller_type),
-                 f"has {len(st.roller_type)} entries for the {len(pts)} rollers the path "
-                 "places: give one per roller, or one for all")
         x_top, z_top = self.top
         if not (pts[0, 0] < x_top and pts[0, 1] < z_top):
             fail(f"{where}[0]", pts[0].tolist(), f"must lie below and behind lay.top = "
@@ -1084,11 +1086,15 @@ def _stinger_class(table, path):
     ``radius``) a ``[lay.stinger]`` table describes."""
     if not isinstance(table, Mapping):
         fail(path, table, "must be a table")
-    rollers = [k for k in ("rollers", "radius") if k in table]
+    rollers = [k for k in table if k in _ROLLER_KEYS]
     if "a" in table and rollers:
         fail(f"{path}.{rollers[0]}", table[rollers[0]], f"is given with {path}.a: a stinger is "
              "the quadratic curve (a, lower, upper) or rollers (rollers, or radius), not both")
     return RollerStinger if rollers else Stinger
+
+
+# the keys that make a [lay.stinger] table a roller stinger
+_ROLLER_KEYS = {f.name for f in fields(RollerStinger)}
 
 
 def load_case(source: str | os.PathLike | Mapping) -> Case:

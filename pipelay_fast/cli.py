@@ -100,7 +100,8 @@ def _parser() -> argparse.ArgumentParser:
     sweep_cmd.set_defaults(run=_sweep)
 
     select_cmd = commands.add_parser(
-        "select", help="choose the stinger curvature a from a sweep's results",
+        "select", help="choose the stinger (curvature a, or a roller stinger's radius or "
+        "roller heights) from a sweep's results",
         description="For each S-lay scene and current: the a minimising the maximum von "
         "Mises stress and the a where the overbend and sagbend peaks are equal, refined "
         "between grid points; writes RESULTS_DIR/selection.parquet and prints it.",
@@ -122,9 +123,10 @@ def _parser() -> argparse.ArgumentParser:
     plot_cmd = commands.add_parser(
         "plot", help="draw a case's lay or a sweep's results (needs matplotlib)",
         description="CASE.toml: solve it and draw the elevation (seabed, water line, "
-        "stinger), the plan in 3D, and moment, von Mises and utilisation along the pipe. "
-        "RESULTS_DIR: the overbend and sagbend peaks against a per S-lay scene and current "
-        "(select's a marked) and the lay table against depth. PNG unless --out ends in "
+        "stinger or rollers), the plan in 3D, and moment, von Mises and utilisation along the "
+        "pipe. RESULTS_DIR: the overbend and sagbend peaks against a (or a roller stinger's "
+        "radius or roller shift) per S-lay scene and current (select's choices marked) and "
+        "the lay table against depth. PNG unless --out ends in "
         ".svg or .pdf.",
     )
     plot_cmd.add_argument("source", type=Path, metavar="CASE.toml|RESULTS_DIR")
@@ -183,6 +185,8 @@ def format_summary(summary: dict) -> str:
 
 
 def _format_value(value) -> str:
+    if value is None:
+        return "n/a"
     if isinstance(value, numbers.Integral):
         return str(value)
     if isinstance(value, numbers.Real):

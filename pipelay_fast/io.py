@@ -102,9 +102,8 @@ def write_result(result: Result, out_dir: str | os.PathLike) -> tuple[Path, ...]
         "case_id": str(result.summary["case_id"]),
         "pipelay_fast_version": __version__,
     }
-    summary = write_table(
-        pd.DataFrame([result.summary]), out / "summary.parquet", SUMMARY_UNITS, metadata
-    )
+    row = pd.DataFrame([result.summary]).astype({"last_roller_in_contact": "Int64"})
+    summary = write_table(row, out / "summary.parquet", SUMMARY_UNITS, metadata)
     profile = write_table(result.profile, out / "profile.parquet", PROFILE_UNITS, metadata)
     if result.rollers is None:
         return summary, profile

@@ -150,7 +150,7 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     slay = ok[ok["method"] == "S"]
     groups = []  # (key, the design axis it varies, its cases along it)
     for k, g in slay.groupby(list(GROUP_KEYS), sort=True, observed=True, dropna=False):
-        varied = [v for v in DESIGN_AXES if g[v].nunique() > 1]
+        varied = [v for v in DESIGN_AXES if v in g and g[v].nunique() > 1]
         if varied:
             groups.append((dict(zip(GROUP_KEYS, k, strict=True)), varied[0],
                            g.sort_values(varied[0])))

@@ -552,10 +552,10 @@ def warm_problem(case: Case, old: Problem) -> Problem:
                                        and not case.lay.has_rollers):
         raise ValueError(f"warm: lay.method {case.lay.method!r} or its stinger differs from the "
                          "warm case's")
-    rollers = case.lay.roller_positions()
-    if rollers is not None and len(old.points) != len(rollers):
-        raise ValueError(f"warm: {0 if rollers is None else len(rollers)} rollers, the warm "
-                         f"case has {len(old.points)}")
+    new_points = _points(case, np.zeros(N_STINGER))  # (a quadratic stinger's tip aside)
+    if old.stinger[ST_ON] == 0.0 and len(old.points) != len(new_points):
+        raise ValueError(f"warm: the case has {len(new_points)} rollers, the warm case "
+                         f"{len(old.points)}")
     state = dict(zip(STATE, old.before_current or snapshot(old), strict=True))
     g = _guess(guide_case(case) if case.lay.has_rollers else case)
     new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0],
@@ -570,7 +570,7 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     for name in ("bed_active", "st_active", "fric"):
         getattr(new, name)[:] = state[name]
     # the points' contact states (their positions are the new case's)
-    new.points[:, L.PT_BEAR:] = state["points"][:, L.PT_BEAR:]
+    new.points[:, L.PT_BEAR:L.PT_R + 1] = state["points"][:, L.PT_BEAR:L.PT_R + 1]
     if old.s_a is not None:
         new.bnodes, new.s_a, new.s_b = old.bnodes.copy(), old.s_a.copy(), old.s_b.copy()
         new.s_bd = state["s_bd"].copy()
@@ -729,7 +729,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
         new.zone_b = new.s_b
         new.follow_rates(nodes, rates)
     # a bearing point keeps bearing (the node over it moves with the pipe)
-    new.points[:, L.PT_BEAR:] = pb.points[:, L.PT_BEAR:]
+    new.points[:, L.PT_BEAR:L.PT_R + 1] = pb.points[:, L.PT_BEAR:L.PT_R + 1]
     return new
 
 

@@ -244,6 +244,14 @@ def tip_force(pb):
     return int(pb.tip_node), float(pb.tip[1])
 
 
+def last_roller_in_contact(pb) -> int:
+    """The index of the last roller (from the vessel down) the pipe bears
+    on; -1 when it bears on none or there are no rollers."""
+    nodes = pb.roller_nodes
+    bearing = np.flatnonzero((pb.points[:nodes.size, L.PT_BEAR] != 0.0) & (nodes >= 0))
+    return int(bearing[-1]) if bearing.size else -1
+
+
 def roller_gaps(pb) -> np.ndarray:
     """The pipe's clearance [m] above each roller of a roller stinger: its
     axis at the node over the roller, along the pipe's normal there (the
@@ -268,6 +276,8 @@ def build_rollers(case: Case, pb, react) -> dict | None:
     if not case.lay.has_rollers:
         return None
     nodes = pb.roller_nodes
+    if (nodes < 0).any():  # (every roller has its node once the mesh follows them)
+        raise RuntimeError(f"rollers {np.flatnonzero(nodes < 0).tolist()} have no node")
     nd = pb.nd
     base = nodes * pb.ndn
     pts = pb.points
@@ -407,12 +417,11 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
     r = np.stack([pb.u[i::ndn] for i in range(pb.nd)], axis=1)  # (nodal_fields without r'')
     rp = np.stack([pb.u[pb.nd + i::ndn] for i in range(pb.nd)], axis=1)
     departure = liftoff_angle if stinger is not None else float(cols["angle_deg"][-1])
-    last_roller = -1  # (none: no roller bears, or no roller stinger)
+    last_roller = None  # (no roller stinger)
     max_roller = nan
     last_clearance = None
     if rollers is not None:  # the tip's clearance is the last roller's
-        bears = np.flatnonzero(rollers["in_contact"])
-        last_roller = int(bears[-1]) if bears.size else -1
+        last_roller = last_roller_in_contact(pb)
         max_roller = float(rollers["reaction"].max())
         last_clearance = float(rollers["clearance"][-1])
     design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure,

@@ -101,7 +101,7 @@ def _variable(scene: Scene | None, group: pd.DataFrame) -> str:
         varied = [axis for axis in DESIGN_AXES if axis in scene.axes]
         if varied:
             return varied[0]
-    columns = [AXES[axis][1] for axis in DESIGN_AXES]
+    columns = [AXES[axis][1] for axis in DESIGN_AXES if AXES[axis][1] in group]
     for column in columns:
         if group[column].nunique() > 1:
             return column

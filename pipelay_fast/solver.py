@@ -124,11 +124,12 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
     t0 = time.perf_counter()
-    guided = 0
+    guided = warm is None and case.lay.has_rollers
+    guide_iterations = 0
     if warm is not None:
         pb = warm_problem(case, warm)
-    elif case.lay.has_rollers:
-        pb, guided = _from_guide(case, budget)
+    elif guided:
+        pb, guide_iterations = _from_guide(case, budget)
     else:
         pb = build_problem(case)
     # friction is path dependent: gravity first, then the current in steps
@@ -140,7 +141,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     pb.tolerance = (max(case.solver.tolerance, LOOSE_TOLERANCE)
                     if case.solver.grading and not guided else None)
     pb, react, stats = _solve_gravity(case, pb, budget)
-    stats["iterations"] += guided
+    stats["iterations"] += guide_iterations
     passes = 1
     while True:
         s_t = touchdown_position(pb)
@@ -237,7 +238,12 @@ def _from_guide(case: Case, budget: IterationBudget):
     if friction_path(guide):
         pb.on_gravity_path()
     pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
-    pb, _react, _stats = _solve_gravity(guide, pb, budget)
+    try:
+        pb, _react, _stats = _solve_gravity(guide, pb, budget)
+    except SolveError as err:
+        raise SolveError(f"case {case.name!r}: the roller stinger's start, the quadratic "
+                         f"stinger fitted through its rollers (a = {guide.lay.stinger.a:.6g} 1/m, "
+                         f"tip at {list(guide.lay.stinger.lower)}), did not solve: {err}") from err
     return roller_problem(case, pb), budget.used - used
 
 

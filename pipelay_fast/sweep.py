@@ -357,11 +357,15 @@ def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
     method = table.get("method", base.lay.method)
     if method not in ("S", "J"):
         fail(f"{path}.method", method, "must be 'S' or 'J'")
-    misplaced = ("stinger_lower", "stinger_upper") if method == "J" else ("top",)
+    # the quadratic stinger's top is its upper end; J-lay and a roller
+    # stinger have a top of their own and no stinger ends
+    curve = method == "S" and not base.lay.has_rollers
+    misplaced = ("top",) if curve else ("stinger_lower", "stinger_upper")
     for key in misplaced:
         if key in table:
             fail(f"{path}.{key}", table[key], f"does not apply to a scene with method = "
-                 f"{method!r}" + (" (the S-lay top is stinger_upper)" if method == "S" else ""))
+                 f"{method!r}" + (" (the S-lay top is stinger_upper)" if curve else
+                                  " on rollers (give top)" if method == "S" else ""))
     if method == "J" and base.lay.method == "S":
         changes.update({"lay.method": "J", "lay.stinger": None, "lay.top": None})
     elif method == "S" and base.lay.method == "J":
@@ -397,6 +401,10 @@ def _check_design_axes(path, name, case, axes):
     roller stinger, ``stinger_radius`` without rollers placed on a radius,
     ``roller_shift`` without rollers."""
     rollers = case.lay.has_rollers
+    varied = [axis for axis in DESIGN_AXES if axis in axes]
+    if len(varied) > 1 and case.lay.method == "S":
+        raise ValueError(f"{path} ({name}): the axes {varied} both vary the stinger; a scene "
+                         "varies one (select chooses its value), so put each in a scene of its own")
     need = {"a": (not rollers, "a quadratic stinger (lay.stinger.a)"),
             "stinger_radius": (rollers and case.lay.stinger.radius is not None,
                                "rollers placed on a radius (lay.stinger.radius)"),

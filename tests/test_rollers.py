@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy.integrate import quad
 
@@ -226,14 +227,59 @@ def test_rollers_placed_on_a_radius_lie_on_its_circle():
     assert rounded[:, 1] == pytest.approx(pts[:, 1], abs=0.0)
 
 
-def test_the_radius_example_solves_on_its_generated_rollers():
-    case = example_case("s67_radius")
-    res = pf.solve(case)
-    pts = case.lay.roller_positions()
-    assert len(res.rollers) == len(pts) == 23
-    assert res.rollers[["x", "z"]].to_numpy() == pytest.approx(pts, abs=0.0)
-    assert res.summary["last_roller_in_contact"] == int(
-        np.flatnonzero(res.rollers["in_contact"])[-1])
+def test_the_pipe_rests_on_the_rollers_it_bears_on_and_clears_the_others():
+    """The radius example: at each roller's arc length the profile's pipe
+    axis passes through the roller where it bears, and above it by the
+    reported clearance (measured here along the normal of the profile's
+    angle) where it does not; a roller the pipe clears carries nothing."""
+    res = pf.solve(example_case("s67_radius"))
+    prof, ro = res.profile, res.rollers
+    k = np.searchsorted(prof["s"].to_numpy(), ro["s"].to_numpy())
+    assert prof["s"].to_numpy()[k] == pytest.approx(ro["s"].to_numpy(), abs=0.0)  # a node each
+    x, z = prof["x"].to_numpy()[k], prof["z"].to_numpy()[k]
+    theta = np.radians(prof["angle_deg"].to_numpy()[k])
+    normal = np.cos(theta) * (x - ro["x"].to_numpy()) - np.sin(theta) * (z - ro["z"].to_numpy())
+    on = ro["in_contact"].to_numpy()
+    assert 0 < on.sum() < len(ro)
+    assert np.abs(normal[on]).max() < 1e-9
+    assert normal[~on] == pytest.approx(ro["clearance"][~on].to_numpy(), abs=1e-9)
+    assert (ro["clearance"][~on] > 0.0).all() and (ro["reaction"][~on] == 0.0).all()
+    assert (prof["contact"].to_numpy()[k] == np.where(on, "roller", "free")).all()
+
+
+def test_a_warm_start_carries_contacts_not_the_roller_type(lateral):
+    """Flat rollers warm from a V-roller answer: the flat answer (the warm
+    start carries the contact state, not the neighbour's roller type)."""
+    case = example_case("s67_rollers").with_changes({"environment.current.heading": 90.0,
+                                                     "lay.stinger.roller_type": "flat"})
+    warm = pf.solve(case, warm=lateral["v", 90.0])
+    cold = lateral["flat", 90.0]
+    assert (warm.rollers["lateral_reaction"] == 0.0).all()
+    assert warm.summary["max_lateral_deflection"] == pytest.approx(
+        cold.summary["max_lateral_deflection"], rel=1e-6)
+
+
+def test_a_roller_answer_does_not_warm_start_a_j_lay():
+    res = pf.solve(example_case("s67_rollers"))
+    with pytest.raises(ValueError, match="warm: lay.method 'J'|rollers"):
+        pf.solve(example_case("j125"), warm=res)
+
+
+def test_solve_writes_the_roller_table(tmp_path):
+    from pipelay_fast.io import write_result
+    from pipelay_fast.results import ROLLER_UNITS
+
+    res = pf.solve(example_case("s67_rollers"))
+    paths = write_result(res, tmp_path)
+    assert [p.name for p in paths] == ["summary.parquet", "profile.parquet", "rollers.parquet"]
+    back = pd.read_parquet(tmp_path / "rollers.parquet")
+    pd.testing.assert_frame_equal(back, res.rollers)
+    assert read_units(tmp_path / "rollers.parquet") == ROLLER_UNITS
+    summary = pd.read_parquet(tmp_path / "summary.parquet")
+    assert summary["last_roller_in_contact"].iloc[0] == res.summary["last_roller_in_contact"]
+    plain = write_result(pf.solve(example_case("s67")), tmp_path / "quadratic")
+    assert len(plain) == 2
+    assert pd.read_parquet(plain[0])["last_roller_in_contact"].isna().all()
 
 
 @pytest.mark.parametrize("changes, key", [
@@ -247,6 +293,9 @@ def test_the_radius_example_solves_on_its_generated_rollers():
     ({"lay.stinger.roller_type": "u"}, "lay.stinger.roller_type"),
     ({"lay.top_angle": None}, "lay.top_angle"),
     ({"lay.top": None}, "lay.top"),
+    ({"lay.stinger.straight_length": 10.0}, "lay.stinger.straight_length"),
+    ({"lay.stinger.shifted": [23]}, "lay.stinger.shifted"),
+    ({"lay.stinger.shifted": [1, 1]}, "lay.stinger.shifted"),
 ])
 def test_bad_roller_stingers_are_refused_naming_the_key(changes, key):
     case = example_case("s67_rollers")
@@ -261,6 +310,7 @@ def test_bad_roller_stingers_are_refused_naming_the_key(changes, key):
     ({"lay.top_angle": "pinned"}, "lay.top_angle"),
     ({"lay.stinger.radius": -5.0}, "lay.stinger.radius"),
     ({"lay.stinger.rollers": [[71.0, 394.0]]}, "lay.stinger.radius"),
+    ({"lay.stinger.radius": None}, "lay.stinger.radius"),  # a path without its radius
 ])
 def test_bad_roller_paths_are_refused_naming_the_key(changes, key):
     case = example_case("s67_radius")
@@ -338,6 +388,20 @@ def test_select_chooses_the_radius_and_the_shift_of_least_stress(radius_sweep):
         extra = {} if scene == "S67R" else {"lay.stinger.shifted": [22]}
         at = pf.solve(base.with_changes({"solver.element_length": 8.0, key: chosen, **extra}))
         assert at.summary["max_von_mises"] == pytest.approx(row.min_max_von_mises, rel=1e-5)
+
+
+def test_a_scene_varies_one_stinger_axis():
+    spec = {"name": "bad", "scenes": [{"name": "X", "case": "s67_radius", "vary": {
+        "stinger_radius": [400.0, 450.0], "roller_shift": [0.0, 0.1]}}]}
+    with pytest.raises(ValueError, match="both vary the stinger"):
+        load_sweep(spec)
+
+
+def test_select_prints_the_roller_choices(radius_sweep):
+    from pipelay_fast.select import format_selection
+
+    text = format_selection(select(radius_sweep, write=False))
+    assert "stinger_radius" in text and "roller_shift" in text
 
 
 @pytest.mark.parametrize("axis, case", [("a", "s67_rollers"), ("stinger_radius", "s67_rollers"),

@@ -113,6 +113,8 @@ def test_summary_equals_direct_solves_along_each_chain(sweep, one_worker):
                     continue
                 if isinstance(value, float):
                     np.testing.assert_allclose(row[name], value, rtol=1e-12, err_msg=name)
+                elif value is None:  # (written as null)
+                    assert pd.isna(row[name]), name
                 else:
                     assert row[name] == value, name
 

@@ -97,8 +97,7 @@ STATUS_TEXT = {
     MAX_ITERATIONS: "maximum number of Newton iterations reached",
     SINGULAR: "singular tangent matrix (a mechanism: is the pipe held?)",
     NOT_FINITE: "non-finite or runaway residual (the iteration diverged)",
-    TIP_CYCLE: ("a point contact (the stinger's tip, or a roller) kept switching between bearing "
-                "and clear"),
+    TIP_CYCLE: "the tip's contact kept switching between bearing and clear",
     PAST_TIP: ("lift-off reached the stinger's tip from above and Newton moves it further "
                "down, after the switches to bearing on the tip that a solve may make"),
     SPAN_CLOSED: ("bearing on the stinger's tip, Newton closes the gap span between re-contact "

@@ -410,19 +410,22 @@ def _tangency(nd, u, stinger, b, node, row):
     """The pipe tangent to its support at a boundary node whose slope is
     otherwise free: lift-off's equation (b = 1), c' = x' - f'(z) z' = 0 on the
     stinger x = f(z) (b = 0: x' = 0 on the seabed). ``row`` gets its
-    derivative d/du (global frame)."""
+    derivative d/du (global frame); an empty ``row``: the value alone."""
     ndn = 2 * nd + 1
     base = node * ndn
-    for i in range(row.shape[0]):
-        row[i] = 0.0
-    row[base + nd] = 1.0
+    want = row.shape[0] > 0
+    if want:
+        for i in range(row.shape[0]):
+            row[i] = 0.0
+        row[base + nd] = 1.0
     if b == 0:
         return u[base + nd]
     fpp = 2.0 * stinger[ST_A]
     fp = fpp * u[base + nd - 1] + stinger[ST_B]
     zp = u[base + 2 * nd - 1]
-    row[base + nd - 1] = -fpp * zp
-    row[base + 2 * nd - 1] = -fp
+    if want:
+        row[base + nd - 1] = -fpp * zp
+        row[base + 2 * nd - 1] = -fp
     return u[base + nd] - fp * zp
 
 
@@ -478,7 +481,7 @@ def _over_point(nd, u, point, node, row):
     """A point's boundary equation: node ``node`` is the material point over
     the rigid point ``point``, t . (r - r_p) = 0 with t = r'/|r'| the pipe's
     tangent [m] (the point's projection on the pipe). ``row`` gets d/du
-    (global frame)."""
+    (global frame); an empty ``row``: the value alone."""
     ndn = 2 * nd + 1
     base = node * ndn
     z_l = point[L.PT_Z]
@@ -497,6 +500,8 @@ def _over_point(nd, u, point, node, row):
     e = 0.0
     for i in range(nd):
         e += d[i] * u[base + nd + i] / a
+    if row.shape[0] == 0:
+        return e
     for i in range(nd):
         t_i = u[base + nd + i] / a
         row[base + i] = t_i
@@ -605,7 +610,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
     "scale", "torques", "rows", "cols", "res_b", "d_b", "kind", "dz", "sm", "rh",
-    "bcols", "row_t", "col_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
+    "bcols", "row_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
     "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate", "at_scratch", "sh",
     "fr_stop", "rhs"])
 
@@ -634,7 +639,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.zeros((n_border, n)), np.zeros((n_border, n)),
         np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border, dtype=np.int64),
         np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border),
-        np.zeros((nbnd, n)), np.zeros(n), np.zeros(n), np.zeros(nbnd), np.zeros(nbnd),
+        np.zeros((nbnd, n)), np.zeros(n), np.zeros(nbnd), np.zeros(nbnd),
         np.zeros(nbnd), np.zeros(nbnd), np.zeros(nn), np.zeros(n), np.zeros(0),
         np.zeros((1, 1)).T, np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
         np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)), np.zeros(nn),
@@ -772,7 +777,7 @@ def _to_nodal_residual(nd, u, mesh, sup, w, m_td):
     w.res_bnd[0] = m_td
     for b in range(B_LO, mesh.bnodes.shape[0]):
         if mesh.bnodes[b] >= 0:
-            w.res_bnd[b] = _bnd_equation(nd, u, sup, b, mesh.bnodes[b], w.row_t)
+            w.res_bnd[b] = _bnd_equation(nd, u, sup, b, mesh.bnodes[b], w.no_row)
 
 
 @jit
@@ -805,17 +810,15 @@ def _border(nd, u, mesh, sup, ends, w, te_top):
         node = mesh.bnodes[b]
         if node < 0:
             continue
-        w.col_t[:] = w.bcols[b]
+        w.cols[nb, :] = w.bcols[b]
         d_own = 0.0
         if b == B_TD:  # (evaluated by _evaluate)
-            w.row_t[:] = w.row_td
+            w.rows[nb, :] = w.row_td
             d_own = w.own_td[0]
         else:
-            w.res_bnd[b] = _bnd_equation(nd, u, sup, b, node, w.row_t)
-        _to_nodal_frames(nd, w.col_t, u, sup, w)
-        _to_nodal_frames(nd, w.row_t, u, sup, w)
-        w.rows[nb, :] = w.row_t
-        w.cols[nb, :] = w.col_t
+            w.res_bnd[b] = _bnd_equation(nd, u, sup, b, node, w.rows[nb])
+        _to_nodal_frames(nd, w.cols[nb], u, sup, w)
+        _to_nodal_frames(nd, w.rows[nb], u, sup, w)
         w.res_b[nb] = w.res_bnd[b]
         # the earlier border equations by s_b at fixed u: the top tension
         for j in range(nb):
@@ -1188,7 +1191,7 @@ def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td):
         tdr += (m_td / (fref * href)) ** 2
     for b in range(B_LO, bnodes.shape[0]):
         if bnodes[b] >= 0 and not hold:
-            tdr += (_bnd_equation(nd, u, sup, b, bnodes[b], w.row_t)
+            tdr += (_bnd_equation(nd, u, sup, b, bnodes[b], w.no_row)
                     / _bnd_scale(b, fref, href)) ** 2
     _to_nodal_frames(nd, w.g_trial, u, sup, w)
     _rm, rs = _weighted_max(nd, w.g_trial, w.cmask, fref, href)
