@@ -160,20 +160,19 @@ class Problem:
         for b, k in enumerate(nodes):
             if k >= 0:
                 kind[int(k)] = b
-        bnd = np.array(sorted(int(k) for k in nodes if k >= 0), dtype=np.int64)
-        for b, k in enumerate(nodes):
-            if k < 0:
-                continue
-            z_lo, z_hi = zones[b]
-            at = int(np.searchsorted(bnd, k))  # its place among the boundary nodes
-            lower = int(bnd[at - 1]) if at > 0 else 0
-            upper = int(bnd[at + 1]) if at + 1 < bnd.size else nn - 1
-            lo = int(np.searchsorted(s, s[k] - z_lo)) - 1
-            hi = int(np.searchsorted(s, s[k] + z_hi))
-            if lower < lo < k:
-                kind.setdefault(lo, -1)
-            if k < hi < upper:
-                kind.setdefault(hi, -1)
+        # each boundary's zone edges, unless another boundary lies nearer
+        on = [b for b, k in enumerate(nodes) if k >= 0]
+        ks = np.array([int(nodes[b]) for b in on], dtype=np.int64)
+        bnd = np.sort(ks)
+        at = np.searchsorted(bnd, ks)  # each one's place among the boundary nodes
+        lower = np.where(at > 0, bnd[np.maximum(at - 1, 0)], 0)
+        upper = np.where(at + 1 < bnd.size, bnd[np.minimum(at + 1, bnd.size - 1)], nn - 1)
+        z = np.array([zones[b] for b in on], dtype=float).reshape(-1, 2)
+        lo = np.searchsorted(s, s[ks] - z[:, 0]) - 1
+        hi = np.searchsorted(s, s[ks] + z[:, 1])
+        edges = [*lo[(lower < lo) & (lo < ks)].tolist(), *hi[(ks < hi) & (hi < upper)].tolist()]
+        for edge in edges:
+            kind.setdefault(int(edge), -1)
         anchors = np.array(sorted(kind), dtype=np.int64)
         owner = np.array([kind[a] for a in anchors.tolist()], dtype=np.int64)
         # each node's span between anchors, and its share of it
@@ -415,7 +414,9 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     pb.fix_val[:ndn] = guide.fix_val[:ndn]
     k_td = int(np.argmin(np.abs(s - s_t)))
     pb.bed_active[1:k_td + 1] = 1
-    nodes = (k_td, -1, *[int(np.argmin(np.abs(s - t))) for t in s_r])
+    over = np.searchsorted(s, s_r)  # (each a node: graded_nodes keeps them)
+    over -= (over > 0) & (np.abs(s[np.maximum(over - 1, 0)] - s_r) < np.abs(s[over] - s_r))
+    nodes = (k_td, -1, *over.tolist())
     follow_nodes(case, pb, nodes)
     if case.solver.grading:  # graded at touchdown, the grading moving with it (as remesh)
         rates = np.zeros((len(nodes), s.size))
@@ -427,7 +428,7 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     return pb
 
 
-ROLLER_PROJECTIONS = 3  # the points over the rollers: 3 projections from the nearest node
+ROLLER_PROJECTIONS = 2  # the points over the rollers: 2 projections from the nearest node
 ROLLER_ON = 1e-6  # a roller bears at the start within this share of h_min of the pipe
 
 
