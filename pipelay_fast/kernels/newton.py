@@ -159,9 +159,21 @@ def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b,
 
 @jit
 def _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, want_tangent):
+    ndn = 2 * nd + 1
     for node in range(phi_r.shape[0]):
         if phi_r[node] != 0.0 or phi_rp[node] != 0.0:
+            if not want_tangent and _zero_at(g, node * ndn, 2 * nd):
+                continue  # (a row or column zero there stays zero: a point's is local)
             rotate_node(nd, ab, kl, ku, g, node, phi_r[node], phi_rp[node], want_tangent)
+
+
+@jit
+def _zero_at(v, start, count):
+    """True when v[start:start + count] is all zero."""
+    for i in range(start, start + count):
+        if v[i] != 0.0:
+            return False
+    return True
 
 
 @jit
@@ -173,6 +185,8 @@ def _curve_all(nd, ab, kl, ku, g, u, stinger, st_active, want_tangent):
     for node in range(st_active.shape[0]):
         if st_active[node] != 0:
             base = node * ndn
+            if not want_tangent and _zero_at(g, base, 2 * nd):
+                continue
             fp = fpp * u[base + nd - 1] + stinger[ST_B]
             curve_node(nd, ab, kl, ku, g, node, fp, fpp, u[base + 2 * nd - 1], want_tangent)
 
