@@ -9,9 +9,10 @@ case:
 * rollers on the paper's S67 curve converge to the continuous stinger's
   answer as their spacing shrinks (12, 6, 3, 1.5 m);
 * the reactions of the rollers, the seabed and the top balance the weight;
-* lowering the tip rollers lifts the pipe off them, each reaction falling
-  linearly (fixed contacts, small deflections) to zero where it lifts off,
-  never pulling;
+* lowering the tip rollers lifts the pipe off them, and raising the tip
+  roller lifts it off the rollers above, one by one, each reaction falling
+  linearly (fixed contacts, small deflections) to zero where the pipe
+  leaves, never pulling;
 * in 3D under a lateral current V rollers hold the pipe on the stinger's
   plane and flat rollers let it swing, mirrored by the current's heading;
 * the rollers placed on a radius lie on its circle;
@@ -131,6 +132,41 @@ def test_lowering_the_tip_rollers_lifts_the_pipe_off_them_continuously():
     assert drops[off - 1] < crossing <= drops[off]
     # and the pipe stays off it once it has left
     assert (tip[off:] == 0.0).all()
+
+
+def test_raising_the_tip_roller_lifts_the_pipe_off_the_rollers_above_it_one_by_one():
+    """The last roller raised in 5 cm steps (each solve warm from the last):
+    the pipe leaves the rollers above it one by one, from the tip up, and
+    never returns to one it left; no roller pulls; while the other contacts
+    hold, a roller's reaction is linear in the raise (small deflections), so
+    the line through its last two values before it leaves crosses zero
+    within the step where it leaves."""
+    case = example_case("s67_rollers").with_changes({"lay.stinger.shifted": [22]})
+    raises = np.arange(0.0, 0.61, 0.05)
+    prev, reactions, contact = None, [], []
+    for d in raises:
+        prev = pf.solve(case.with_changes({"lay.stinger.height_shift": float(d)}), warm=prev)
+        assert (prev.rollers["reaction"] >= 0.0).all()
+        reactions.append(prev.rollers["reaction"].to_numpy())
+        contact.append(prev.rollers["in_contact"].to_numpy())
+    reactions, contact = np.array(reactions), np.array(contact)
+    assert contact[:, -1].all()  # the raised roller carries the pipe
+    left = [j for j in range(contact.shape[1] - 1) if contact[0, j] and not contact[-1, j]]
+    assert len(left) >= 5
+    off = {j: int(np.flatnonzero(~contact[:, j])[0]) for j in left}
+    for j, k in off.items():
+        assert not contact[k:, j].any()  # once off, off
+    order = sorted(left, key=lambda j: off[j])
+    assert all(a > b for a, b in zip(order[:-1], order[1:], strict=True))  # from the tip up
+    checked = 0
+    for j, k in off.items():
+        if k < 2 or not (contact[k - 1] == contact[k - 2]).all():
+            continue  # another roller left between the two values: not one line
+        slope = (reactions[k - 1, j] - reactions[k - 2, j]) / (raises[k - 1] - raises[k - 2])
+        crossing = raises[k - 1] - reactions[k - 1, j] / slope
+        assert raises[k - 1] < crossing <= raises[k] + 1e-12
+        checked += 1
+    assert checked >= 3
 
 
 @pytest.fixture(scope="module")
