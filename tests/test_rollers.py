@@ -169,6 +169,21 @@ def test_raising_the_tip_roller_lifts_the_pipe_off_the_rollers_above_it_one_by_o
     assert checked >= 3
 
 
+def test_a_target_solve_lowers_the_tip_roller_to_a_clearance():
+    """solve_for over the tip roller's height: a direct solve at the height
+    found clears the tip roller by the goal, and the pipe leaves the roller
+    above it."""
+    case = example_case("s67_rollers").with_changes({"lay.stinger.shifted": [22]})
+    found = pf.solve_for(case, target={"tip_clearance": 0.05},
+                         vary="lay.stinger.height_shift", bounds=(-0.8, 0.0))
+    shift = found.target["value"]
+    assert -0.8 < shift < 0.0
+    direct = pf.solve(case.with_changes({"lay.stinger.height_shift": shift}))
+    assert direct.rollers["clearance"].iloc[-1] == pytest.approx(0.05, abs=1e-6)
+    assert not direct.rollers["in_contact"].iloc[-1]
+    assert direct.summary["last_roller_in_contact"] == len(direct.rollers) - 2
+
+
 @pytest.fixture(scope="module")
 def lateral():
     """S67 on rollers in 3D under a 1 m/s current across the lay (+y and -y),
