@@ -380,13 +380,14 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     (the quadratic stinger through its rollers, :func:`.guess.guide_case`):
     the same length of pipe, a node over each roller (the guide answer's
     material point nearest it, ROLLER_PROJECTIONS projections on its
-    tangent from the nearest node; ungraded there), graded at the answer's touchdown, the
-    state interpolated. The rollers it passes on or below bear (Newton's
-    first step lifts the pipe onto those it passes below: from this
-    equilibrium, where the reactions mean something, that step was cheaper
-    than moving the rollers onto their places in load steps from where the
-    answer passes them: 277 against 316 iterations over 24 cold cases, the
-    tip rollers raised up to 1 m among them; from the first guess itself,
+    tangent from the nearest node; ungraded there), graded at the answer's
+    touchdown, the state interpolated. The rollers it passes on or below
+    bear (Newton's first step lifts the pipe onto those it passes below:
+    from this equilibrium, where the reactions mean something, that step
+    was cheaper than moving the rollers onto their places in load steps
+    from where the answer passes them: 277 against 316 iterations over 24
+    cold cases with the guide then fitted through the last roller, the tip
+    rollers raised up to 1 m among them; from the first guess itself,
     0.2 m below the last rollers of S67 on 12 m spacing, the contacts swung
     for 5 to 30 iterations and 1.5 m spacing diverged)."""
     nd, ndn = guide.nd, guide.ndn
