@@ -1114,6 +1114,23 @@ def load_case(source: str | os.PathLike | Mapping) -> Case:
     return from_toml(path, lambda tables: _case_from_tables(tables, path.stem))
 
 
+def with_tables(base: Case, tables: Mapping, changed) -> Case:
+    """The case of ``tables``: ``base.to_dict()`` with keys of the top-level
+    tables named in ``changed`` replaced (no key a derived default follows).
+    Those tables are validated anew, the others are ``base``'s (already
+    valid), then the case as a whole: the case :func:`load_case` gives for
+    ``tables``, in less time (a sweep builds one per axis value: S67's
+    paper sweep 99 -> 40 us a case)."""
+    parts = {part: _build(cls, tables.get(part, {}), part) if part in changed
+             else getattr(base, part) for part, cls in _TABLES.items()}
+    for part, cls in _OPTIONAL_TABLES.items():
+        if part not in changed:
+            parts[part] = getattr(base, part)
+        elif part in tables:
+            parts[part] = _build(cls, tables[part], part)
+    return Case(name=tables.get("name", base.name), **parts)
+
+
 def _case_from_tables(tables: Mapping, default_name: str) -> Case:
     reject_unknown(tables, ["name", *_TABLES, *_OPTIONAL_TABLES], "")
     parts = {part: _build(cls, tables.get(part, {}), part) for part, cls in _TABLES.items()}

@@ -54,9 +54,13 @@ SUMMARY_UNITS = {
 @functools.lru_cache(maxsize=4096)
 def case_id(case: Case) -> str:
     """Stable 16-hex-digit id of a case's inputs (the name is not an input)."""
-    tables = case.to_dict()
-    tables.pop("name", None)
-    text = json.dumps(tables, sort_keys=True, separators=(",", ":"), default=float)
+    return tables_id(case.to_dict())
+
+
+def tables_id(tables: dict) -> str:
+    """:func:`case_id` of the case whose ``to_dict()`` is ``tables``."""
+    text = json.dumps({k: v for k, v in tables.items() if k != "name"}, sort_keys=True,
+                      separators=(",", ":"), default=float)
     return hashlib.sha1(text.encode()).hexdigest()[:16]
 
 

@@ -72,8 +72,8 @@ from pathlib import Path
 import pandas as pd
 
 from ._validate import fail, from_toml, get_path, put_path, reject_unknown
-from .case import Case, load_case
-from .results import case_id
+from .case import Case, load_case, with_tables
+from .results import tables_id
 from .target import target_columns, unit_text
 
 __all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains", "load_sweep"]
@@ -161,10 +161,19 @@ class Scene:
         The same as ``self.case.with_changes(...)`` (no axis key has a derived
         default that follows it) without re-reading the base case each time.
         """
+        return self._case_and_id(values)[0]
+
+    def _case_and_id(self, values: Mapping[str, float]) -> tuple[Case, str]:
+        """:meth:`case_for` and its :func:`.results.case_id`, both from the
+        base case's tables with the axis values put in (only the tables
+        they change validated anew, :func:`.case.with_tables`; the id hashes
+        those tables, which are the case's ``to_dict()``: tested)."""
+        changes = _changes(values)
         tables = _copy_tables(self._tables)
-        for key, value in _changes(values).items():
+        for key, value in changes.items():
             put_path(tables, key, value)
-        return load_case(tables)
+        case = with_tables(self.case, tables, {key.split(".")[0] for key in changes})
+        return case, tables_id(tables)
 
     def to_spec(self) -> dict:
         """JSON-able description, read back by :meth:`Sweep.from_spec`."""
@@ -217,8 +226,8 @@ class SweepCase:
     def _build(self) -> tuple:
         if self._built is None:
             try:
-                case = self.source.case_for(self.values)
-                self._built = (case, "", _with_target(case_id(case), self.source))
+                case, cid = self.source._case_and_id(self.values)
+                self._built = (case, "", _with_target(cid, self.source))
             except ValueError as err:
                 self._built = (None, str(err),
                                _with_target(_raw_id(self.source, self.values), self.source))
@@ -599,11 +608,9 @@ def _float(value) -> float:
 def _raw_id(scene: Scene, values: Mapping[str, float]) -> str:
     """Stable id of an invalid case: a hash of its requested tables."""
     tables = _copy_tables(scene._tables)
-    tables.pop("name", None)
     for key, value in _changes(values).items():
         put_path(tables, key, value)
-    text = json.dumps(tables, sort_keys=True, separators=(",", ":"), default=float)
-    return hashlib.sha1(text.encode()).hexdigest()[:16]
+    return tables_id(tables)
 
 
 def _expand(scene: Scene) -> list[SweepCase]:

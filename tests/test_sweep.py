@@ -165,3 +165,19 @@ def test_dry_run_prints_the_cases_per_scene(capsys):
     assert "sweep paper: 54 cases" in out
     assert [line.split()[:3] for line in out.splitlines() if line.startswith("S67")] == \
         [["S67", "26", "2"]]
+
+
+@pytest.mark.parametrize("name", ["paper", "paper_fixed_length", "quick", "rollers",
+                                  "lay_table"])
+def test_a_sweep_builds_each_case_as_with_changes_does(name):
+    """Each case of the bundled sweep files, built from the scene's tables
+    with only the changed tables validated anew, equals the case
+    ``with_changes`` gives, and so does its id (``case_id`` of that case,
+    with the scene's target when it has one)."""
+    from pipelay_fast.sweep import _changes, _with_target
+
+    sweep = load_sweep(ROOT / "sweeps" / f"{name}.toml")
+    for c in sweep.cases():
+        slow = c.source.case.with_changes(_changes(c.values))
+        assert c.case == slow, c
+        assert c.case_id == _with_target(case_id(slow), c.source), c
