@@ -7,7 +7,6 @@ Parquet schema metadata.
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import json
 import math
@@ -51,10 +50,28 @@ SUMMARY_UNITS = {
 }
 
 
-@functools.lru_cache(maxsize=4096)
 def case_id(case: Case) -> str:
-    """Stable 16-hex-digit id of a case's inputs (the name is not an input)."""
-    return tables_id(case.to_dict())
+    """Stable 16-hex-digit id of a case's inputs (the name is not an input):
+    :func:`tables_id` of ``case.to_dict()``, remembered for the last
+    KNOWN_IDS cases (a sweep names its cases from their tables and tells
+    it, :func:`remember_case_id`: their summaries then cost no second id)."""
+    cid = _known_ids.get(case)
+    if cid is None:
+        cid = tables_id(case.to_dict())
+        remember_case_id(case, cid)
+    return cid
+
+
+KNOWN_IDS = 4096
+_known_ids: dict = {}
+
+
+def remember_case_id(case: Case, cid: str):
+    """Record ``cid`` as the :func:`case_id` of ``case`` (the oldest of more
+    than KNOWN_IDS forgotten)."""
+    _known_ids[case] = cid
+    if len(_known_ids) > KNOWN_IDS:
+        del _known_ids[next(iter(_known_ids))]
 
 
 def tables_id(tables: dict) -> str:

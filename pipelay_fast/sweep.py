@@ -73,7 +73,7 @@ import pandas as pd
 
 from ._validate import fail, from_toml, get_path, put_path, reject_unknown
 from .case import Case, load_case, with_tables
-from .results import tables_id
+from .results import remember_case_id, tables_id
 from .target import target_columns, unit_text
 
 __all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains", "load_sweep"]
@@ -173,7 +173,9 @@ class Scene:
         for key, value in changes.items():
             put_path(tables, key, value)
         case = with_tables(self.case, tables, {key.split(".")[0] for key in changes})
-        return case, tables_id(tables)
+        cid = tables_id(tables)
+        remember_case_id(case, cid)
+        return case, cid
 
     def to_spec(self) -> dict:
         """JSON-able description, read back by :meth:`Sweep.from_spec`."""
