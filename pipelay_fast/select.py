@@ -218,15 +218,17 @@ class _Evaluator:
 
 def format_selection(table: pd.DataFrame) -> str:
     """The selection as a plain-text table: the variable's choices (a in 1/m,
-    a radius or a shift in m), stresses in MPa."""
-    lines = [f"{'scene':<10} {'dim':<3} {'current':>10} {'variable':>14} {'min_stress':>13} "
-             f"{'max VM':>8} {'equal_peaks':>13} {'peak VM':>8} {'max util':>8} {'tip m':>6} "
-             f"{'reference_a':>11}  note"]
+    a radius or a shift in m), stresses in MPa; the scene column as wide as
+    its longest name."""
+    width = max([5, *(len(str(name)) for name in table["scene"])])
+    lines = [f"{'scene':<{width}} {'dim':<3} {'current':>10} {'variable':>14} "
+             f"{'min_stress':>13} {'max VM':>8} {'equal_peaks':>13} {'peak VM':>8} "
+             f"{'max util':>8} {'tip m':>6} {'reference_a':>11}  note"]
     for _, r in table.iterrows():
         current = f"{r['current_speed']:.2g}@{r['current_heading_deg']:.0f}°"
         v = r["variable"]
         lines.append(
-            f"{r['scene']:<10} {r['dimension']:<3} {current:>10} {v:>14} "
+            f"{r['scene']:<{width}} {r['dimension']:<3} {current:>10} {v:>14} "
             f"{_a(r[f'{v}_min_stress']):>13} "
             f"{_mpa(r['min_max_von_mises']):>8} {_a(r[f'{v}_equal_peaks']):>13} "
             f"{_mpa(r['equal_peaks_von_mises']):>8} {_num(r['equal_peaks_max_utilisation']):>8} "
