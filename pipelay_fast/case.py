@@ -618,11 +618,11 @@ class RollerStinger:
             pts[rows, 0] += self.height_shift
         return pts
 
-    def lateral_hold(self, n: int) -> np.ndarray:
-        """(n,) 1.0 for each roller that holds the pipe laterally (a V roller)."""
+    def lateral_hold(self) -> np.ndarray:
+        """1.0 for each roller that holds the pipe laterally (a V roller), else 0."""
         kinds = self.roller_type
         if isinstance(kinds, str):
-            return np.full(n, 1.0 if kinds == "v" else 0.0)
+            return np.full(self.count, 1.0 if kinds == "v" else 0.0)
         return np.array([1.0 if k == "v" else 0.0 for k in kinds])
 
 
@@ -782,6 +782,11 @@ class Lay:
     @property
     def has_rollers(self) -> bool:
         return isinstance(self.stinger, RollerStinger)
+
+    @property
+    def roller_count(self) -> int:
+        """The number of rollers (0 without a roller stinger)."""
+        return self.stinger.count if self.has_rollers else 0
 
 
 @dataclass(frozen=True, slots=True)

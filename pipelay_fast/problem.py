@@ -521,7 +521,7 @@ def _points(case: Case, stinger: np.ndarray) -> np.ndarray:
         pts = np.zeros((len(rollers), L.N_PT))
         pts[:, L.PT_X] = rollers[:, 0]
         pts[:, L.PT_Z] = rollers[:, 1]
-        pts[:, L.PT_HOLD] = case.lay.stinger.lateral_hold(len(rollers))
+        pts[:, L.PT_HOLD] = case.lay.stinger.lateral_hold()
         return pts
     if stinger[ST_ON] == 0.0:
         return np.zeros((0, L.N_PT))
@@ -554,9 +554,8 @@ def warm_problem(case: Case, old: Problem) -> Problem:
                                        and not case.lay.has_rollers):
         raise ValueError(f"warm: lay.method {case.lay.method!r} or its stinger differs from the "
                          "warm case's")
-    new_points = _points(case, np.zeros(N_STINGER))  # (a quadratic stinger's tip aside)
-    if old.stinger[ST_ON] == 0.0 and len(old.points) != len(new_points):
-        raise ValueError(f"warm: the case has {len(new_points)} rollers, the warm case "
+    if old.stinger[ST_ON] == 0.0 and len(old.points) != case.lay.roller_count:
+        raise ValueError(f"warm: the case has {case.lay.roller_count} rollers, the warm case "
                          f"{len(old.points)}")
     state = dict(zip(STATE, old.before_current or snapshot(old), strict=True))
     g = _guess(guide_case(case) if case.lay.has_rollers else case)

@@ -18,6 +18,7 @@ from .case import Case
 from .design import DESIGN_UNITS, design_columns
 from .kernels import layout as L
 from .kernels.contact import ST_ON
+from .kernels.newton import _point_gap
 from .model import pin_jump
 
 PROFILE_UNITS = {
@@ -275,16 +276,13 @@ def last_roller_in_contact(pb) -> int:
 
 def roller_gaps(pb) -> np.ndarray:
     """The pipe's clearance [m] above each roller of a roller stinger: its
-    axis at the node over the roller, along the pipe's normal there (the
-    Newton kernel's gap, :func:`.kernels.newton._point_gap`); negative:
-    below it."""
-    nodes = pb.roller_nodes
-    nd = pb.nd
-    base = nodes * pb.ndn
-    x, z = pb.u[base], pb.u[base + nd - 1]
-    phi = np.arctan2(pb.u[base + nd], pb.u[base + 2 * nd - 1])
-    pts = pb.points
-    return np.cos(phi) * (x - pts[:, L.PT_X]) - np.sin(phi) * (z - pts[:, L.PT_Z])
+    axis at the node over the roller, along the pipe's normal there, the
+    Newton kernel's gap (:func:`.kernels.newton._point_gap`, in the frame
+    of the pipe's tangent there); negative: below it."""
+    nd, ndn = pb.nd, pb.ndn
+    return np.array([_point_gap(nd, pb.u, pb.points[j], int(k),
+                                math.atan2(pb.u[k * ndn + nd], pb.u[k * ndn + 2 * nd - 1]))
+                     for j, k in enumerate(pb.roller_nodes)])
 
 
 def build_rollers(case: Case, pb, react) -> dict | None:

@@ -252,12 +252,7 @@ def solve_case(case, warm=None, target=None):
 def _compatible(previous, sc: SweepCase) -> bool:
     return (previous is not None and previous.case.lay.method == sc.case.lay.method
             and previous.summary["dimension"] == sc.case.resolved_dimension
-            and _rollers(previous.case) == _rollers(sc.case))
-
-
-def _rollers(case) -> int:
-    """A case's number of rollers (-1: a quadratic stinger or none)."""
-    return case.lay.stinger.count if case.lay.has_rollers else -1
+            and previous.case.lay.roller_count == sc.case.lay.roller_count)
 
 
 def _given(sc: SweepCase) -> dict:

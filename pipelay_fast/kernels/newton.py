@@ -1285,11 +1285,11 @@ def _points_update(nd, u, mesh, sup, react, settings, res_max, res_change):
     """Phase 9: each rigid point's contact by the complementarity
     min(R, c g) = 0 (semismooth Newton: the branch that the present normal
     reaction R and gap g select): it bears when R - c g > 0, its node then
-    held on it, else R = 0. ``res_change[b]``: the weighted residual
-    ``res_max`` when point b last changed branch (updated). Returns (how many
-    branches changed, whether the stinger's tip changed again with the
-    residual no lower than at its last change: its branches cycle, and the
-    caller lifts the pipe off above it). A roller has no such other regime:
+    held on it, else R = 0. ``res_change[0]``: the weighted residual
+    ``res_max`` when the stinger's tip last changed branch (updated).
+    Returns (how many branches changed, whether the tip changed again with
+    the residual no lower than at its last change: its branches cycle, and
+    the caller lifts the pipe off above it). A roller has no such other regime:
     its branch settles as the pipe finds its balance (S67 2D, rollers on
     the paper's curve every 1.5 to 12 m, 1 to 8 m elements: 135 iterations
     over 16 solves; stopped at the cycle, 173, the homotopy taking over)."""
@@ -1309,9 +1309,9 @@ def _points_update(nd, u, mesh, sup, react, settings, res_max, res_change):
         point[L.PT_R] = r_n if bears else 0.0
         if bears != bearing:
             changes += 1
-            if res_max >= res_change[b] and sup.stinger[ST_ON] != 0.0:
-                cycled = True
-            res_change[b] = res_max
+            if sup.stinger[ST_ON] != 0.0:  # (the tip: the quadratic stinger's one point)
+                cycled = res_max >= res_change[0]
+                res_change[0] = res_max
     return changes, cycled
 
 
@@ -1395,8 +1395,8 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
     changed = True
     if _has_boundaries(mesh):
         mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
-    # the residual when each point last changed branch
-    res_change = np.full(mesh.bnodes.shape[0], np.inf)
+    # the residual when the stinger's tip last changed branch
+    res_change = np.full(1, np.inf)
     it = 0
     last_step = np.inf  # the last step's largest move of a position [m]
     r_max = 0.0  # the largest position [m]
@@ -1536,9 +1536,7 @@ def newton(nd, u, mesh, model, sup, ends, settings, react, info):
             # from -0.00105, 48 iterations to 16 changes, the cap there was;
             # now 9, the whole solve 54 -> 14; quick bench warm 1026 -> 898,
             # the rest and the 2D grid's iterations, the S-lay references at
-            # 0.25 m graded to 0.05 m, unchanged; the cap no longer bound).
-            # Each point by its own last change: on a roller stinger other
-            # rollers change while the contact set settles
+            # 0.25 m graded to 0.05 m, unchanged; the cap no longer bound)
             status = L.TIP_CYCLE
             break
     if status == L.OK:
