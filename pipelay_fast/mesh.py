@@ -80,19 +80,15 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=
         points over a roller stinger's rollers); ungraded, each stretch
         between them is uniform.
     """
-    if not grading:
-        if len(nodes):
-            a, b, _focus = _anchors(length, (), nodes)
-            counts = [max(1, int(np.ceil((hi - lo) / h_max - 1e-9)))
-                      for lo, hi in zip(a, b, strict=True)]
-            if check is not None:
-                check(sum(counts))
-            return np.concatenate([[0.0], *[np.linspace(lo, hi, n + 1)[1:]
-                                             for lo, hi, n in zip(a, b, counts, strict=True)]])
-        n = _uniform_count(length, h_max)
+    if not grading:  # uniform between the plain nodes
+        a, b, _focus = _anchors(length, (), nodes)
+        counts = ([_uniform_count(length, h_max)] if a.size == 1 else
+                  [max(1, int(np.ceil((hi - lo) / h_max - 1e-9)))
+                   for lo, hi in zip(a, b, strict=True)])
         if check is not None:
-            check(n)
-        return np.linspace(0.0, length, n + 1)
+            check(sum(counts))
+        return np.concatenate([[0.0], *[np.linspace(lo, hi, n + 1)[1:]
+                                         for lo, hi, n in zip(a, b, counts, strict=True)]])
     a, b, focus = _anchors(length, foci, nodes)
     t, phi = _span_tables(a, b, np.tile(focus, (a.size, 1)), h_max, h_min, growth)
     counts = [_span_count(row) for row in phi]

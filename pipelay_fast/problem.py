@@ -419,14 +419,31 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     over -= (over > 0) & (np.abs(s[np.maximum(over - 1, 0)] - s_r) < np.abs(s[over] - s_r))
     nodes = (k_td, -1, *over.tolist())
     follow_nodes(case, pb, nodes)
-    if case.solver.grading:  # graded at touchdown, the grading moving with it (as remesh)
-        rates = np.zeros((len(nodes), s.size))
-        rates[B_PT:] = pb.s_b[B_PT:]
-        rates[0] = grading_rates(total, [s_t, total], [0], h_max, h_min, nodes=s_r)[0]
-        pb.zone_b = pb.s_b
-        pb.follow_rates(nodes, rates)
+    if case.solver.grading:  # graded at touchdown, the grading moving with it
+        _follow_grading(pb, nodes, total, [s_t, total], s_r)
     pb.points[:, L.PT_BEAR] = (roller_gaps(pb) <= ROLLER_ON * h_min).astype(float)
     return pb
+
+
+def _follow_grading(pb: Problem, nodes, total: float, foci, over):
+    """After :func:`.boundaries.follow_nodes`: the mesh (graded at ``foci``
+    [m] with plain nodes ``over`` [m] over the rollers, :func:`.mesh.graded_nodes`,
+    ``total`` [m] long) follows its boundaries on ``nodes`` as its grading
+    moves with them: each boundary's node is a focus of the grading; a
+    roller's node (not a focus: the stinger's elements are h_max long)
+    keeps the zones' shares, the grading's rates there. The zones are kept
+    for the current's path (``zone_b``)."""
+    on_rollers = pb.roller_nodes.size > 0
+    rates = np.zeros((len(nodes), pb.nn))
+    if on_rollers:
+        rates[B_PT:] = pb.s_b[B_PT:]
+    focal = [b for b, k in enumerate(nodes) if k >= 0 and not (on_rollers and b >= B_PT)]
+    if focal:
+        moving = [int(np.argmin(np.abs(np.asarray(foci) - pb.s[nodes[b]]))) for b in focal]
+        rates[focal] = grading_rates(total, foci, moving, pb.stats["h_max"], pb.stats["h_min"],
+                                     nodes=over)
+    pb.zone_b = pb.s_b
+    pb.follow_rates(nodes, rates)
 
 
 ROLLER_PROJECTIONS = 2  # the points over the rollers: 2 projections from the nearest node
@@ -715,20 +732,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     nodes = [at(int(k)) for k in pb.bnodes]
     follow_nodes(case, new, nodes)
     if grading:
-        # each boundary's node is a focus of the grading, which moves with
-        # it; a roller's node (not a focus: the stinger's elements are
-        # h_max long) keeps the zones' shares, the grading's rates there
-        on_rollers = new.roller_nodes.size > 0
-        rates = np.zeros((len(nodes), s.size))
-        if on_rollers:
-            rates[B_PT:] = new.s_b[B_PT:]
-        focal = [b for b, k in enumerate(nodes) if k >= 0 and not (on_rollers and b >= B_PT)]
-        if focal:
-            moving = [int(np.argmin(np.abs(np.asarray(foci) - s[nodes[b]]))) for b in focal]
-            rates[focal] = grading_rates(total, foci, moving, pb.stats["h_max"],
-                                         pb.stats["h_min"], nodes=over)
-        new.zone_b = new.s_b
-        new.follow_rates(nodes, rates)
+        _follow_grading(new, nodes, total, foci, over)
     # a bearing point keeps bearing (the node over it moves with the pipe)
     new.points[:, L.PT_BEAR:L.PT_R + 1] = pb.points[:, L.PT_BEAR:L.PT_R + 1]
     return new

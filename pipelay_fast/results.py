@@ -266,6 +266,17 @@ def tip_force(pb):
     return int(pb.tip_node), float(pb.tip[1])
 
 
+def stinger_columns(lay) -> dict:
+    """The summary's stinger inputs of a lay: ``a`` of a quadratic stinger, a
+    roller stinger's ``stinger_radius`` (rollers placed on a radius) and
+    ``roller_shift``; NaN where the stinger has none."""
+    st = lay.stinger
+    radius = getattr(st, "radius", None)
+    return {"a": getattr(st, "a", math.nan),
+            "stinger_radius": math.nan if radius is None else float(radius),
+            "roller_shift": float(getattr(st, "height_shift", math.nan))}
+
+
 def last_roller_in_contact(pb) -> int:
     """The index of the last roller (from the vessel down) the pipe bears
     on; -1 when it bears on none or there are no rollers."""
@@ -449,9 +460,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "case_id": case_id(case),
         "method": case.lay.method,
         "dimension": f"{pb.nd}d",
-        "a": getattr(stinger, "a", nan),
-        "stinger_radius": float(getattr(stinger, "radius", None) or nan),
-        "roller_shift": float(getattr(stinger, "height_shift", nan)),
+        **stinger_columns(case.lay),
         "water_depth": case.environment.water_depth,
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,

@@ -73,7 +73,7 @@ import pandas as pd
 
 from ._validate import fail, from_toml, get_path, put_path, reject_unknown
 from .case import Case, load_case, with_tables
-from .results import remember_case_id, tables_id
+from .results import remember_case_id, stinger_columns, tables_id
 from .target import target_columns, unit_text
 
 __all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains", "load_sweep"]
@@ -587,9 +587,7 @@ def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dic
     inputs = {
         "method": ref.lay.method,
         "dimension": ref.resolved_dimension if case is not None else "",
-        "a": getattr(lay.stinger, "a", math.nan),
-        "stinger_radius": _float(getattr(lay.stinger, "radius", None)),
-        "roller_shift": _float(getattr(lay.stinger, "height_shift", None)),
+        **stinger_columns(lay),
         "water_depth": ref.environment.water_depth,
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,
@@ -601,10 +599,6 @@ def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dic
     for name, value in values.items():  # the requested values, valid or not
         inputs[AXES[name][1]] = value
     return inputs
-
-
-def _float(value) -> float:
-    return math.nan if value is None else float(value)
 
 
 def _raw_id(scene: Scene, values: Mapping[str, float]) -> str:
