@@ -88,7 +88,11 @@ def phase(func):
     numba a fixed 0.5 to 1 s of compile time (its own LLVM module, optimised
     again with every callee linked in): the Newton kernel's phases as
     kernels of their own made its first compile 30 % slower (S67, measured
-    side by side)."""
+    side by side). Inlining has a cost of its own: numba copies the inlined
+    function's whole scope once for each of its blocks, so a phase is to be
+    small; the Newton kernel itself, inlined into its two entries, took
+    5.9 s of the first S67 compile that way
+    (:func:`.kernels.newton._newton_kernel` makes it a closure instead)."""
     return jit(func, inline="always")
 
 

@@ -9,7 +9,7 @@ solve:
    arrays (:func:`.problem.build_problem`);
 2. the mesh mapped onto the contact boundaries, which are unknowns of Newton
    (:mod:`.boundaries`);
-3. Newton with line search (:func:`.kernels.newton.newton`), switching
+3. Newton with line search (:func:`.kernels.newton.newton_2d`, ``newton_3d``), switching
    between lifting off and bearing on the stinger's tip when the kernel stops
    at the change of regime; if it fails, the out-of-balance force of the
    guess is removed in adaptive load steps, and the current is then applied

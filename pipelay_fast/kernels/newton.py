@@ -816,7 +816,8 @@ def _border(nd, u, mesh, sup, ends, w, te_top):
     w.d_b[:, :] = 0.0
     if _solves_tb(ends):
         _to_nodal_frames(nd, w.d, u, sup, w)
-        w.rows[nb, :] = w.d
+        for i in range(w.d.shape[0]):  # (element by element: an array
+            w.rows[nb, i] = w.d[i]      # assignment compiles numba's shape check)
         w.cols[nb, :] = 0.0
         w.cols[nb, ends.slide_dof] = 1.0
         w.res_b[nb] = te_top - ends.top_target
@@ -827,10 +828,12 @@ def _border(nd, u, mesh, sup, ends, w, te_top):
         node = mesh.bnodes[b]
         if node < 0:
             continue
-        w.cols[nb, :] = w.bcols[b]
+        for i in range(w.cols.shape[1]):
+            w.cols[nb, i] = w.bcols[b, i]
         d_own = 0.0
         if b == B_TD:  # (evaluated by _evaluate)
-            w.rows[nb, :] = w.row_td
+            for i in range(w.rows.shape[1]):
+                w.rows[nb, i] = w.row_td[i]
             d_own = w.own_td[0]
         else:
             w.res_bnd[b] = _bnd_equation(nd, u, sup, b, node, w.rows[nb])
@@ -972,7 +975,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     the boundaries' own equations. Touchdown alone moves with the pipe (J125
     with 20 kN at the bottom took 16 iterations held so, 12 without). After
     a step that moved the boundaries and lowered the merit the call does not
-    hold them again (:func:`newton` skips this test): near equilibrium it
+    hold them again (the Newton kernel skips this test): near equilibrium it
     alternated held and unheld steps, and the residual fell by only 10 to 20
     times an iteration (S67 2D, a warm start's last 4 iterations: 1e-4,
     9e-6, 4e-7, 1e-8); unheld, it falls quadratically. Nor does a call that
@@ -1021,7 +1024,9 @@ def _condensed_solve(nd, w, nb):
         sj = scale[j]
         for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
             ab[kv + r - j, j] *= scale[r] * sj
-    w.ab0[:, :] = ab
+    for j in range(ab.shape[1]):
+        for i in range(ab.shape[0]):
+            w.ab0[i, j] = ab[i, j]
     for i in range(n):
         du[i] = -w.g[i] * scale[i]
     for j in range(n):
@@ -1127,7 +1132,7 @@ def _step_length(nd, u, mesh, sup, w, hold, href, bstep):
     logarithm follows that), SPAN_CLOSED when there is no bearing solution;
     a step that would take lift-off past the tip returns PAST_TIP with the
     fraction that takes it to the tip (0 when it is there already), which
-    :func:`newton` takes before it stops. Stopping half way, the approach
+    the Newton kernel takes before it stops. Stopping half way, the approach
     halved the distance a step (a warm start across the change of regime,
     S125 2D at 2 m from a = -0.0018 to -0.00165, took 15 iterations to
     reach the tip); stopping at the tip and going on from there cost two
@@ -1316,20 +1321,6 @@ def _points_update(nd, u, mesh, sup, react, settings, res_max, res_change):
 
 
 @jit
-def newton_2d(u, mesh, model, sup, ends, settings, react, info):
-    """:func:`newton` in the plane (nd = 2), compiled with the planar
-    element kernel alone."""
-    return newton(2, u, mesh, model, sup, ends, settings, react, info)
-
-
-@jit
-def newton_3d(u, mesh, model, sup, ends, settings, react, info):
-    """:func:`newton` in space (nd = 3), compiled with the spatial element
-    kernel alone."""
-    return newton(3, u, mesh, model, sup, ends, settings, react, info)
-
-
-@jit
 def system_2d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
     """:func:`_system` in the plane, from Python (kl = ku = 9)."""
     _system(2, s_el, u, model, torques, ab, 9, 9, g, ends, want_tangent, s_b, bnodes, bcols)
@@ -1341,217 +1332,233 @@ def system_3d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, b
     _system(3, s_el, u, model, torques, ab, 13, 13, g, ends, want_tangent, s_b, bnodes, bcols)
 
 
-@phase
-def newton(nd, u, mesh, model, sup, ends, settings, react, info):
-    """Solve G(u) = reactions for one load level; see the module docstring.
-    Inlined into its entries :func:`newton_2d` and :func:`newton_3d`, each
-    compiled for its dimension (``nd`` a constant there).
+def _newton_kernel(nd):
+    """The Newton kernel for dimension ``nd``: :func:`newton_2d` and
+    :func:`newton_3d` are its two compilations, ``nd`` a constant in each (a
+    closure's constant cell: the literal that the phases and the element
+    chain are compiled for, so a planar solve never compiles the spatial
+    element). Written as a closure rather than inlined into two entries:
+    numba copies an inlined function's whole scope once per block, and
+    inlining this one cost 5.9 s of the first compile."""
 
-    Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
-    ----------
-    nd : 2 or 3
-    u : (ndof,) nodal unknowns, global frame; updated in place
-    mesh : :data:`.types.Mesh`, s_el (nel,) element lengths [m], updated with
-        the boundaries; s_a (nn,), s_b (nbnd, nn) the map onto the boundaries'
-        arc lengths s_bd (nbnd,) [m], updated; bnodes (nbnd,) int64, the
-        boundaries' nodes (-1: none): touchdown, lift-off, then one per rigid
-        point (``B_*``), nbnd = 2 + the points
-    model : :data:`.types.Model`, props (N_PROPS,), the current table, factors
-        (N_FACTORS,)
-    sup : :data:`.types.Supports`
-        fix_mask (ndof,) int8, 1 where the unknown (nodal frame) is prescribed;
-        fix_val (ndof,) its value; phi_r, phi_rp (nn,) rotation angles of the
-        nodal frames of r and r' [rad]; bed_active (nn,) int8, the seabed
-        contacts (the lower end to touchdown); stinger (N_STINGER,) the curve
-        x = a z^2 + b z + c on [zL, zU] (``ST_*``); st_active (nn,) int8, the
-        stinger contacts (lift-off, or re-contact, to the top); points
-        (n_points, N_PT) the rigid points (the stinger's tip first): position
-        [m], bearing (0/1), normal reaction [N] (``L.PT_*``), updated; fric (nn, N_FRIC) the
-        seabed friction springs (``FR_*``), anchors moved by the return
-        mapping when the call converges; y_held (nn,) bool, output, the nodes
-        the stinger holds laterally (3D), the converged set on OK
-    ends : :data:`.types.Ends`
-        f_node (ndof,) nodal loads [N]; g_off (ndof,) residual offset (load-path
-        homotopy); tb (1,) bottom tension [N], an unknown when top_target > 0,
-        pulling the sliding lower end's dof slide_dof (-1: none) along -z;
-        top_node, top_target: the top's node and effective tension [N] (0: not
-        given)
-    settings : :data:`.types.Settings`, tol, fref [N], href [m], maxit, hold
-        (whether an iteration may hold the boundaries, :func:`_hold_boundaries`:
-        False when the call starts from a state in balance), bstep [m] (the
-        largest move of a boundary per step)
-    react : (ndof,) output, reactions on the pipe in the nodal frames [N, N m]
-    info : (N_INFO,) output, see ``I_*``
-    """
-    ndn = 2 * nd + 1
-    nn = sup.phi_r.shape[0]
-    n = u.shape[0]
-    nbnd = mesh.bnodes.shape[0]
-    w = _work(nd, n, nn, mesh.s_el.shape[0], nbnd, model.props, settings.href)
-    href = settings.href
-    for k in range(N_INFO):
-        info[k] = 0.0
-    status = L.MAX_ITERATIONS
-    changed = True
-    if _has_boundaries(mesh):
-        mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
-    # the residual when the stinger's tip last changed branch
-    res_change = np.full(1, np.inf)
-    it = 0
-    last_step = np.inf  # the last step's largest move of a position [m]
-    r_max = 0.0  # the largest position [m]
-    res_start = 1.0
-    moved = False  # the last step moved the boundaries and lowered the merit
-    # the last step's trial was converged on its own frames and constraints:
-    # the next iteration evaluates the residual alone first, and the tangent
-    # only if that iteration is not converged after all
-    trial_converged = False
-    converged = False
-    for it in range(1, settings.maxit + 1):
-        tol = settings.tol
-        want_tangent = not trial_converged
-        while True:
-            # the nodes the stinger holds laterally, those over it now: each
-            # iteration's, so that a converged state is in balance with its own
-            # hold (kept through the call and checked at convergence, a node
-            # that slid over the tip's z cost another round of iterations: 47
-            # times over 18 random S-lays, 1745 -> 1617 iterations in all)
-            lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask,
-                         sup.y_held)
-            _nodal_frames(nd, u, mesh, sup, ends)
-            te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, want_tangent)
-            if want_tangent:
-                nb, nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
-            else:
-                _to_nodal_residual(nd, u, mesh, sup, w, m_td)
-            max_delta = _constraint_set(nd, u, mesh, sup, ends, w, href)
-            res_max, res_ssq, top_res, bnd_res = _imbalance(nd, mesh, ends, w, settings,
-                                                            te_top)
-            # Converged: residual below the tolerance, or every free row at
-            # its round-off floor (:func:`_roundoff_ratio`, which reads the
-            # tangent; a fine mesh far from the origin cannot reach every
-            # tolerance), or the Newton step stalled. (The stall's test
-            # first: the floor's is a pass over the band.)
-            at_roundoff = (it > 1 and res_max > tol
-                           and ((last_step <= STALL_STEP * 2.2e-16 * (r_max + href)
-                                 and res_max <= 1e-4)
-                                or (want_tangent
-                                    and _roundoff_ratio(nd, u, w) <= ROUNDOFF_RATIO)))
-            converged = (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
-                         and (top_res <= tol or at_roundoff)
-                         and (bnd_res <= tol or at_roundoff) and not changed)
-            if want_tangent or converged or not (res_max < 1e300 and res_ssq < 1e300):
+    @jit
+    def newton(u, mesh, model, sup, ends, settings, react, info):
+        """Solve G(u) = reactions for one load level; see the module docstring.
+        Compiled as :func:`newton_2d` and :func:`newton_3d`, ``nd`` the
+        enclosing :func:`_newton_kernel`'s constant.
+
+        Parameters (arrays are float64 unless noted; ``ndof = nn * (2 nd + 1)``)
+        ----------
+        nd : 2 or 3 (not an argument: the closure's constant)
+        u : (ndof,) nodal unknowns, global frame; updated in place
+        mesh : :data:`.types.Mesh`, s_el (nel,) element lengths [m], updated with
+            the boundaries; s_a (nn,), s_b (nbnd, nn) the map onto the boundaries'
+            arc lengths s_bd (nbnd,) [m], updated; bnodes (nbnd,) int64, the
+            boundaries' nodes (-1: none): touchdown, lift-off, then one per rigid
+            point (``B_*``), nbnd = 2 + the points
+        model : :data:`.types.Model`, props (N_PROPS,), the current table, factors
+            (N_FACTORS,)
+        sup : :data:`.types.Supports`
+            fix_mask (ndof,) int8, 1 where the unknown (nodal frame) is prescribed;
+            fix_val (ndof,) its value; phi_r, phi_rp (nn,) rotation angles of the
+            nodal frames of r and r' [rad]; bed_active (nn,) int8, the seabed
+            contacts (the lower end to touchdown); stinger (N_STINGER,) the curve
+            x = a z^2 + b z + c on [zL, zU] (``ST_*``); st_active (nn,) int8, the
+            stinger contacts (lift-off, or re-contact, to the top); points
+            (n_points, N_PT) the rigid points (the stinger's tip first): position
+            [m], bearing (0/1), normal reaction [N] (``L.PT_*``), updated; fric (nn, N_FRIC) the
+            seabed friction springs (``FR_*``), anchors moved by the return
+            mapping when the call converges; y_held (nn,) bool, output, the nodes
+            the stinger holds laterally (3D), the converged set on OK
+        ends : :data:`.types.Ends`
+            f_node (ndof,) nodal loads [N]; g_off (ndof,) residual offset (load-path
+            homotopy); tb (1,) bottom tension [N], an unknown when top_target > 0,
+            pulling the sliding lower end's dof slide_dof (-1: none) along -z;
+            top_node, top_target: the top's node and effective tension [N] (0: not
+            given)
+        settings : :data:`.types.Settings`, tol, fref [N], href [m], maxit, hold
+            (whether an iteration may hold the boundaries, :func:`_hold_boundaries`:
+            False when the call starts from a state in balance), bstep [m] (the
+            largest move of a boundary per step)
+        react : (ndof,) output, reactions on the pipe in the nodal frames [N, N m]
+        info : (N_INFO,) output, see ``I_*``
+        """
+        ndn = 2 * nd + 1
+        nn = sup.phi_r.shape[0]
+        n = u.shape[0]
+        nbnd = mesh.bnodes.shape[0]
+        w = _work(nd, n, nn, mesh.s_el.shape[0], nbnd, model.props, settings.href)
+        href = settings.href
+        for k in range(N_INFO):
+            info[k] = 0.0
+        status = L.MAX_ITERATIONS
+        changed = True
+        if _has_boundaries(mesh):
+            mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
+        # the residual when the stinger's tip last changed branch
+        res_change = np.full(1, np.inf)
+        it = 0
+        last_step = np.inf  # the last step's largest move of a position [m]
+        r_max = 0.0  # the largest position [m]
+        res_start = 1.0
+        moved = False  # the last step moved the boundaries and lowered the merit
+        # the last step's trial was converged on its own frames and constraints:
+        # the next iteration evaluates the residual alone first, and the tangent
+        # only if that iteration is not converged after all
+        trial_converged = False
+        converged = False
+        for it in range(1, settings.maxit + 1):
+            tol = settings.tol
+            want_tangent = not trial_converged
+            while True:
+                # the nodes the stinger holds laterally, those over it now: each
+                # iteration's, so that a converged state is in balance with its own
+                # hold (kept through the call and checked at convergence, a node
+                # that slid over the tip's z cost another round of iterations: 47
+                # times over 18 random S-lays, 1745 -> 1617 iterations in all)
+                lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask,
+                             sup.y_held)
+                _nodal_frames(nd, u, mesh, sup, ends)
+                te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, want_tangent)
+                if want_tangent:
+                    nb, nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
+                else:
+                    _to_nodal_residual(nd, u, mesh, sup, w, m_td)
+                max_delta = _constraint_set(nd, u, mesh, sup, ends, w, href)
+                res_max, res_ssq, top_res, bnd_res = _imbalance(nd, mesh, ends, w, settings,
+                                                                te_top)
+                # Converged: residual below the tolerance, or every free row at
+                # its round-off floor (:func:`_roundoff_ratio`, which reads the
+                # tangent; a fine mesh far from the origin cannot reach every
+                # tolerance), or the Newton step stalled. (The stall's test
+                # first: the floor's is a pass over the band.)
+                at_roundoff = (it > 1 and res_max > tol
+                               and ((last_step <= STALL_STEP * 2.2e-16 * (r_max + href)
+                                     and res_max <= 1e-4)
+                                    or (want_tangent
+                                        and _roundoff_ratio(nd, u, w) <= ROUNDOFF_RATIO)))
+                converged = (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
+                             and (top_res <= tol or at_roundoff)
+                             and (bnd_res <= tol or at_roundoff) and not changed)
+                if want_tangent or converged or not (res_max < 1e300 and res_ssq < 1e300):
+                    break
+                want_tangent = True
+            if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
+                status = L.NOT_FINITE
                 break
-            want_tangent = True
-        if not (res_max < 1e300 and res_ssq < 1e300):  # max() skips NaN; the sum does not
-            status = L.NOT_FINITE
-            break
-        if it == 1:
-            res_start = max(res_max, 1.0)
-        elif res_max > RUNAWAY * res_start:
-            status = L.NOT_FINITE  # diverging: stop before the budget is spent on it
-            break
-        info[I_RES] = res_max
-        info[I_DELTA] = max_delta
-        info[I_TOP_RES] = top_res
-        if converged:
-            status = L.OK
-            it -= 1
-            break
-        hold = (settings.hold and not moved
-                and _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res))
-        if hold:
-            nb = nb_fixed
-        if not _condensed_solve(nd, w, nb):
-            status = L.SINGULAR
-            break
-        dtb = _border_steps(w, nb)
-        _reactions(nd, w, nb, react)
-        for i in range(n):
-            w.du_free[i] = w.du[i] * w.scale[i]
-        _to_global(nd, w.du_free, sup.phi_r, sup.phi_rp)
-        w.u_old[:] = u
-        merit0 = res_ssq + top_res * top_res
-        for b in range(nbnd):
-            if mesh.bnodes[b] >= 0 and not hold:
-                merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, href)) ** 2
-            w.bnd_old[b] = mesh.s_bd[b]
-        node_arcs(mesh.s_el, w.s_old)
-        alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href, settings.bstep)
-        if stop >= 0:
-            status = stop
-            if stop == L.PAST_TIP:
-                # how far past the tip the step would take lift-off
-                # (bear_on_tip estimates the gap span from it); the part of
-                # the step up to the tip is taken
-                info[I_PAST] = abs(w.d_bnd[B_LO]) * (1.0 - alpha)
-                if alpha > 0.0:
-                    _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active,
-                               ends.tb, ends.tb[0], dtb, _has_boundaries(mesh), mesh, w)
-            break
-        alpha_lim = alpha
-        alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric,
-                              w.fr_stop, alpha)
-        if alpha < alpha_lim:
-            alpha = _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb,
-                                       alpha, alpha_lim)
-        # ---- phase 8: backtracking from the limited step; where no trial is
-        # accepted the limited step is taken anyway (the merit is flat: a
-        # change of constraint, a constraint correction)
-        has_bnd = _has_boundaries(mesh)
-        tb_old = ends.tb[0]
-        alpha0 = alpha
-        accepted = False
-        for _ls in range(12):
-            m1 = _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
-                        has_bnd)
-            if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
-                accepted = True
+            if it == 1:
+                res_start = max(res_max, 1.0)
+            elif res_max > RUNAWAY * res_start:
+                status = L.NOT_FINITE  # diverging: stop before the budget is spent on it
                 break
-            if not (m1 < 1e300) and alpha < 1e-3:
+            info[I_RES] = res_max
+            info[I_DELTA] = max_delta
+            info[I_TOP_RES] = top_res
+            if converged:
+                status = L.OK
+                it -= 1
                 break
-            alpha *= 0.5
-        if not accepted:
-            _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-                       tb_old, dtb, has_bnd, mesh, w)
-        # an unheld step that lowered the merit: the next one moves them too
-        moved = not hold and accepted and m1 < merit0
-        last_step = 0.0
-        r_max = 0.0
-        for i in range(n):
-            if i % ndn < nd:
-                last_step = max(last_step, abs(u[i] - w.u_old[i]))
-                r_max = max(r_max, abs(u[i]))
-        node_arcs(mesh.s_el, w.s_nd)
-        friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
-        n_changed, cycled = _points_update(nd, u, mesh, sup, react, settings, res_max,
-                                           res_change)
-        changed = n_changed > 0
-        trial_converged = accepted and not changed and m1 <= tol * tol
-        if cycled:
-            # a point's branch changes again with the residual no lower than
-            # at its last change: the branches cycle with no bearing solution
-            # (warm from bearing on the tip to lifting off above it, the
-            # branch flipped every 3 iterations: S67 2D at 4 m, a = -0.0012
-            # from -0.00105, 48 iterations to 16 changes, the cap there was;
-            # now 9, the whole solve 54 -> 14; quick bench warm 1026 -> 898,
-            # the rest and the 2D grid's iterations, the S-lay references at
-            # 0.25 m graded to 0.05 m, unchanged; the cap no longer bound)
-            status = L.TIP_CYCLE
-            break
-    if status == L.OK:
-        # the friction forces join the reactions; slipping springs' anchors follow
-        w.fr_out[:] = 0.0
-        node_arcs(mesh.s_el, w.s_nd)
-        for node in range(nn):  # the normal forces of the answer, for the results
-            sup.fric[node, L.FR_W] = normal_force(nd, w.g, sup.bed_active, sup.fric, node)
-        friction_forces(nd, u, w.g, w.no_ab, 0, model, sup.bed_active, sup.fric,
-                        w.fr_out, w.s_nd)
-        for i in range(n):
-            react[i] += w.fr_out[i]
-        friction_commit(nd, u, model, sup.bed_active, sup.fric, w.s_nd)
-    if sup.stinger[ST_ON] != 0.0:
-        _curve_reactions(nd, u, sup.stinger, sup.st_active, sup.phi_r, sup.phi_rp, react)
-    info[I_STATUS] = status
-    info[I_ITER] = it
-    return status
+            hold = (settings.hold and not moved
+                    and _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res))
+            if hold:
+                nb = nb_fixed
+            if not _condensed_solve(nd, w, nb):
+                status = L.SINGULAR
+                break
+            dtb = _border_steps(w, nb)
+            _reactions(nd, w, nb, react)
+            for i in range(n):
+                w.du_free[i] = w.du[i] * w.scale[i]
+            _to_global(nd, w.du_free, sup.phi_r, sup.phi_rp)
+            for i in range(u.shape[0]):
+                w.u_old[i] = u[i]
+            merit0 = res_ssq + top_res * top_res
+            for b in range(nbnd):
+                if mesh.bnodes[b] >= 0 and not hold:
+                    merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, href)) ** 2
+                w.bnd_old[b] = mesh.s_bd[b]
+            node_arcs(mesh.s_el, w.s_old)
+            alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href, settings.bstep)
+            if stop >= 0:
+                status = stop
+                if stop == L.PAST_TIP:
+                    # how far past the tip the step would take lift-off
+                    # (bear_on_tip estimates the gap span from it); the part of
+                    # the step up to the tip is taken
+                    info[I_PAST] = abs(w.d_bnd[B_LO]) * (1.0 - alpha)
+                    if alpha > 0.0:
+                        _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active,
+                                   ends.tb, ends.tb[0], dtb, _has_boundaries(mesh), mesh, w)
+                break
+            alpha_lim = alpha
+            alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric,
+                                  w.fr_stop, alpha)
+            if alpha < alpha_lim:
+                alpha = _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb,
+                                           alpha, alpha_lim)
+            # ---- phase 8: backtracking from the limited step; where no trial is
+            # accepted the limited step is taken anyway (the merit is flat: a
+            # change of constraint, a constraint correction)
+            has_bnd = _has_boundaries(mesh)
+            tb_old = ends.tb[0]
+            alpha0 = alpha
+            accepted = False
+            for _ls in range(12):
+                m1 = _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
+                            has_bnd)
+                if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
+                    accepted = True
+                    break
+                if not (m1 < 1e300) and alpha < 1e-3:
+                    break
+                alpha *= 0.5
+            if not accepted:
+                _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
+                           tb_old, dtb, has_bnd, mesh, w)
+            # an unheld step that lowered the merit: the next one moves them too
+            moved = not hold and accepted and m1 < merit0
+            last_step = 0.0
+            r_max = 0.0
+            for i in range(n):
+                if i % ndn < nd:
+                    last_step = max(last_step, abs(u[i] - w.u_old[i]))
+                    r_max = max(r_max, abs(u[i]))
+            node_arcs(mesh.s_el, w.s_nd)
+            friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
+            n_changed, cycled = _points_update(nd, u, mesh, sup, react, settings, res_max,
+                                               res_change)
+            changed = n_changed > 0
+            trial_converged = accepted and not changed and m1 <= tol * tol
+            if cycled:
+                # a point's branch changes again with the residual no lower than
+                # at its last change: the branches cycle with no bearing solution
+                # (warm from bearing on the tip to lifting off above it, the
+                # branch flipped every 3 iterations: S67 2D at 4 m, a = -0.0012
+                # from -0.00105, 48 iterations to 16 changes, the cap there was;
+                # now 9, the whole solve 54 -> 14; quick bench warm 1026 -> 898,
+                # the rest and the 2D grid's iterations, the S-lay references at
+                # 0.25 m graded to 0.05 m, unchanged; the cap no longer bound)
+                status = L.TIP_CYCLE
+                break
+        if status == L.OK:
+            # the friction forces join the reactions; slipping springs' anchors follow
+            w.fr_out[:] = 0.0
+            node_arcs(mesh.s_el, w.s_nd)
+            for node in range(nn):  # the normal forces of the answer, for the results
+                sup.fric[node, L.FR_W] = normal_force(nd, w.g, sup.bed_active, sup.fric, node)
+            friction_forces(nd, u, w.g, w.no_ab, 0, model, sup.bed_active, sup.fric,
+                            w.fr_out, w.s_nd)
+            for i in range(n):
+                react[i] += w.fr_out[i]
+            friction_commit(nd, u, model, sup.bed_active, sup.fric, w.s_nd)
+        if sup.stinger[ST_ON] != 0.0:
+            _curve_reactions(nd, u, sup.stinger, sup.st_active, sup.phi_r, sup.phi_rp, react)
+        info[I_STATUS] = status
+        info[I_ITER] = it
+        return status
+
+    return newton
+
+
+newton_2d = _newton_kernel(2)
+newton_3d = _newton_kernel(3)
