@@ -25,6 +25,7 @@ from .case import Case
 from .guess import first_guess, guide_case, shape
 from .kernels import layout as L
 from .kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
+from .kernels.grading import boundary_map
 from .kernels.newton import B_PT
 from .kernels.types import Ends, Model, Supports, load_factors
 from .limits import check_mesh_size
@@ -154,46 +155,14 @@ class Problem:
         if len(nodes) != self.bnodes.size:
             raise ValueError(f"follow: {len(nodes)} boundary nodes for {self.bnodes.size} "
                              f"boundaries (touchdown, lift-off, {len(self.points)} points)")
-        s = self.s
-        nn = s.size
-        kind = {0: -1, nn - 1: -1}  # anchor node -> boundary (-1: a fixed material point)
-        for b, k in enumerate(nodes):
-            if k >= 0:
-                kind[int(k)] = b
-        # each boundary's zone edges, unless another boundary lies nearer
-        on = [b for b, k in enumerate(nodes) if k >= 0]
-        ks = np.array([int(nodes[b]) for b in on], dtype=np.int64)
-        bnd = np.sort(ks)
-        at = np.searchsorted(bnd, ks)  # each one's place among the boundary nodes
-        lower = np.where(at > 0, bnd[np.maximum(at - 1, 0)], 0)
-        upper = np.where(at + 1 < bnd.size, bnd[np.minimum(at + 1, bnd.size - 1)], nn - 1)
-        z = np.array([zones[b] for b in on], dtype=float).reshape(-1, 2)
-        lo = np.searchsorted(s, s[ks] - z[:, 0]) - 1
-        hi = np.searchsorted(s, s[ks] + z[:, 1])
-        edges = [*lo[(lower < lo) & (lo < ks)].tolist(), *hi[(ks < hi) & (hi < upper)].tolist()]
-        for edge in edges:
-            kind.setdefault(int(edge), -1)
-        anchors = np.array(sorted(kind), dtype=np.int64)
-        owner = np.array([kind[a] for a in anchors.tolist()], dtype=np.int64)
-        # each node's span between anchors, and its share of it
-        seg = np.clip(np.searchsorted(anchors, np.arange(nn), side="right") - 1, 0,
-                      anchors.size - 2)
-        a0, a1 = anchors[seg], anchors[seg + 1]
-        f = (s - s[a0]) / (s[a1] - s[a0])
-        b0, b1 = owner[seg], owner[seg + 1]
-        s_a = np.where(b0 < 0, (1.0 - f) * s[a0], 0.0) + np.where(b1 < 0, f * s[a1], 0.0)
-        s_b = np.zeros((len(nodes), nn))
-        i0, i1 = np.flatnonzero(b0 >= 0), np.flatnonzero(b1 >= 0)
-        s_b[b0[i0], i0] = 1.0 - f[i0]
-        s_b[b1[i1], i1] = f[i1]
-        # the anchors themselves: exactly their own
-        s_a[anchors] = np.where(owner < 0, s[anchors], 0.0)
-        s_b[:, anchors] = 0.0
-        mine = owner >= 0
-        s_b[owner[mine], anchors[mine]] = 1.0
-        self.s_bd[owner[mine]] = s[anchors[mine]]
-        self.s_a, self.s_b = s_a, np.ascontiguousarray(s_b)
-        self.bnodes = np.asarray(nodes, dtype=np.int64)
+        nodes = np.asarray(nodes, dtype=np.int64)
+        zones = np.asarray(zones, dtype=float).reshape(-1, 2)
+        nn = self.s.size
+        s_a, s_b = np.empty(nn), np.empty((nodes.size, nn))
+        boundary_map(self.s, nodes, zones, np.empty(nn, dtype=np.int64),
+                     np.empty(nn, dtype=np.int64), s_a, s_b, self.s_bd)
+        self.s_a, self.s_b = s_a, s_b
+        self.bnodes = nodes
         self.zone_b = None  # (the map is in zones now)
 
     def follow_rates(self, nodes, rates):

@@ -476,3 +476,73 @@ def test_moving_a_boundary_carries_the_state_along_the_pipe():
     moved = np.flatnonzero(np.abs(pb.s - s0) > 1e-9)
     assert moved.size > 3 and np.all(np.diff(pb.s) > 0.0)
     np.testing.assert_allclose(pb.u, state(pb.s), rtol=1e-12, atol=1e-9)
+
+
+def _boundary_map_reference(s, nodes, zones):
+    """The map of :func:`.kernels.grading.boundary_map` in NumPy, as
+    ``Problem.follow`` computed it before it was a kernel: (s_a, s_b, s_bd at
+    the boundaries on the mesh)."""
+    nn = s.size
+    kind = {0: -1, nn - 1: -1}
+    for b, k in enumerate(nodes):
+        if k >= 0:
+            kind[int(k)] = b
+    on = [b for b, k in enumerate(nodes) if k >= 0]
+    ks = np.array([int(nodes[b]) for b in on], dtype=np.int64)
+    bnd = np.sort(ks)
+    at = np.searchsorted(bnd, ks)
+    lower = np.where(at > 0, bnd[np.maximum(at - 1, 0)], 0)
+    upper = np.where(at + 1 < bnd.size, bnd[np.minimum(at + 1, bnd.size - 1)], nn - 1)
+    z = np.array([zones[b] for b in on], dtype=float).reshape(-1, 2)
+    lo = np.searchsorted(s, s[ks] - z[:, 0]) - 1
+    hi = np.searchsorted(s, s[ks] + z[:, 1])
+    for edge in [*lo[(lower < lo) & (lo < ks)].tolist(), *hi[(ks < hi) & (hi < upper)].tolist()]:
+        kind.setdefault(int(edge), -1)
+    anchors = np.array(sorted(kind), dtype=np.int64)
+    owner = np.array([kind[a] for a in anchors.tolist()], dtype=np.int64)
+    seg = np.clip(np.searchsorted(anchors, np.arange(nn), side="right") - 1, 0, anchors.size - 2)
+    a0, a1 = anchors[seg], anchors[seg + 1]
+    f = (s - s[a0]) / (s[a1] - s[a0])
+    b0, b1 = owner[seg], owner[seg + 1]
+    s_a = np.where(b0 < 0, (1.0 - f) * s[a0], 0.0) + np.where(b1 < 0, f * s[a1], 0.0)
+    s_b = np.zeros((len(nodes), nn))
+    i0, i1 = np.flatnonzero(b0 >= 0), np.flatnonzero(b1 >= 0)
+    s_b[b0[i0], i0] = 1.0 - f[i0]
+    s_b[b1[i1], i1] = f[i1]
+    s_a[anchors] = np.where(owner < 0, s[anchors], 0.0)
+    s_b[:, anchors] = 0.0
+    mine = owner >= 0
+    s_b[owner[mine], anchors[mine]] = 1.0
+    s_bd = np.full(len(nodes), np.nan)
+    s_bd[owner[mine]] = s[anchors[mine]]
+    return s_a, s_b, s_bd
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_the_boundary_map_kernel_is_its_numpy_reference(seed):
+    """boundary_map against the NumPy reference, bit for bit, on random graded
+    meshes with 0 to 5 boundaries (some off the mesh, some on an end or on
+    one node together, zones reaching past neighbours); and the map gives
+    each node back its own arc length."""
+    from pipelay_fast.kernels.grading import boundary_map
+
+    rng = np.random.default_rng(seed)
+    nn = int(rng.integers(3, 60))
+    s = np.concatenate([[0.0], np.cumsum(rng.uniform(0.05, 8.0, nn - 1))])
+    nb = int(rng.integers(0, 6))
+    nodes = rng.integers(-1, nn, nb).astype(np.int64)
+    if nb >= 2 and seed % 4 == 0:
+        nodes[1] = nodes[0]  # two boundaries on one node
+    if nb and seed % 5 == 0:
+        nodes[-1] = rng.choice([0, nn - 1])  # a boundary on an end
+    zones = rng.uniform(0.0, 0.5 * s[-1], (nb, 2))
+    s_a, s_b = np.full(nn, np.nan), np.full((nb, nn), np.nan)
+    s_bd = np.full(nb, np.nan)
+    boundary_map(s, nodes, zones, np.empty(nn, dtype=np.int64), np.empty(nn, dtype=np.int64),
+                 s_a, s_b, s_bd)
+    ref_a, ref_b, ref_bd = _boundary_map_reference(s, nodes, zones)
+    np.testing.assert_array_equal(s_a, ref_a)
+    np.testing.assert_array_equal(s_b, ref_b)
+    np.testing.assert_array_equal(s_bd, ref_bd)  # (nan where no boundary node is its own)
+    on = ~np.isnan(s_bd)
+    np.testing.assert_allclose(s_a + s_bd[on] @ s_b[on], s, rtol=1e-14, atol=1e-12)

@@ -10,6 +10,8 @@ a J125 mesh of 8 m elements.
 
 from __future__ import annotations
 
+import numpy as np
+
 from .._jit import jit
 
 
@@ -60,3 +62,88 @@ def place_nodes(t, phi, b, counts, nodes):
                 p1 = phi[j, seg + 1]
                 nodes[out] = t[j, seg] + (target - p0) * (t[j, seg + 1] - t[j, seg]) / (p1 - p0)
             out += 1
+
+
+NOT_ANCHOR = -2  # (boundary_map's kind: -1 a fixed material point, b >= 0 boundary b)
+
+
+@jit(_nrt=False)
+def boundary_map(s, nodes, zones, kind, anchors, s_a, s_b, s_bd):
+    """The map of a mesh onto its contact boundaries
+    (:meth:`pipelay_fast.problem.Problem.follow`): each node's arc length is
+    s_a[i] + sum_b s_b[b, i] s_bd[b], with s_bd the boundaries' arc lengths.
+
+    ``s`` (nn,) the nodes' arc lengths [m]; ``nodes`` (nb,) int64 each
+    boundary's node (-1: none); ``zones`` (nb, 2) [m] how far below and above
+    its node boundary b's zone reaches. Anchors: the ends, the boundary nodes
+    and each zone's edges (the first node beyond it), unless another boundary
+    lies nearer; every node keeps its share of the span between its two
+    anchors, mapped onto them (a boundary anchor moves with its boundary, the
+    others stay). Work: ``kind`` (nn,) int64, ``anchors`` (nn,) int64.
+    Outputs: ``s_a`` (nn,), ``s_b`` (nb, nn), ``s_bd`` (nb,) at the boundary
+    nodes [m] (the other entries left as they were)."""
+    nn = s.shape[0]
+    nb = nodes.shape[0]
+    for i in range(nn):
+        kind[i] = NOT_ANCHOR
+    kind[0] = -1
+    kind[nn - 1] = -1
+    for b in range(nb):
+        if nodes[b] >= 0:
+            kind[nodes[b]] = b
+    for b in range(nb):
+        k = nodes[b]
+        if k < 0:
+            continue
+        # the nearest other boundary nodes below and above (a second boundary
+        # on the same node bounds it above), else the ends
+        lower = 0
+        upper = nn - 1
+        same = 0
+        for c in range(nb):
+            kc = nodes[c]
+            if kc < 0:
+                continue
+            if kc < k:
+                lower = max(lower, kc)
+            elif kc > k:
+                upper = min(upper, kc)
+            else:
+                same += 1
+        if same > 1:
+            upper = k
+        lo = np.searchsorted(s, s[k] - zones[b, 0]) - 1
+        hi = np.searchsorted(s, s[k] + zones[b, 1])
+        if lower < lo < k and kind[lo] == NOT_ANCHOR:
+            kind[lo] = -1
+        if k < hi < upper and kind[hi] == NOT_ANCHOR:
+            kind[hi] = -1
+    na = 0
+    for i in range(nn):
+        if kind[i] != NOT_ANCHOR:
+            anchors[na] = i
+            na += 1
+    seg = 0
+    for i in range(nn):
+        while seg < na - 2 and anchors[seg + 1] <= i:
+            seg += 1
+        a0 = anchors[seg]
+        a1 = anchors[seg + 1]
+        b0 = kind[a0]
+        b1 = kind[a1]
+        for b in range(nb):
+            s_b[b, i] = 0.0
+        if i == a0 or i == a1:  # an anchor: exactly its own
+            if kind[i] < 0:
+                s_a[i] = s[i]
+            else:
+                s_a[i] = 0.0
+                s_b[kind[i], i] = 1.0
+                s_bd[kind[i]] = s[i]
+            continue
+        f = (s[i] - s[a0]) / (s[a1] - s[a0])
+        s_a[i] = ((1.0 - f) * s[a0] if b0 < 0 else 0.0) + (f * s[a1] if b1 < 0 else 0.0)
+        if b0 >= 0:
+            s_b[b0, i] = 1.0 - f
+        if b1 >= 0:
+            s_b[b1, i] = f
