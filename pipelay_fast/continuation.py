@@ -145,15 +145,16 @@ def _fail(case, step, info, status, extra=""):
 
 
 def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
-                     switch: bool = False):
+                     switch: bool = False, maxit: int | None = None):
     """:func:`run_newton` within the solve's iteration budget; a SolveError
     naming solver.max_iterations_total when it is spent. ``switch``: a
     lift-off that reaches the stinger's tip (status PAST_TIP) is returned to
-    the caller, which switches to bearing on the tip, instead of raised."""
+    the caller, which switches to bearing on the tip, instead of raised.
+    ``maxit``: the call's iterations at most (None: solver.max_iterations)."""
     if budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
     status, react, info = run_newton(pb, g_off, pb.tolerance or case.solver.tolerance,
-                                      budget.cap(case.solver.max_iterations))
+                                      budget.cap(maxit or case.solver.max_iterations))
     budget.charge(info[I_ITER])
     if status == L.SHORT_LAID:
         raise ShortLaid
@@ -166,7 +167,7 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
 
 
 def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
-                     predicted: bool = False):
+                     predicted: bool = False, maxit: int | None = None):
     """:func:`_budgeted_newton`, switching between lifting off and bearing on
     the stinger's tip (at most MAX_TIP_SWITCHES times) when the kernel stops
     at the change of regime (PAST_TIP, SPAN_CLOSED), when, lifting off, the
@@ -176,7 +177,8 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     above the tip. ``predicted``: the state was moved towards the answer
     (a warm start's step, :func:`continuation`); it does not switch, but
     returns the status that asks for a switch, for the caller to solve the
-    step from its own start.
+    step from its own start. ``maxit``: each call's iterations at most
+    (None: solver.max_iterations).
 
     Returns (status, reactions, info, iterations of every call, the state
     the last call started from).
@@ -186,7 +188,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
         start = snapshot(pb)
         can_switch = pb.lo_node >= 0 and switches < MAX_TIP_SWITCHES
         status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
-                                              switch=can_switch or predicted)
+                                              switch=can_switch or predicted, maxit=maxit)
         if status == L.OK and can_switch and passes_below_tip(pb):
             status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
         elif status == L.OK and can_switch and tip_released(pb):
@@ -244,9 +246,15 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         # these arrays are replaced, never written in place)
         mapped = (pb.bnodes, pb.s_a, pb.s_b, pb.zone_b)
         g_off, predicted = load(trial, True)
+        # a predicted start that takes twice the iterations of the path's
+        # hardest step so far is not nearer: the step is solved from the
+        # last converged state instead (uncapped, a secant start on random
+        # 3D case 26 of bench_contact ran Newton's 100 iterations, and 2
+        # its 100; capped at once, the paper's 3D scenes lost half the gain)
+        cap = 2 * stats["step_max"] if predicted and stats["step_max"] > 0 else None
         try:
             status, react, info, used, _start = newton_in_regime(case, pb, g_off, budget,
-                                                                 where, predicted)
+                                                                 where, predicted, cap)
         except ShortLaid:
             if not predicted:
                 raise
@@ -316,8 +324,9 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
     most). ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     The converged steps are recorded (``pb.current_path``, from the state
-    before the current), and a warm start begins each step from its
-    neighbour's increment over it (:meth:`.Problem.start_step`).
+    before the current); a warm start begins each step from its neighbour's
+    increment over it, and past the first step a step without one from this
+    path's last increment (:meth:`.Problem.start_step`).
 
     Steps of 0.5 save a quarter of the iterations and give the same answer on
     meshes of 1 m and coarser, but on S125 3D at 0.05 m they follow another
