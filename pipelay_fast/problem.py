@@ -25,6 +25,7 @@ from .case import Case
 from .guess import first_guess, guide_case, shape
 from .kernels import layout as L
 from .kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
+from .kernels.geometry import hermite_state
 from .kernels.grading import boundary_map
 from .kernels.newton import B_PT
 from .kernels.types import Ends, Model, Supports, load_factors
@@ -797,25 +798,13 @@ def anchor_friction(fric, u, nd, s):
 
 
 def interpolate_state(s_old, u_old, nd, s_new):
-    """Hermite interpolation of (r, r') and linear interpolation of lambda."""
-    ndn = 2 * nd + 1
+    """The state ``u_old`` on nodes ``s_old`` [m] at nodes ``s_new`` [m]:
+    Hermite interpolation of (r, r') and linear interpolation of lambda
+    (:func:`.kernels.geometry.hermite_state`; the powers of xi NumPy's, as
+    the NumPy version had them, so every value is the same to the bit)."""
     idx = np.clip(np.searchsorted(s_old, s_new, side="right") - 1, 0, s_old.size - 2)
     le = s_old[idx + 1] - s_old[idx]
     xi = np.clip((s_new - s_old[idx]) / le, 0.0, 1.0)
-    n1 = 1 - 3 * xi**2 + 2 * xi**3
-    n2 = le * (xi - 2 * xi**2 + xi**3)
-    n3 = 3 * xi**2 - 2 * xi**3
-    n4 = le * (-(xi**2) + xi**3)
-    d1 = (-6 * xi + 6 * xi**2) / le
-    d2 = 1 - 4 * xi + 3 * xi**2
-    d3 = (6 * xi - 6 * xi**2) / le
-    d4 = -2 * xi + 3 * xi**2
-    u = np.zeros(s_new.size * ndn)
-    for i in range(nd):
-        ra, rb = u_old[i::ndn][idx], u_old[i::ndn][idx + 1]
-        pa, pbv = u_old[nd + i::ndn][idx], u_old[nd + i::ndn][idx + 1]
-        u[i::ndn] = n1 * ra + n2 * pa + n3 * rb + n4 * pbv
-        u[nd + i::ndn] = d1 * ra + d2 * pa + d3 * rb + d4 * pbv
-    la, lb = u_old[2 * nd::ndn][idx], u_old[2 * nd::ndn][idx + 1]
-    u[2 * nd::ndn] = (1 - xi) * la + xi * lb
+    u = np.empty(s_new.size * (2 * nd + 1))
+    hermite_state(idx, xi, xi**2, xi**3, le, np.ascontiguousarray(u_old, dtype=float), nd, u)
     return u

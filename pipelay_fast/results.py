@@ -18,6 +18,7 @@ from .case import Case
 from .design import DESIGN_UNITS, design_columns
 from .kernels import layout as L
 from .kernels.contact import ST_ON
+from .kernels.geometry import centreline_fields
 from .kernels.newton import _point_gap
 from .model import pin_jump
 
@@ -144,43 +145,18 @@ class Result:
 
 
 def nodal_fields(nd, s, u, clamped=None):
-    """r, r' and r'' at the nodes [m, -, 1/m].
-
-    r'' is averaged over the two elements of a node, except at a node in
-    ``clamped`` (a boolean per node: its lateral slope is held there and the
-    element below it is free, as at the stinger's tip under the lateral hold).
-    The held side carries the lateral constraint's couple there, so the
-    lateral y'' is the free side's; x'' and z'' are averaged as elsewhere (so
-    that 3D without lateral load reports what 2D does).
-    """
-    ndn = 2 * nd + 1
+    """r and r' at the nodes [m, -] (nn, nd), and in (x, y, z) (the plane's
+    y = 0 embedded) the curvature vector (r' x r'')/|r'|^3 [1/m] and the unit
+    tangent (nn, 3): :func:`.kernels.geometry.centreline_fields`, which says
+    how r'' is taken at the nodes (averaged over the elements beside a node,
+    but the lateral y'' at a node of ``clamped`` (bool per node), where the
+    free side's is)."""
     nn = s.size
-    r = np.stack([u[i::ndn] for i in range(nd)], axis=1)
-    rp = np.stack([u[nd + i::ndn] for i in range(nd)], axis=1)
-    le = np.diff(s)[:, None]
-    chord = r[1:] - r[:-1]
-    # Hermite r'' at xi = 0 and xi = 1 of each element
-    start = -4.0 / le * rp[:-1] + 6.0 / le**2 * chord - 2.0 / le * rp[1:]
-    end = 2.0 / le * rp[:-1] - 6.0 / le**2 * chord + 4.0 / le * rp[1:]
-    rpp = np.zeros((nn, nd))
-    rpp[:-1] += start
-    rpp[1:] += end
-    rpp[1:-1] *= 0.5
-    if clamped is not None:
-        edge = np.flatnonzero(clamped[1:] & ~clamped[:-1]) + 1
-        rpp[edge, 1] = end[edge - 1, 1]
-    return r, rp, rpp
-
-
-def signed_curvature_vector(nd, rp, rpp):
-    """Curvature vector (r' x r'')/|r'|^3 in (x, y, z) [1/m]; 2D embeds y = 0."""
-    if nd == 2:
-        rp3 = np.stack([rp[:, 0], np.zeros(len(rp)), rp[:, 1]], axis=1)
-        rpp3 = np.stack([rpp[:, 0], np.zeros(len(rp)), rpp[:, 1]], axis=1)
-    else:
-        rp3, rpp3 = rp, rpp
-    a = np.linalg.norm(rp3, axis=1)
-    return np.cross(rp3, rpp3) / a[:, None] ** 3, rp3 / a[:, None]
+    r, rp, rpp = np.empty((nn, nd)), np.empty((nn, nd)), np.empty((nn, nd))
+    kvec, t3 = np.empty((nn, 3)), np.empty((nn, 3))
+    held = np.zeros(nn, dtype=bool) if clamped is None else np.asarray(clamped, dtype=bool)
+    centreline_fields(nd, s, np.ascontiguousarray(u, dtype=float), held, r, rp, rpp, kvec, t3)
+    return r, rp, kvec, t3
 
 
 def liftoff_reaction(s, reaction, k) -> float:
@@ -330,8 +306,7 @@ def build_profile(case: Case, pb, react) -> dict:
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
     pipe = case.pipe
     ei = pipe.bending_stiffness
-    r, rp, rpp = nodal_fields(nd, s, u, pb.y_held)
-    kvec, t3 = signed_curvature_vector(nd, rp, rpp)
+    r, rp, kvec, t3 = nodal_fields(nd, s, u, pb.y_held)
     jump = pin_jump(case)
     if jump:  # a pinned S-lay top: the pin's own values, past the moment's fall
         kvec[-1] = 0.0
@@ -444,8 +419,8 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
     bearing = tip_force(pb)
     tip = 0.0 if bearing is None else bearing[1]
     ndn = 2 * pb.nd + 1
-    r = np.stack([pb.u[i::ndn] for i in range(pb.nd)], axis=1)  # (nodal_fields without r'')
-    rp = np.stack([pb.u[pb.nd + i::ndn] for i in range(pb.nd)], axis=1)
+    nodal = pb.u.reshape(-1, ndn)
+    r, rp = np.ascontiguousarray(nodal[:, :pb.nd]), np.ascontiguousarray(nodal[:, pb.nd:2 * pb.nd])
     departure = liftoff_angle if stinger is not None else float(cols["angle_deg"][-1])
     last_roller = None  # (no roller stinger)
     max_roller = nan

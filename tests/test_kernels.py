@@ -593,3 +593,122 @@ def test_an_anchor_interpolated_towards_a_free_neighbour_moves_with_it():
         fd = (residual(up, False)[0][dof] - residual(dn, False)[0][dof]) / (2 * h)
         assert fd == pytest.approx(-mu * weight / 0.05 * t, rel=1e-6)
         assert ab[2 * kl + dof - odof, odof] == pytest.approx(fd, rel=1e-6)
+
+
+def _interpolate_state_reference(s_old, u_old, nd, s_new):
+    """``problem.interpolate_state`` as NumPy computed it before the kernel
+    (:func:`.kernels.geometry.hermite_state`)."""
+    ndn = 2 * nd + 1
+    idx = np.clip(np.searchsorted(s_old, s_new, side="right") - 1, 0, s_old.size - 2)
+    le = s_old[idx + 1] - s_old[idx]
+    xi = np.clip((s_new - s_old[idx]) / le, 0.0, 1.0)
+    n1 = 1 - 3 * xi**2 + 2 * xi**3
+    n2 = le * (xi - 2 * xi**2 + xi**3)
+    n3 = 3 * xi**2 - 2 * xi**3
+    n4 = le * (-(xi**2) + xi**3)
+    d1 = (-6 * xi + 6 * xi**2) / le
+    d2 = 1 - 4 * xi + 3 * xi**2
+    d3 = (6 * xi - 6 * xi**2) / le
+    d4 = -2 * xi + 3 * xi**2
+    u = np.zeros(s_new.size * ndn)
+    for i in range(nd):
+        ra, rb = u_old[i::ndn][idx], u_old[i::ndn][idx + 1]
+        pa, pbv = u_old[nd + i::ndn][idx], u_old[nd + i::ndn][idx + 1]
+        u[i::ndn] = n1 * ra + n2 * pa + n3 * rb + n4 * pbv
+        u[nd + i::ndn] = d1 * ra + d2 * pa + d3 * rb + d4 * pbv
+    la, lb = u_old[2 * nd::ndn][idx], u_old[2 * nd::ndn][idx + 1]
+    u[2 * nd::ndn] = (1 - xi) * la + xi * lb
+    return u
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+def test_the_state_interpolation_kernel_is_its_numpy_reference(nd):
+    """interpolate_state (hermite_state) against the NumPy reference, bit for
+    bit, on random meshes and states, new nodes inside, on and beyond the
+    old mesh's ends; and a cubic centreline interpolated exactly."""
+    from pipelay_fast.problem import interpolate_state
+
+    rng = np.random.default_rng(nd)
+    ndn = 2 * nd + 1
+    for _ in range(100):
+        n = int(rng.integers(2, 120))
+        s_old = np.concatenate([[0.0], np.cumsum(rng.uniform(0.01, 6.0, n - 1))])
+        u_old = rng.normal(size=n * ndn)
+        s_new = np.sort(np.concatenate([rng.uniform(-1.0, s_old[-1] + 1.0, int(rng.integers(1, 150))),
+                                        s_old[rng.integers(0, n, 3)]]))
+        np.testing.assert_array_equal(interpolate_state(s_old, u_old, nd, s_new),
+                                      _interpolate_state_reference(s_old, u_old, nd, s_new))
+    s_old = np.array([0.0, 1.5, 4.0, 4.5, 9.0])
+    cubic = [np.array([0.3, -1.0, 0.2, 0.05]), np.array([1.0, 0.5, -0.1, 0.01]),
+             np.array([-2.0, 0.0, 0.3, -0.02])][:nd]
+    def state(s):
+        u = np.zeros((s.size, ndn))
+        for i, c in enumerate(cubic):
+            u[:, i] = np.polyval(c[::-1], s)
+            u[:, nd + i] = np.polyval(np.polyder(c[::-1]), s)
+        u[:, 2 * nd] = 2.0 * s - 1.0
+        return u.reshape(-1)
+    s_new = np.linspace(0.0, 9.0, 37)
+    np.testing.assert_allclose(interpolate_state(s_old, state(s_old), nd, s_new), state(s_new),
+                               rtol=1e-12, atol=1e-12)
+
+
+def _nodal_fields_reference(nd, s, u, clamped):
+    """r, r', the curvature vector (3D) and the unit tangent as NumPy computed
+    them before :func:`.kernels.geometry.centreline_fields`."""
+    ndn = 2 * nd + 1
+    nn = s.size
+    r = np.stack([u[i::ndn] for i in range(nd)], axis=1)
+    rp = np.stack([u[nd + i::ndn] for i in range(nd)], axis=1)
+    le = np.diff(s)[:, None]
+    chord = r[1:] - r[:-1]
+    start = -4.0 / le * rp[:-1] + 6.0 / le**2 * chord - 2.0 / le * rp[1:]
+    end = 2.0 / le * rp[:-1] - 6.0 / le**2 * chord + 4.0 / le * rp[1:]
+    rpp = np.zeros((nn, nd))
+    rpp[:-1] += start
+    rpp[1:] += end
+    rpp[1:-1] *= 0.5
+    edge = np.flatnonzero(clamped[1:] & ~clamped[:-1]) + 1
+    if nd == 3:
+        rpp[edge, 1] = end[edge - 1, 1]
+    zero = np.zeros(nn)
+    rp3 = rp if nd == 3 else np.stack([rp[:, 0], zero, rp[:, 1]], axis=1)
+    rpp3 = rpp if nd == 3 else np.stack([rpp[:, 0], zero, rpp[:, 1]], axis=1)
+    a = np.linalg.norm(rp3, axis=1)
+    return r, rp, np.cross(rp3, rpp3) / a[:, None] ** 3, rp3 / a[:, None]
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+def test_the_centreline_fields_kernel_against_numpy_and_a_circle(nd):
+    """results.nodal_fields (centreline_fields) against the NumPy reference
+    on random states, with clamped nodes (3D: the free side's y'' there), to
+    round-off; and on a circle of radius R sampled exactly on a graded mesh,
+    the curvature vector's error falls as h^2 towards (0, -1/R, 0) (the
+    circle turning from +x towards +z)."""
+    from pipelay_fast.results import nodal_fields
+
+    rng = np.random.default_rng(10 + nd)
+    ndn = 2 * nd + 1
+    for _ in range(40):
+        n = int(rng.integers(3, 80))
+        s = np.concatenate([[0.0], np.cumsum(rng.uniform(0.05, 5.0, n - 1))])
+        u = rng.normal(size=n * ndn)
+        u[nd::ndn] += 2.0  # (r' away from zero)
+        clamped = rng.random(n) < 0.2
+        got = nodal_fields(nd, s, u, clamped)
+        want = _nodal_fields_reference(nd, s, u, clamped)
+        for g, w in zip(got, want, strict=True):
+            np.testing.assert_allclose(g, w, rtol=1e-13, atol=1e-13 * np.abs(w).max())
+    radius = 50.0
+    errors = []
+    for n in (11, 21, 41):
+        s = np.linspace(0.0, 40.0, n) ** 1.2
+        theta = s / radius
+        nodal = np.zeros((n, ndn))
+        nodal[:, 0], nodal[:, nd - 1] = radius * np.sin(theta), radius * (1.0 - np.cos(theta))
+        nodal[:, nd], nodal[:, 2 * nd - 1] = np.cos(theta), np.sin(theta)
+        _r, _rp, kvec, t3 = nodal_fields(nd, s, nodal.reshape(-1))
+        np.testing.assert_allclose(t3[:, 0], np.cos(theta), atol=1e-14)
+        errors.append(np.abs(kvec - [0.0, -1.0 / radius, 0.0]).max())
+    rates = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert (rates > 1.8).all(), (errors, rates)

@@ -1,7 +1,13 @@
-"""Geometry of a solved centreline that the results read: the clearance of a
-point from the pipe (:func:`pipelay_fast.design.tip_clearance`, which states
-the method). A kernel because every S-lay summary asks for it: in NumPy its
-few dozen calls on arrays of 4 x 33 values took 0.1 ms a solve."""
+"""Geometry of a centreline given by its nodal unknowns (cubic Hermite r,
+r'): the state carried onto another mesh (:func:`hermite_state`), the nodal
+fields the results read (:func:`centreline_fields`) and the clearance of a
+point from the pipe (:func:`point_clearance`, for
+:func:`pipelay_fast.design.tip_clearance`, which states the method).
+
+Kernels because every solve calls them on arrays of some hundred nodes,
+where NumPy spends its time in the overhead of a few dozen small
+operations (the clearance's few dozen calls on 4 x 33 values took 0.1 ms a
+solve)."""
 
 from __future__ import annotations
 
@@ -83,3 +89,92 @@ def point_clearance(r, rp, s, tip, up, samples, steps, gap, slope, curve):
                 side += gap[i] * up[i]
             best_sign = math.copysign(1.0, side)
     return best_sign * best
+
+
+@jit(_nrt=False)
+def hermite_state(idx, xi, xi2, xi3, le, u_old, nd, u):
+    """The state at new nodes (:func:`pipelay_fast.problem.interpolate_state`
+    gives each one's old element ``idx``, its place ``xi`` in it, ``xi2`` =
+    xi**2 and ``xi3`` = xi**3 as NumPy computes them, and the element's
+    length ``le`` [m]): r and r' the old element's cubic Hermite and its
+    slope, lambda linear; into ``u`` (n_new * (2 nd + 1)). Each value as
+    the NumPy expressions gave it, to the bit (the powers are NumPy's: its
+    vectorised xi**3 is not libm's pow)."""
+    ndn = 2 * nd + 1
+    for j in range(idx.shape[0]):
+        a = idx[j] * ndn
+        b = a + ndn
+        x1, x2, x3, h = xi[j], xi2[j], xi3[j], le[j]
+        n1 = 1 - 3 * x2 + 2 * x3
+        n2 = h * (x1 - 2 * x2 + x3)
+        n3 = 3 * x2 - 2 * x3
+        n4 = h * (-x2 + x3)
+        d1 = (-6 * x1 + 6 * x2) / h
+        d2 = 1 - 4 * x1 + 3 * x2
+        d3 = (6 * x1 - 6 * x2) / h
+        d4 = -2 * x1 + 3 * x2
+        out = j * ndn
+        for i in range(nd):
+            ra, pa = u_old[a + i], u_old[a + nd + i]
+            rb, pb = u_old[b + i], u_old[b + nd + i]
+            u[out + i] = n1 * ra + n2 * pa + n3 * rb + n4 * pb
+            u[out + nd + i] = d1 * ra + d2 * pa + d3 * rb + d4 * pb
+        u[out + 2 * nd] = (1 - x1) * u_old[a + 2 * nd] + x1 * u_old[b + 2 * nd]
+
+
+@jit(_nrt=False)
+def _end_curvature(s, r, rp, e, i, start):
+    """Component ``i`` of element ``e``'s Hermite r'' [1/m] at its start
+    (xi = 0) or end (xi = 1)."""
+    le = s[e + 1] - s[e]
+    chord = r[e + 1, i] - r[e, i]
+    if start:
+        return -4.0 / le * rp[e, i] + 6.0 / (le * le) * chord - 2.0 / le * rp[e + 1, i]
+    return 2.0 / le * rp[e, i] - 6.0 / (le * le) * chord + 4.0 / le * rp[e + 1, i]
+
+
+@jit(_nrt=False)
+def centreline_fields(nd, s, u, clamped, r, rp, rpp, kvec, t3):
+    """r, r' and r'' at the nodes [m, -, 1/m] into ``r``, ``rp``, ``rpp``
+    (nn, nd); in (x, y, z), the plane's y = 0 embedded, the curvature vector
+    (r' x r'')/|r'|^3 [1/m] and the unit tangent into ``kvec``, ``t3`` (nn, 3).
+
+    r'' is each element's Hermite r'' at its ends, averaged over the two
+    elements of a node, but at a node in ``clamped`` (nn,) bool whose element
+    below is not (its lateral slope held there and the element below free,
+    as at the stinger's tip under the lateral hold): the held side carries
+    the lateral constraint's couple, so y'' there is the free side's; x''
+    and z'' are averaged as elsewhere, so that 3D without a lateral load
+    reports what 2D does."""
+    ndn = 2 * nd + 1
+    nn = s.shape[0]
+    for k in range(nn):
+        for i in range(nd):
+            r[k, i] = u[k * ndn + i]
+            rp[k, i] = u[k * ndn + nd + i]
+            rpp[k, i] = 0.0
+    for e in range(nn - 1):
+        for i in range(nd):
+            rpp[e, i] += _end_curvature(s, r, rp, e, i, True)
+            rpp[e + 1, i] += _end_curvature(s, r, rp, e, i, False)
+    for k in range(1, nn - 1):
+        for i in range(nd):
+            rpp[k, i] *= 0.5
+    if nd == 3:
+        for k in range(1, nn):
+            if clamped[k] and not clamped[k - 1]:
+                rpp[k, 1] = _end_curvature(s, r, rp, k - 1, 1, False)
+    zi = nd - 1
+    for k in range(nn):
+        xp, zp = rp[k, 0], rp[k, zi]
+        xpp, zpp = rpp[k, 0], rpp[k, zi]
+        yp = rp[k, 1] if nd == 3 else 0.0
+        ypp = rpp[k, 1] if nd == 3 else 0.0
+        a = math.sqrt(xp * xp + yp * yp + zp * zp)
+        a3 = a * a * a
+        kvec[k, 0] = (yp * zpp - zp * ypp) / a3
+        kvec[k, 1] = (zp * xpp - xp * zpp) / a3
+        kvec[k, 2] = (xp * ypp - yp * xpp) / a3
+        t3[k, 0] = xp / a
+        t3[k, 1] = yp / a
+        t3[k, 2] = zp / a
