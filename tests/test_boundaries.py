@@ -546,3 +546,64 @@ def test_the_boundary_map_kernel_is_its_numpy_reference(seed):
     np.testing.assert_array_equal(s_bd, ref_bd)  # (nan where no boundary node is its own)
     on = ~np.isnan(s_bd)
     np.testing.assert_allclose(s_a + s_bd[on] @ s_b[on], s, rtol=1e-14, atol=1e-12)
+
+
+def _graded_reference(length, foci, h_max, h_min, growth=1.2, plain=()):
+    """The graded mesh in NumPy: anchors at the ends, the foci and the plain
+    nodes inside (0, length]; in each stretch between distinct anchors more
+    than 1e-9 m apart, phi(t) = int 1/h ds (h = min(h_max, h_min + (growth -
+    1) d), d the distance to the nearest focus inside, else to 0) by the
+    trapezoidal rule on 129 samples, ceil(phi(b) - 1e-9) elements (at least
+    one) at equal steps of phi."""
+    inside = [f for f in foci if 0.0 < f <= length]
+    anchors = sorted({0.0, length, *inside, *[p for p in plain if 0.0 < p <= length]})
+    focus = np.array(inside or [0.0])
+    nodes = [0.0]
+    for a, b in zip(anchors[:-1], anchors[1:], strict=True):
+        if b - a <= 1e-9:
+            continue
+        t = np.linspace(a, b, 129)
+        inv = 1.0 / np.minimum(h_max, h_min + (growth - 1.0) * np.abs(t[:, None] - focus).min(1))
+        phi = np.concatenate([[0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(t))])
+        count = max(1, int(np.ceil(phi[-1] - 1e-9)))
+        nodes.extend(np.interp(np.arange(1, count + 1) * (phi[-1] / count), phi, t)[:-1])
+        nodes.append(b)
+    return np.array(nodes)
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_the_graded_mesh_kernels_against_numpy(seed):
+    """graded_nodes (kernels.grading.graded_tables, place_nodes) against the
+    NumPy reference on random lengths, foci (outside the pipe, on its end,
+    twice the same) and plain nodes; grading_rates (grading_rates_of)
+    against central differences of the reference at its element counts."""
+    rng = np.random.default_rng(seed)
+    length = rng.uniform(50.0, 900.0)
+    foci = list(rng.uniform(-10.0, length + 10.0, rng.integers(0, 5)))
+    if seed % 3 == 0 and foci:
+        foci.append(foci[0])
+    if seed % 5 == 0:
+        foci.append(length)
+    plain = list(rng.uniform(0.0, length, rng.integers(0, 6))) if seed % 2 else []
+    h_max = rng.uniform(1.0, 16.0)
+    h_min = h_max * rng.uniform(0.02, 1.0)
+    got = graded_nodes(length, foci, h_max, h_min, nodes=plain)
+    want = _graded_reference(length, foci, h_max, h_min, plain=plain)
+    assert got.size == want.size
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-9)
+    moving = [j for j, f in enumerate(foci) if 1.0 < f < length - 1.0
+              and min([abs(f - g) for g in [*foci[:j], *foci[j + 1:], *plain]] or [2.0]) > 1e-3]
+    if not moving:
+        return
+    rates = grading_rates(length, foci, moving, h_max, h_min, nodes=plain)
+    step = 1e-4
+    for r, j in enumerate(moving):
+        moved = [[f + sign * step if i == j else f for i, f in enumerate(foci)]
+                 for sign in (1.0, -1.0)]
+        up, down = (_graded_reference(length, m, h_max, h_min, plain=plain) for m in moved)
+        if up.size != got.size or down.size != got.size:
+            continue  # (a count changes within the step: the kernel keeps the mesh's)
+        fd = (up - down) / (2.0 * step)
+        fd[np.isin(got, [0.0, length, *foci, *plain])] = 0.0
+        fd[np.argmin(np.abs(got - foci[j]))] = 1.0
+        np.testing.assert_allclose(rates[r], fd, atol=1e-6)

@@ -10,6 +10,8 @@ a J125 mesh of 8 m elements.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._jit import jit
@@ -147,3 +149,121 @@ def boundary_map(s, nodes, zones, kind, anchors, s_a, s_b, s_bd):
             s_b[b0, i] = 1.0 - f
         if b1 >= 0:
             s_b[b1, i] = f
+
+
+SAMPLES = 129  # samples of each stretch's element count phi(t)
+
+
+@jit
+def graded_tables(length, foci, plain, h_max, h_min, growth):
+    """The stretches of a graded mesh of ``length`` [m] and their tables
+    (:func:`pipelay_fast.mesh.graded_nodes`): anchors at the ends, at the
+    foci inside (0, length] and at the ``plain`` nodes inside it, stretches
+    between successive distinct anchors more than 1e-9 m apart; each
+    stretch's samples t and element count phi(t) (:func:`span_tables`, the
+    foci inside, or 0 when none is), and its element count ceil(phi - 1e-9)
+    (at least 1).
+
+    Returns (the stretches' starts a and ends b [m], t, phi (stretches,
+    SAMPLES), counts (int64))."""
+    inside = 0
+    for f in foci:
+        if 0.0 < f <= length:
+            inside += 1
+    points = np.empty(2 + inside + plain.shape[0])
+    points[0] = 0.0
+    points[1] = length
+    n = 2
+    focus = np.zeros(max(inside, 1))
+    k = 0
+    for f in foci:
+        if 0.0 < f <= length:
+            points[n] = f
+            focus[k] = f
+            n += 1
+            k += 1
+    for f in plain:
+        if 0.0 < f <= length:
+            points[n] = f
+            n += 1
+    anchors = np.sort(points[:n])
+    a = np.empty(n - 1)
+    b = np.empty(n - 1)
+    ns = 0
+    last = anchors[0]
+    for j in range(1, n):
+        if anchors[j] == last:  # (distinct anchors)
+            continue
+        if anchors[j] - last > 1e-9:
+            a[ns] = last
+            b[ns] = anchors[j]
+            ns += 1
+        last = anchors[j]
+    rows = np.empty((ns, focus.shape[0]))
+    for j in range(ns):
+        for k in range(focus.shape[0]):
+            rows[j, k] = focus[k]
+    t = np.empty((ns, SAMPLES))
+    phi = np.empty((ns, SAMPLES))
+    span_tables(a[:ns], b[:ns], rows, np.full(ns, focus.shape[0]), h_max, h_min, growth, t, phi)
+    counts = np.empty(ns, dtype=np.int64)
+    for j in range(ns):
+        counts[j] = max(1, int(math.ceil(phi[j, SAMPLES - 1] - 1e-9)))
+    return a[:ns].copy(), b[:ns].copy(), t, phi, counts
+
+
+@jit
+def _graded(length, points, nf, h_max, h_min, growth, counts):
+    """The graded mesh's nodes [m] with foci ``points[:nf]`` and plain nodes
+    ``points[nf:]`` (:func:`graded_tables`), ``counts`` elements a stretch;
+    empty when it has another number of stretches."""
+    _a, b, t, phi, own = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
+    if own.shape[0] != counts.shape[0]:
+        return np.empty(0)
+    nodes = np.empty(1 + counts.sum())
+    place_nodes(t, phi, b, counts, nodes)
+    return nodes
+
+
+@jit
+def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
+    """ds_i/df_j [-] of the graded mesh's nodes (foci ``points[:nf]``, plain
+    nodes ``points[nf:]``) for each j in ``moving`` (int64), at the mesh's
+    element counts: central differences over ``step`` [m]; the anchors'
+    rows 0 (the ends, the foci, the plain nodes), the moved point's own node
+    1. Returns (rates (moving, nodes), the node of each moved point); rates
+    of 0 rows when a move changes the mesh's stretches."""
+    _a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
+    base = np.empty(1 + counts.sum())
+    place_nodes(t, phi, b, counts, base)
+    nn = base.shape[0]
+    rates = np.zeros((moving.shape[0], nn))
+    own = np.empty(moving.shape[0], dtype=np.int64)
+    moved = points.copy()
+    for r in range(moving.shape[0]):
+        j = moving[r]
+        moved[j] = points[j] + step
+        up = _graded(length, moved, nf, h_max, h_min, growth, counts)
+        moved[j] = points[j] - step
+        down = _graded(length, moved, nf, h_max, h_min, growth, counts)
+        moved[j] = points[j]
+        if up.shape[0] != nn or down.shape[0] != nn:
+            return np.zeros((0, nn)), own
+        for i in range(nn):
+            rates[r, i] = (up[i] - down[i]) / (2.0 * step)
+        best = np.inf
+        for i in range(nn):
+            d = abs(base[i] - points[j])
+            if d < best:
+                best = d
+                own[r] = i
+    for i in range(nn):
+        anchor = base[i] == 0.0 or base[i] == length
+        for p in points:
+            anchor = anchor or base[i] == p
+        if anchor:
+            for r in range(moving.shape[0]):
+                rates[r, i] = 0.0
+    for r in range(moving.shape[0]):
+        rates[r, own[r]] = 1.0
+    return rates, own
