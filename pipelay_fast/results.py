@@ -337,7 +337,7 @@ def build_profile(case: Case, pb, react) -> dict:
     for sign in (1.0, -1.0):
         sa = tw / pipe.steel_area + sign * bend
         vm = np.maximum(vm, np.sqrt(sa * sa + sig_h * sig_h - sa * sig_h + 3.0 * tau * tau))
-    contact = np.full(s.size, "free", dtype=object)
+    contact = np.full(s.size, "free", dtype="<U7")  # (the longest: "stinger")
     if case.seabed.is_rigid:
         act = pb.bed_active.astype(bool)  # the contacts, the held lower end apart
         seabed = np.where(act, react[0::ndn], 0.0)
@@ -376,7 +376,7 @@ def build_profile(case: Case, pb, react) -> dict:
         "stinger_reaction": stinger,
         "reaction_x": reaction[:, 0], "reaction_y": reaction[:, 1], "reaction_z": reaction[:, 2],
         "slipping": act & ((pb.fric[:, L.FR_DIR] != 0.0) | (pb.fric[:, L.FR_DIRZ] != 0.0)),
-        "contact": contact.astype(str),
+        "contact": contact,
     }
 
 

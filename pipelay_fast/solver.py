@@ -24,6 +24,7 @@ solve:
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -332,7 +333,7 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     columns = build_profile(case, pb, react)
     rollers = build_rollers(case, pb, react)
     summary = build_summary(case, pb, columns, stats, s_t, s_l, rollers)
-    bad = [key for key, val in summary.items() if isinstance(val, float) and np.isinf(val)]
+    bad = [key for key, val in summary.items() if isinstance(val, float) and math.isinf(val)]
     bad += [key for key, col in columns.items()
             if col.dtype.kind == "f" and not np.isfinite(col).all()]
     if bad:
