@@ -19,7 +19,7 @@ from .design import DESIGN_UNITS, design_columns
 from .kernels import layout as L
 from .kernels.contact import ST_ON
 from .kernels.geometry import centreline_fields
-from .kernels.newton import _point_gap
+from .kernels.newton import point_gaps
 from .model import pin_jump
 
 PROFILE_UNITS = {
@@ -265,11 +265,12 @@ def roller_gaps(pb) -> np.ndarray:
     """The pipe's clearance [m] above each roller of a roller stinger: its
     axis at the node over the roller, along the pipe's normal there, the
     Newton kernel's gap (:func:`.kernels.newton._point_gap`, in the frame
-    of the pipe's tangent there); negative: below it."""
-    nd, ndn = pb.nd, pb.ndn
-    return np.array([_point_gap(nd, pb.u, pb.points[j], int(k),
-                                math.atan2(pb.u[k * ndn + nd], pb.u[k * ndn + 2 * nd - 1]))
-                     for j, k in enumerate(pb.roller_nodes)])
+    of the pipe's tangent there, :func:`.kernels.newton.point_gaps`);
+    negative: below it."""
+    nodes = np.ascontiguousarray(pb.roller_nodes, dtype=np.int64)
+    gaps = np.empty(nodes.size)
+    point_gaps(pb.nd, pb.u, pb.points, nodes, gaps)
+    return gaps
 
 
 def build_rollers(case: Case, pb, react) -> dict | None:

@@ -70,6 +70,20 @@ NOT_ANCHOR = -2  # (boundary_map's kind: -1 a fixed material point, b >= 0 bound
 
 
 @jit(_nrt=False)
+def _first_not_below(s, value):
+    """The first index i of the ascending ``s`` with s[i] >= value (s.size
+    when none): numpy's searchsorted(s, value), side "left"."""
+    lo, hi = 0, s.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if s[mid] < value:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@jit(_nrt=False)
 def boundary_map(s, nodes, zones, kind, anchors, s_a, s_b, s_bd):
     """The map of a mesh onto its contact boundaries
     (:meth:`pipelay_fast.problem.Problem.follow`): each node's arc length is
@@ -114,8 +128,8 @@ def boundary_map(s, nodes, zones, kind, anchors, s_a, s_b, s_bd):
                 same += 1
         if same > 1:
             upper = k
-        lo = np.searchsorted(s, s[k] - zones[b, 0]) - 1
-        hi = np.searchsorted(s, s[k] + zones[b, 1])
+        lo = _first_not_below(s, s[k] - zones[b, 0]) - 1
+        hi = _first_not_below(s, s[k] + zones[b, 1])
         if lower < lo < k and kind[lo] == NOT_ANCHOR:
             kind[lo] = -1
         if k < hi < upper and kind[hi] == NOT_ANCHOR:
@@ -186,7 +200,14 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
         if 0.0 < f <= length:
             points[n] = f
             n += 1
-    anchors = np.sort(points[:n])
+    anchors = points[:n]
+    for j in range(1, n):  # (insertion sort: a handful of anchors)
+        v = anchors[j]
+        i = j - 1
+        while i >= 0 and anchors[i] > v:
+            anchors[i + 1] = anchors[i]
+            i -= 1
+        anchors[i + 1] = v
     a = np.empty(n - 1)
     b = np.empty(n - 1)
     ns = 0
@@ -205,24 +226,13 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
             rows[j, k] = focus[k]
     t = np.empty((ns, SAMPLES))
     phi = np.empty((ns, SAMPLES))
-    span_tables(a[:ns], b[:ns], rows, np.full(ns, focus.shape[0]), h_max, h_min, growth, t, phi)
+    nfocus = np.empty(ns, dtype=np.int64)
+    nfocus[:] = focus.shape[0]
+    span_tables(a[:ns], b[:ns], rows, nfocus, h_max, h_min, growth, t, phi)
     counts = np.empty(ns, dtype=np.int64)
     for j in range(ns):
         counts[j] = max(1, int(math.ceil(phi[j, SAMPLES - 1] - 1e-9)))
     return a[:ns].copy(), b[:ns].copy(), t, phi, counts
-
-
-@jit
-def _graded(length, points, nf, h_max, h_min, growth, counts):
-    """The graded mesh's nodes [m] with foci ``points[:nf]`` and plain nodes
-    ``points[nf:]`` (:func:`graded_tables`), ``counts`` elements a stretch;
-    empty when it has another number of stretches."""
-    _a, b, t, phi, own = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
-    if own.shape[0] != counts.shape[0]:
-        return np.empty(0)
-    nodes = np.empty(1 + counts.sum())
-    place_nodes(t, phi, b, counts, nodes)
-    return nodes
 
 
 @jit
@@ -240,15 +250,18 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     rates = np.zeros((moving.shape[0], nn))
     own = np.empty(moving.shape[0], dtype=np.int64)
     moved = points.copy()
+    up = np.empty(nn)
+    down = np.empty(nn)
     for r in range(moving.shape[0]):
         j = moving[r]
-        moved[j] = points[j] + step
-        up = _graded(length, moved, nf, h_max, h_min, growth, counts)
-        moved[j] = points[j] - step
-        down = _graded(length, moved, nf, h_max, h_min, growth, counts)
+        for sign in (1.0, -1.0):
+            moved[j] = points[j] + sign * step
+            _a, b, t, phi, own_counts = graded_tables(length, moved[:nf], moved[nf:], h_max,
+                                                      h_min, growth)
+            if own_counts.shape[0] != counts.shape[0]:  # another set of stretches
+                return np.zeros((0, nn)), own
+            place_nodes(t, phi, b, counts, up if sign > 0.0 else down)
         moved[j] = points[j]
-        if up.shape[0] != nn or down.shape[0] != nn:
-            return np.zeros((0, nn)), own
         for i in range(nn):
             rates[r, i] = (up[i] - down[i]) / (2.0 * step)
         best = np.inf

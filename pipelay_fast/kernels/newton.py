@@ -490,6 +490,18 @@ def _point_gap(nd, u, point, node, phi):
             - math.sin(phi) * (u[base + nd - 1] - point[L.PT_Z]))
 
 
+@jit(_nrt=False)
+def point_gaps(nd, u, points, nodes, gaps):
+    """Each point's clearance [m] into ``gaps``: :func:`_point_gap` of the
+    node ``nodes[j]`` over point j, along the normal of the pipe's tangent
+    there (the results' roller clearances, :func:`.results.roller_gaps`)."""
+    ndn = 2 * nd + 1
+    for j in range(nodes.shape[0]):
+        k = nodes[j]
+        phi = math.atan2(u[k * ndn + nd], u[k * ndn + 2 * nd - 1])
+        gaps[j] = _point_gap(nd, u, points[j], k, phi)
+
+
 @jit
 def _over_point(nd, u, point, node, row):
     """A point's boundary equation: node ``node`` is the material point over
