@@ -58,6 +58,14 @@ def test_band_lu_solves_like_dense(n, kl, ku):
     np.testing.assert_array_equal(many[:, 0], one[:, 0])
     np.testing.assert_allclose(many, np.linalg.solve(a, np.stack(
         [a @ x, 2.0 * (a @ x) + 1.0, -(a @ x)], axis=1)), rtol=1e-8, atol=1e-8)
+    # border-like columns, zero above a row of their own (the forward
+    # substitution skips them there), in no order, one all zero
+    cols = np.zeros((n, 4))
+    for c, start in enumerate((n - 1, 0, n // 2, n)):
+        cols[start:start + 3, c] = rng.normal(size=cols[start:start + 3, c].shape)
+    want = np.linalg.solve(a, cols)
+    band_solve_many(ab, kl, ku, piv, cols, 4)
+    np.testing.assert_allclose(cols, want, rtol=1e-8, atol=1e-8)
 
 
 def test_band_lu_reports_singular_matrix():
