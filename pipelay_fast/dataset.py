@@ -193,12 +193,22 @@ def encode_arrays(columns: dict, units: dict, metadata: dict) -> bytes:
     """The columns ``units`` names, from the arrays of ``columns`` (no
     DataFrame between: the profiles of a chunk are some 40 solves' arrays),
     as :func:`_encode` lays them out: strings of the Arrow type pandas
-    gives them, NaN as null (``from_pandas``)."""
-    arrays = [pa.array(columns[k], type=_pandas_string_type(), from_pandas=True)
+    gives them, NaN as null (``from_pandas``); a column already an Arrow
+    array (:func:`repeated_text`) is taken as it is."""
+    arrays = [columns[k] if isinstance(columns[k], pa.Array)
+              else pa.array(columns[k], type=_pandas_string_type(), from_pandas=True)
               if np.asarray(columns[k]).dtype.kind in "OUS"
               else pa.array(columns[k], from_pandas=True)
               for k in units]
     return _encode(pa.Table.from_arrays(arrays, names=list(units)), units, metadata)
+
+
+def repeated_text(values: list[str], counts) -> pa.Array:
+    """A text column of the dataset's type: ``values[i]`` ``counts[i]``
+    times, in order (a chunk's case ids, one per profile node: from a NumPy
+    array of text, 1 ms a chunk of 120 cases; this way 0.04 ms)."""
+    index = np.repeat(np.arange(len(values), dtype=np.int64), np.asarray(counts, dtype=np.int64))
+    return pa.array(values, type=_pandas_string_type()).take(pa.array(index))
 
 
 @functools.cache

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from tqdm import tqdm
 
-from .dataset import Dataset, encode_chunk
+from .dataset import Dataset, encode_chunk, repeated_text
 from .results import SUMMARY_UNITS
 from .solver import SolveError, solve
 from .sweep import INPUT_UNITS, Sweep, SweepCase, chains
@@ -184,21 +184,24 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
             times["solve"] += dt
             times["solve_cpu"] += cpu
             if profiles and result is not None:
-                n = len(result.columns["s"])
-                parts.append({"case_id": np.full(n, sc.case_id), "node": np.arange(n),
-                              **result.columns})
+                parts.append((sc.case_id, {"node": np.arange(len(result.columns["s"])),
+                                           **result.columns}))
             if result is not None and result.roller_columns is not None:
-                n = len(result.roller_columns["roller"])
-                roller_parts.append({"case_id": np.full(n, sc.case_id),
-                                     **result.roller_columns})
+                roller_parts.append((sc.case_id, result.roller_columns))
     chunk = encode_chunk(sweep, task[0][0].scene, rows, _joined(parts), _joined(roller_parts))
     times["task_cpu"] = time.process_time() - start_cpu
     return chunk, times, os.getpid()
 
 
-def _joined(parts: list[dict]) -> dict | None:
-    """The columns of ``parts`` (dicts of arrays) end to end; None when empty."""
-    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]} if parts else None
+def _joined(parts: list[tuple[str, dict]]) -> dict | None:
+    """The columns of ``parts`` ((case id, dict of arrays of one length)) end
+    to end, with each row's ``case_id`` first; None when empty."""
+    if not parts:
+        return None
+    first = parts[0][1]
+    counts = [len(next(iter(columns.values()))) for _cid, columns in parts]
+    return {"case_id": repeated_text([cid for cid, _columns in parts], counts),
+            **{k: np.concatenate([columns[k] for _cid, columns in parts]) for k in first}}
 
 
 def solve_chain(chain: list[SweepCase], warm_start: bool = True):
