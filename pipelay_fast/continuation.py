@@ -175,7 +175,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     answer leaves that node unloaded (:func:`.boundaries.tip_released`) or
     the tip's branch cycles with no progress (TIP_CYCLE): the pipe then lifts off
     above the tip. ``predicted``: the state was moved towards the answer
-    (a warm start's step, :func:`continuation`); it does not switch, but
+    (a predicted start, :func:`continuation`); it does not switch, but
     returns the status that asks for a switch, for the caller to solve the
     step from its own start. ``maxit``: each call's iterations at most
     (None: solver.max_iterations).
@@ -216,7 +216,10 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
     ``load(level, predict)`` puts the problem at that load level and returns
     Newton's residual offset (ndof,); with ``predict`` it may also move the
     state towards the step's answer (a warm start's neighbour's increment,
-    :meth:`.Problem.start_step`) and returns whether it did. A step that
+    or the path's own last increment, :meth:`.Problem.start_step`) and
+    returns whether it did. A predicted start gets at most twice the
+    iterations of the path's hardest converged call so far (within
+    solver.max_iterations). A step that
     fails from such a start is solved again from the last converged state
     before it is halved, so a warm start takes the cold start's steps (S125
     3D, pipe length fixed, at 2 m, a = -0.0015 from -0.0014: the step to 0.75
@@ -235,6 +238,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
     stats = {"iterations": 0, "load_steps": 0, "step_max": 0}
     react = info = None
     status = L.OK
+    hardest = 0  # the most iterations a converged call of this path took
     while level < 1.0:
         trial = min(1.0, level + step)
         where = f"{name} {trial:.4f} (load step {stats['load_steps'] + 1})"
@@ -247,11 +251,13 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         mapped = (pb.bnodes, pb.s_a, pb.s_b, pb.zone_b)
         g_off, predicted = load(trial, True)
         # a predicted start that takes twice the iterations of the path's
-        # hardest step so far is not nearer: the step is solved from the
-        # last converged state instead (uncapped, a secant start on random
-        # 3D case 26 of bench_contact ran Newton's 100 iterations, and 2
-        # its 100; capped at once, the paper's 3D scenes lost half the gain)
-        cap = 2 * stats["step_max"] if predicted and stats["step_max"] > 0 else None
+        # hardest converged call so far (within solver.max_iterations) is
+        # not nearer: the step is solved from the last converged state
+        # instead (uncapped, a secant start on random 3D case 26 of
+        # bench_contact ran Newton's 100 iterations, and 2 its 100; capped
+        # at once, the paper's 3D scenes lost half the gain)
+        cap = (min(2 * hardest, case.solver.max_iterations) if predicted and hardest > 0
+               else None)
         try:
             status, react, info, used, _start = newton_in_regime(case, pb, g_off, budget,
                                                                  where, predicted, cap)
@@ -267,6 +273,8 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
             status, react, info, again, _start = newton_in_regime(case, pb, g_off, budget,
                                                                   where)
             used += again
+        if status == L.OK:
+            hardest = max(hardest, int(info[I_ITER]))
         stats["iterations"] += used
         stats["load_steps"] += 1
         stats["step_max"] = max(stats["step_max"], used)
@@ -337,7 +345,8 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
 
     def load(factor, predict):
         pb.factors[L.F_CURRENT] = factor
-        # a warm start: plus the neighbour's increment over the step
+        # a predicted start: plus the neighbour's increment over the step,
+        # or this path's last one (Problem.start_step)
         return zero, predict and pb.start_step(factor)
 
     pb.current_path = [pb.path_state(0.0)]

@@ -159,6 +159,9 @@ class Problem:
         nodes = np.asarray(nodes, dtype=np.int64)
         zones = np.asarray(zones, dtype=float).reshape(-1, 2)
         nn = self.s.size
+        if (nodes >= nn).any() or zones.shape[0] != nodes.size:  # (the kernel checks no bounds)
+            raise ValueError(f"follow: boundary nodes {nodes.tolist()} on {nn} nodes, "
+                             f"{zones.shape[0]} zones for {nodes.size} boundaries")
         s_a, s_b = np.empty(nn), np.empty((nodes.size, nn))
         boundary_map(self.s, nodes, zones, np.empty(nn, dtype=np.int64),
                      np.empty(nn, dtype=np.int64), s_a, s_b, self.s_bd)
@@ -191,7 +194,8 @@ class Problem:
 
     def path_state(self, level: float) -> dict:
         """The converged state at ``level`` of the current's path: what a
-        neighbour's warm start begins that step from (:meth:`start_step`)."""
+        neighbour's warm start, or this path's next step, begins a step from
+        (:meth:`start_step`)."""
         return {"level": level, "s": self.s.copy(), "u": self.u.copy(),
                 "on": self.bnodes >= 0, "tb": self.tb.copy(), "s_bd": self.s_bd.copy()}
 

@@ -120,7 +120,8 @@ def test_current_steps_are_counted_as_newton_ran_them(monkeypatch):
     current's load steps and the most Newton iterations one took: here
     counted independently, call by call of the Newton kernel while the
     current's factor rises (a step is one call, or several when the regime
-    at the stinger's tip switches: none does in this J-lay)."""
+    at the stinger's tip switches or a predicted start is dropped for the
+    last converged state: neither happens in this J-lay)."""
     from pipelay_fast import continuation
     from pipelay_fast.kernels import layout as L
     from pipelay_fast.kernels.newton import I_ITER

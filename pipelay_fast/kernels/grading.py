@@ -1,5 +1,8 @@
-"""The graded mesh's arithmetic (:mod:`pipelay_fast.mesh`): each stretch's
-element count phi(t) = int 1/h ds, and the nodes at equal steps of it.
+"""The graded mesh's arithmetic (:mod:`pipelay_fast.mesh`): its stretches
+between anchors, each stretch's element count phi(t) = int 1/h ds, the
+nodes at equal steps of it and their rates with the foci; and the mesh's
+map onto its contact boundaries (:func:`boundary_map`,
+:meth:`pipelay_fast.problem.Problem.follow`).
 
 Kernels, not NumPy, because a solve builds and differentiates its graded mesh
 several times (the cold start's mesh, the meshes graded at the boundaries
@@ -239,10 +242,10 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
 def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     """ds_i/df_j [-] of the graded mesh's nodes (foci ``points[:nf]``, plain
     nodes ``points[nf:]``) for each j in ``moving`` (int64), at the mesh's
-    element counts: central differences over ``step`` [m]; the anchors'
-    rows 0 (the ends, the foci, the plain nodes), the moved point's own node
-    1. Returns (rates (moving, nodes), the node of each moved point); rates
-    of 0 rows when a move changes the mesh's stretches."""
+    element counts: central differences over ``step`` [m]; in each row 0 at
+    the anchors (the ends, the foci, the plain nodes) and 1 at the moved
+    point's own node. Returns (rates (moving, nodes), the node of each moved
+    point); rates of 0 rows when a move changes the mesh's stretches."""
     _a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
     base = np.empty(1 + counts.sum())
     place_nodes(t, phi, b, counts, base)

@@ -630,8 +630,9 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
 
 
 # ---- the iteration's phases ---------------------------------------------------
-# newton() below runs them in order each iteration; each is a kernel of its own
-# over the named tuples (:mod:`.types`) and the work arrays (:data:`Work`).
+# the Newton kernel (:func:`_newton_kernel`) runs them in order each
+# iteration, each over the named tuples (:mod:`.types`) and the work arrays
+# (:data:`Work`): a kernel of its own, or a phase inlined into it.
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
@@ -693,8 +694,9 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     (The one phase that calls the element kernel's callers: numba optimises
     each kernel with all its callees linked in, so a kernel of its own above
     the element's adds the element's compile time again. The phases are
-    inlined into newton (:func:`pipelay_fast._jit.phase`), and this keeps the
-    element's callers in one place.)
+    inlined into the Newton kernel (:func:`_newton_kernel`,
+    :func:`pipelay_fast._jit.phase`), and this keeps the element's callers in
+    one place.)
 
     Returns (the top's effective tension [N], touchdown's equation [N m])."""
     ndn = 2 * nd + 1
