@@ -102,52 +102,26 @@ def band_factor(ab, kl, ku, ipiv):
     return info
 
 
-@jit
+@jit(_nrt=False)
 def band_solve_many(ab, kl, ku, ipiv, b, m):
     """Solve ``A X = B`` in place for the first ``m`` columns of ``b`` (n, >= m),
     with the factors of :func:`band_factor` (``dgbtrs``'s forward and back
     substitution), the band read once for all columns (the Newton step and
     its border columns: 1 to 5 right-hand sides; 5 on 791 unknowns took 94 us
-    one at a time, 56 us together). The forward substitution skips each
-    column above its first nonzero row (a roller's border column near the
-    top: S67 on 93 rollers 6.45 -> 5.65 ms a solve, the same bits)."""
+    one at a time, 56 us together)."""
     n = ab.shape[1]
     kv = kl + ku
-    # a column is zero above its first nonzero row, and its forward
-    # substitution a no-op there (a border column of a point near the top:
-    # most of the rows); the columns that have started are the first
-    # ``started`` of ``order``, the columns by their first nonzero row
-    order = np.empty(m, dtype=np.int64)
-    first = np.empty(m, dtype=np.int64)
-    for c in range(m):
-        f = n
-        for r in range(n):
-            if b[r, c] != 0.0:
-                f = r
-                break
-        k = c
-        while k > 0 and first[k - 1] > f:  # (insertion by first row)
-            first[k] = first[k - 1]
-            order[k] = order[k - 1]
-            k -= 1
-        first[k] = f
-        order[k] = c
-    started = 0
     for j in range(n - 1):
         lm = min(kl, n - 1 - j)
-        while started < m and first[started] <= j + kl:
-            started += 1
         p = ipiv[j]
         if p != j:
-            for k in range(started):
-                c = order[k]
+            for c in range(m):
                 tmp = b[p, c]
                 b[p, c] = b[j, c]
                 b[j, c] = tmp
         for i in range(1, lm + 1):
             lij = ab[kv + i, j]
-            for k in range(started):
-                c = order[k]
+            for c in range(m):
                 b[j + i, c] -= lij * b[j, c]
     for j in range(n - 1, -1, -1):
         d = ab[kv, j]
