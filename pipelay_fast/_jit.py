@@ -4,7 +4,7 @@ Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
 
 * ``cache=True`` so that worker processes and later sessions load machine code
   from numba's cache instead of recompiling (measured by
-  ``benchmarks/bench_compile.py``: a first solve in a fresh cache 33 to 35 s,
+  ``benchmarks/bench_compile.py``: a first solve in a fresh cache 26 to 29 s,
   a cached start 0.7 s);
 * each kernel compiled once for its callers' plain argument types, and the
   element chain once per dimension (:func:`plain_calls`, ``by_dimension``);
