@@ -134,6 +134,24 @@ def cache_dirs(source_dir: str) -> list[str]:
     return [os.path.join(source_dir, "__pycache__"), os.path.join(_user_cache_dir(), mirror)]
 
 
+NEWTON_CACHE_PREFIX = "newton._newton_kernel"  # numba's index file of the Newton kernel
+
+
+def kernels_cached() -> bool:
+    """Whether numba's cache holds the Newton kernel's machine code for these
+    sources (stale files are gone at import, :func:`expire_stale_cache`): when
+    it does not, the first solve compiles the kernels (26 to 29 s,
+    ``benchmarks/bench_compile.py``), and the command line says so."""
+    for cache_dir in cache_dirs(KERNEL_DIR):
+        try:
+            names = os.listdir(cache_dir)
+        except OSError:
+            continue
+        if any(n.startswith(NEWTON_CACHE_PREFIX) and n.endswith(".nbi") for n in names):
+            return True
+    return False
+
+
 def _writable(path: str) -> bool:
     """numba's test of a cache directory: it can be created and written to."""
     try:

@@ -23,7 +23,7 @@ import sys
 from importlib.resources import files
 from pathlib import Path
 
-from . import __version__
+from . import __version__, _jit
 from .case import load_case
 from .results import SUMMARY_UNITS
 from .solver import SolveError, solve
@@ -141,11 +141,21 @@ def _error(message: str, code: int) -> int:
     return code
 
 
+def _compile_notice(quiet: bool) -> None:
+    """On stderr, that the kernels are about to compile (a new environment's
+    first run), unless ``quiet``."""
+    if not quiet and not _jit.kernels_cached():
+        print("compiling the numerical kernels: the first run in a new environment takes "
+              "about 30 s more (each worker compiles once; later runs load them from "
+              "numba's cache)", file=sys.stderr, flush=True)
+
+
 def _solve(args: argparse.Namespace) -> int:
     from .io import write_result  # pyarrow only when needed
 
     try:
         case = load_case(args.case)
+        _compile_notice(args.quiet)
         result = solve(case)
     except OSError as err:
         return _error(f"cannot read {args.case}: {err.strerror or err}", EXIT_USAGE)
@@ -242,6 +252,7 @@ def _sweep(args: argparse.Namespace) -> int:
         print(f"sweep {sweep.name}: {len(cases)} cases -> {out}")
         print(counts.to_string())
         return EXIT_OK
+    _compile_notice(args.quiet)
     try:
         report = run_sweep(sweep, out, workers=args.workers, backend=args.backend,
                            scheduler=args.scheduler, chunk_size=args.chunk_size,

@@ -89,3 +89,24 @@ def test_slay_scene_solves_and_writes_its_liftoff(tmp_path):
     direct = pipelay_fast.solve(pipelay_fast.load_case(path)).summary
     assert summary["method"] == "S"
     assert summary["liftoff_z"] == pytest.approx(direct["liftoff_z"], rel=1e-12)
+
+
+def test_a_first_run_says_the_kernels_compile(tmp_path, capsys, monkeypatch):
+    """The cache check reads numba's cache directory (an index file of the
+    Newton kernel: cached), and ``solve`` says on stderr, before it solves,
+    that the kernels compile when they are not cached; not when they are, nor
+    with --quiet."""
+    from pipelay_fast import _jit
+
+    monkeypatch.setattr(_jit, "cache_dirs", lambda source_dir: [str(tmp_path / "cache")])
+    assert not _jit.kernels_cached()  # (no directory)
+    (tmp_path / "cache").mkdir()
+    (tmp_path / "cache" / "newton._newton_kernel.locals.newton-1.py311.1.nbc").write_bytes(b"")
+    assert not _jit.kernels_cached()  # (machine code without its index)
+    (tmp_path / "cache" / "newton._newton_kernel.locals.newton-1.py311.nbi").write_bytes(b"")
+    assert _jit.kernels_cached()
+
+    for cached, quiet, said in ((False, False, True), (True, False, False), (False, True, False)):
+        monkeypatch.setattr(_jit, "kernels_cached", lambda cached=cached: cached)
+        assert main(["solve", str(J125), *(["--quiet"] if quiet else [])]) == 0
+        assert ("compiling the numerical kernels" in capsys.readouterr().err) == said

@@ -642,8 +642,8 @@ def test_the_state_interpolation_kernel_is_its_numpy_reference(nd):
         n = int(rng.integers(2, 120))
         s_old = np.concatenate([[0.0], np.cumsum(rng.uniform(0.01, 6.0, n - 1))])
         u_old = rng.normal(size=n * ndn)
-        s_new = np.sort(np.concatenate([rng.uniform(-1.0, s_old[-1] + 1.0, int(rng.integers(1, 150))),
-                                        s_old[rng.integers(0, n, 3)]]))
+        inside = rng.uniform(-1.0, s_old[-1] + 1.0, int(rng.integers(1, 150)))
+        s_new = np.sort(np.concatenate([inside, s_old[rng.integers(0, n, 3)]]))
         np.testing.assert_array_equal(interpolate_state(s_old, u_old, nd, s_new),
                                       _interpolate_state_reference(s_old, u_old, nd, s_new))
     s_old = np.array([0.0, 1.5, 4.0, 4.5, 9.0])
