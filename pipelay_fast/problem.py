@@ -319,7 +319,7 @@ def _mesh_stats(case: Case, g) -> dict:
     # contact boundaries (:func:`.continuation.boundary_step`); 0: none
     layer = lam if lam < (case.pipe.bending_stiffness / abs(g.cat.w1)) ** (1.0 / 3.0) else 0.0
     return {"h_min": h_min, "h_max": h_max, "flexural_length": lam, "boundary_layer": layer,
-            "cold_total": g.total}
+            "cold_total": g.total, "guess_tension": g.cat.h}
 
 
 def _reference_force(case: Case, g) -> float:
@@ -378,7 +378,9 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     nd, ndn = guide.nd, guide.ndn
     rollers = case.lay.roller_positions()
     stats = {**guide.stats, "stinger_foci": []}
-    h_max, h_min = stats["h_max"], stats["h_min"]
+    # the case's own element sizes (the guide's are coarser: it is a start)
+    h_max, h_min, _lam = _mesh_sizes(case, stats["guess_tension"])
+    stats["h_max"], stats["h_min"] = h_max, h_min
     s_t = touchdown_position(guide)
     total = float(guide.s[-1])
     # from the nearest node, projections on the answer's tangent

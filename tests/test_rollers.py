@@ -462,3 +462,23 @@ def test_a_stinger_axis_the_scene_s_stinger_lacks_is_refused(axis, case):
                                        "vary": {axis: [1.0, 2.0]}}]}
     with pytest.raises(ValueError, match=f"the axis '{axis}' needs"):
         load_sweep(spec)
+
+
+def test_the_answer_does_not_depend_on_the_guide_s_mesh(monkeypatch):
+    """The guide (the quadratic fitted through the rollers) is only where a
+    roller solve starts: solved on the case's own elements instead of twice
+    as long ones, the rollers' answer (mesh graded anew at the case's sizes)
+    is the same to the solver's tolerance, bearing on the same rollers."""
+    from pipelay_fast import guess
+
+    case = pf.load_case("pipelay_fast/examples/s67_rollers.toml")
+    coarse = pf.solve(case)
+    guess.guide_case.cache_clear()
+    monkeypatch.setattr(guess, "GUIDE_COARSENING", 1.0)
+    fine = pf.solve(case)
+    guess.guide_case.cache_clear()
+    assert coarse.summary["n_elements"] > fine.summary["n_elements"]  # (the longer laid pipe)
+    for key in ("max_von_mises", "overbend_max_moment", "top_tension", "max_roller_reaction"):
+        assert coarse.summary[key] == pytest.approx(fine.summary[key], rel=1e-8), key
+    assert coarse.summary["tdp_z"] == pytest.approx(fine.summary["tdp_z"], abs=1e-6)
+    np.testing.assert_array_equal(coarse.rollers["in_contact"], fine.rollers["in_contact"])
