@@ -454,12 +454,13 @@ class Stinger:
         along its arc from the upper end down, about ``spacing`` [m] apart
         (the arc divided into the nearest whole number of spans), the last
         on the tip; (x, z) [m] pairs, from the vessel down. The arc is
-        integrated by the trapezoidal rule on 200 000 intervals."""
+        :func:`pipelay_fast.guess.stinger_arc`'s, on 200 000 intervals."""
+        from .guess import stinger_arc
+
         if not spacing > 0.0:
             fail("spacing", spacing, "must be positive")
-        z = np.linspace(self.upper[1], self.lower[1], 200001)
-        x = self.height(z)
-        arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(z)))])
+        z, arc = stinger_arc(self, self.upper[1], self.lower[1], 200001)
+        arc = -arc  # (z falls from the vessel down: the arc from the upper end)
         n = max(1, round(arc[-1] / spacing))
         zr = np.interp(arc[-1] / n * np.arange(1, n + 1), arc, z)
         return [[float(a), float(b)] for a, b in zip(self.height(zr), zr, strict=True)]
@@ -547,16 +548,7 @@ class RollerStinger:
             if not isinstance(self.rollers, (list, tuple)) or not self.rollers:
                 fail(f"{p}.rollers", self.rollers, "must be a non-empty list of [x, z] pairs")
             pts = tuple(vector(f"{p}.rollers[{i}]", r, 2) for i, r in enumerate(self.rollers))
-            assign(self, "rollers", pts)
-            for i in range(1, len(pts)):
-                (x0, z0), (x1, z1) = pts[i - 1], pts[i]
-                if not (z1 < z0 and x1 < x0):
-                    fail(f"{p}.rollers[{i}]", list(pts[i]),
-                         f"must lie below and behind {p}.rollers[{i - 1}] = {list(pts[i - 1])} "
-                         "(x and z falling from the vessel down)")
-            for i, (x, _z) in enumerate(pts):
-                if x < 0.0:
-                    fail(f"{p}.rollers[{i}]", list(pts[i]), "is below the seabed (x < 0)")
+            assign(self, "rollers", pts)  # (their order and the seabed: Lay._check_rollers)
         else:
             if len(given) != 3:
                 missing = [k for k in path_keys if k not in given]
@@ -782,6 +774,12 @@ class Lay:
     @property
     def has_rollers(self) -> bool:
         return isinstance(self.stinger, RollerStinger)
+
+    @property
+    def curve(self) -> Stinger | None:
+        """The quadratic stinger's curve; None for a J-lay or a roller stinger
+        (whose rollers are points, not a curve)."""
+        return None if self.has_rollers else self.stinger
 
     @property
     def roller_count(self) -> int:

@@ -91,9 +91,9 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4, 
     :func:`graded_nodes`; an entry j of ``moving`` past the foci moves
     nodes[j - len(foci)]."""
     points = np.array([*foci, *nodes], dtype=float)
-    rates, _own = grading_rates_of(float(length), points, len(foci),
-                                   np.asarray(moving, dtype=np.int64).reshape(-1), float(h_max),
-                                   float(h_min), float(growth), float(step))
+    rates = grading_rates_of(float(length), points, len(foci),
+                             np.asarray(moving, dtype=np.int64).reshape(-1), float(h_max),
+                             float(h_min), float(growth), float(step))
     if rates.shape[0] != len(moving):
         raise ValueError(f"grading_rates: moving foci {list(moving)} by {step} m changes the "
                          f"mesh's stretches (foci {list(foci)} on a length of {length} m)")

@@ -88,7 +88,7 @@ def pin_jump(case: Case) -> float:
     tests/test_slay.py).
     """
     lay = case.lay
-    if lay.stinger is None or lay.has_rollers or lay.top_angle != "pinned":
+    if lay.curve is None or lay.top_angle != "pinned":
         return 0.0
-    moment = case.pipe.bending_stiffness * float(lay.stinger.curvature(lay.stinger.upper[1]))
+    moment = case.pipe.bending_stiffness * float(lay.curve.curvature(lay.curve.upper[1]))
     return moment * moment / (2.0 * case.pipe.bending_stiffness)

@@ -138,9 +138,8 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     import pandas as pd
 
     from .dataset import read_summary
-    from .sweep import AXES, DESIGN_AXES
-
-    units = {axis: AXES[axis][2] for axis in DESIGN_AXES}
+    from .select import _variable
+    from .sweep import AXES
 
     root = Path(root)
     summary = read_summary(root)
@@ -150,10 +149,10 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     slay = ok[ok["method"] == "S"]
     groups = []  # (key, the design axis it varies, its cases along it)
     for k, g in slay.groupby(list(GROUP_KEYS), sort=True, observed=True, dropna=False):
-        varied = [v for v in DESIGN_AXES if v in g and g[v].nunique() > 1]
-        if varied:
-            groups.append((dict(zip(GROUP_KEYS, k, strict=True)), varied[0],
-                           g.sort_values(varied[0])))
+        variable = _variable(None, g)  # (select's: the design axis whose column varies)
+        if variable in g and g[variable].nunique() > 1:
+            groups.append((dict(zip(GROUP_KEYS, k, strict=True)), variable,
+                           g.sort_values(variable)))
     # a lay table: one case per water depth (a sweep with several cases at a
     # depth, over a or the current, is drawn against a above instead)
     depth_groups = [(m, g.sort_values("water_depth")) for m, g in ok.groupby("method", sort=True)
@@ -177,7 +176,7 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
                 ax.axvline(chosen, color="C3", ls=style, lw=1.0,
                            label=f"{what.replace('_', ' ')} {variable} = {chosen:.6g}")
         given = [_given(name, key[name]) for name in GROUP_KEYS[4:] if np.isfinite(key[name])]
-        ax.set(xlabel=f"{variable} [{units[variable]}]", ylabel="peak von Mises [MPa]",
+        ax.set(xlabel=f"{variable} [{AXES[variable][2]}]", ylabel="peak von Mises [MPa]",
                title=f"{key['scene']} {key['dimension']}, current {key['current_speed']:g} m/s "
                      f"at {key['current_heading_deg']:g} deg" + "".join(f", {t}" for t in given))
         ax.legend(fontsize="small")

@@ -282,19 +282,18 @@ class Problem:
         return np.diff(self.s)
 
 
-def _mesh_sizes(case: Case, h_bottom: float):
-    """h_max, h_min [m] and the flexural length sqrt(EI/T) [m] at touchdown
-    (ungraded, h_min = h_max: a mesh remeshed to put a node somewhere stays
-    uniform between its nodes, :func:`remesh`)."""
+def _mesh_sizes(case: Case, lam: float):
+    """h_max, h_min [m] of a case whose flexural length sqrt(EI/T) at
+    touchdown is ``lam`` [m] (ungraded, h_min = h_max: a mesh remeshed to put
+    a node somewhere stays uniform between its nodes, :func:`remesh`)."""
     h_max = case.solver.element_length
-    lam = math.sqrt(case.pipe.bending_stiffness / h_bottom)
     if not case.solver.grading:
         h_min = h_max
     elif case.solver.min_element_length is not None:
         h_min = case.solver.min_element_length
     else:
         h_min = min(h_max, max(h_max / 8.0, 0.02 * lam))
-    return h_max, min(h_min, h_max), lam
+    return h_max, min(h_min, h_max)
 
 
 def _guess(case: Case):
@@ -313,13 +312,14 @@ def _mesh_stats(case: Case, g) -> dict:
     """What a case's meshes are graded by, from its first guess ``g``: the
     element lengths h_max, h_min [m], the flexural length at touchdown [m],
     the boundary layer [m] (0: none) and the length of pipe modelled [m]."""
-    h_max, h_min, lam = _mesh_sizes(case, g.cat.h)
+    lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)  # the flexural length at touchdown
+    h_max, h_min = _mesh_sizes(case, lam)
     # a tension-dominated lay (the flexural length shorter than the heavy
     # elastica's (EI / w)^(1/3)) has boundary layers of that length at its
     # contact boundaries (:func:`.continuation.boundary_step`); 0: none
     layer = lam if lam < (case.pipe.bending_stiffness / abs(g.cat.w1)) ** (1.0 / 3.0) else 0.0
     return {"h_min": h_min, "h_max": h_max, "flexural_length": lam, "boundary_layer": layer,
-            "cold_total": g.total, "guess_tension": g.cat.h}
+            "cold_total": g.total}
 
 
 def _reference_force(case: Case, g) -> float:
@@ -377,9 +377,9 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     for 5 to 30 iterations and 1.5 m spacing diverged)."""
     nd, ndn = guide.nd, guide.ndn
     rollers = case.lay.roller_positions()
-    stats = {**guide.stats, "stinger_foci": []}
+    stats = dict(guide.stats)
     # the case's own element sizes (the guide's are coarser: it is a start)
-    h_max, h_min, _lam = _mesh_sizes(case, stats["guess_tension"])
+    h_max, h_min = _mesh_sizes(case, stats["flexural_length"])
     stats["h_max"], stats["h_min"] = h_max, h_min
     s_t = touchdown_position(guide)
     total = float(guide.s[-1])
@@ -470,10 +470,10 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
         fix_mask[base + i] = 1
         fix_val[base + i] = val
     stinger = np.zeros(N_STINGER)
-    st = lay.stinger
+    st = lay.curve  # (a roller stinger is its points)
     pinned = lay.top_angle == "pinned"
     top_angle = None if pinned else lay.top_angle
-    if st is not None and not lay.has_rollers:  # (a roller stinger is its points)
+    if st is not None:
         stinger[:] = (st.a, st.b, st.c, st.lower[1], st.upper[1], 1.0)
         if top_angle is None:
             # the firing line, and below a pinned top (the pipe conforms up to
@@ -554,8 +554,7 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     nd = dimension_of(case)
     if nd != old.nd:
         raise ValueError(f"warm: a {old.nd}D solution cannot start a {nd}D case")
-    if (old.stinger[ST_ON] != 0.0) != (case.lay.stinger is not None
-                                       and not case.lay.has_rollers):
+    if (old.stinger[ST_ON] != 0.0) != (case.lay.curve is not None):
         raise ValueError(f"warm: lay.method {case.lay.method!r} or its stinger differs from the "
                          "warm case's")
     if old.stinger[ST_ON] == 0.0 and len(old.points) != case.lay.roller_count:

@@ -101,7 +101,7 @@ def _variable(scene: Scene | None, group: pd.DataFrame) -> str:
         varied = [axis for axis in DESIGN_AXES if axis in scene.axes]
         if varied:
             return varied[0]
-    columns = [AXES[axis][1] for axis in DESIGN_AXES if AXES[axis][1] in group]
+    columns = [axis for axis in DESIGN_AXES if axis in group]  # (each its summary column)
     for column in columns:
         if group[column].nunique() > 1:
             return column
@@ -110,7 +110,7 @@ def _variable(scene: Scene | None, group: pd.DataFrame) -> str:
 
 
 def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None,
-                  variable: str = "a") -> dict:
+                  variable: str) -> dict:
     a = group[variable].to_numpy()
     vm = group["max_von_mises"].to_numpy()
     gap = (group["overbend_max_von_mises"] - group["sagbend_max_von_mises"]).to_numpy()
@@ -188,7 +188,7 @@ class _Evaluator:
     (the first from cold), for the scene's target when it has one; repeated
     values are cached."""
 
-    def __init__(self, scene: Scene, values: dict, group: pd.DataFrame, variable: str = "a"):
+    def __init__(self, scene: Scene, values: dict, group: pd.DataFrame, variable: str):
         self.scene = scene
         self.variable = variable
         given = {name: values[column] for name, (_, column, _) in AXES.items()

@@ -234,18 +234,17 @@ def _from_guide(case: Case, budget: IterationBudget):
 
     Returns (problem, the guide's Newton iterations)."""
     guide = guide_case(case)
-    used = budget.used
     pb = build_problem(guide)
     if friction_path(guide):
         pb.on_gravity_path()
     pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
     try:
-        pb, _react, _stats = _solve_gravity(guide, pb, budget)
+        pb, _react, stats = _solve_gravity(guide, pb, budget)
     except SolveError as err:
         raise SolveError(f"case {case.name!r}: the roller stinger's start, the quadratic "
                          f"stinger fitted through its rollers (a = {guide.lay.stinger.a:.6g} 1/m, "
                          f"tip at {list(guide.lay.stinger.lower)}), did not solve: {err}") from err
-    return roller_problem(case, pb), budget.used - used
+    return roller_problem(case, pb), stats["iterations"]
 
 
 def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):

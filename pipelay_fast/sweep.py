@@ -90,13 +90,13 @@ AXES = {
     "pipe_length": ("lay.pipe_length", "given_pipe_length", "m"),
 }
 TENSION_AXES = ("top_tension", "bottom_tension", "pipe_length")
-# the chain axis is the first of these that a scene varies
-CHAIN_ORDER = ("a", "stinger_radius", "roller_shift", "current_speed", "top_tension",
-               "bottom_tension", "pipe_length", "current_heading")
 # the stinger's design axes, which `select` chooses a value of: the quadratic
 # stinger's a, a roller stinger's radius (rollers placed on a radius) or the
 # shift of its rollers' heights
 DESIGN_AXES = ("a", "stinger_radius", "roller_shift")
+# the chain axis is the first of these that a scene varies
+CHAIN_ORDER = (*DESIGN_AXES, "current_speed", "top_tension", "bottom_tension", "pipe_length",
+               "current_heading")
 # a chain longer than this is cut into pieces (each starts cold), so that one
 # long axis still spreads over the workers; independent of the worker count
 MAX_CHAIN_LENGTH = 64

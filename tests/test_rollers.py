@@ -210,6 +210,19 @@ def test_v_rollers_hold_the_pipe_laterally(lateral):
     # the tip bends the pipe from roller to roller, as a continuous beam)
     assert ro["lateral_reaction"].sum() < -1e3
     assert (ro["lateral_reaction"][~bearing] == 0.0).all()
+    _assert_lateral_balance(res)
+
+
+def _assert_lateral_balance(res):
+    """Every lateral constraint force (the rollers', the seabed's friction,
+    the held ends') against the current's drag on the deformed pipe,
+    integrated independently at the nodes (a quadrature error of about 2e-3
+    on these 4 m elements)."""
+    from tests.test_friction import lateral_drag
+
+    drag = lateral_drag(res.case, res.profile)
+    assert drag > 1e4
+    assert res.profile["reaction_y"].sum() + drag == pytest.approx(0.0, abs=3e-3 * drag)
 
 
 def test_flat_rollers_let_the_pipe_swing(lateral):
@@ -218,6 +231,7 @@ def test_flat_rollers_let_the_pipe_swing(lateral):
     y = np.interp(ro["s"], prof["s"], prof["y"])
     assert (ro["lateral_reaction"] == 0.0).all()
     assert y[-1] > 1.0  # the tip's rollers, far from the held top
+    _assert_lateral_balance(res)  # (the seabed and the ends alone hold it)
     # and further than V rollers let it
     assert (res.summary["max_lateral_deflection"]
             > lateral["v", 90.0].summary["max_lateral_deflection"])
@@ -451,8 +465,15 @@ def test_a_scene_varies_one_stinger_axis():
 def test_select_prints_the_roller_choices(radius_sweep):
     from pipelay_fast.select import format_selection
 
-    text = format_selection(select(radius_sweep, write=False))
+    table = select(radius_sweep, write=False)
+    text = format_selection(table)
     assert "stinger_radius" in text and "roller_shift" in text
+    # each scene's line prints its variable and then the value of least stress
+    for _, row in table.iterrows():
+        tokens = next(ln.split() for ln in text.splitlines()
+                      if ln.split()[:1] == [row["scene"]] and row["variable"] in ln.split())
+        printed = float(tokens[tokens.index(row["variable"]) + 1])
+        assert printed == pytest.approx(row[row["variable"] + "_min_stress"], rel=1e-4, abs=1e-6)
 
 
 @pytest.mark.parametrize("axis, case", [("a", "s67_rollers"), ("stinger_radius", "s67_rollers"),

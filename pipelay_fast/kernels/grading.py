@@ -21,9 +21,9 @@ from .._jit import jit
 
 
 @jit(_nrt=False)
-def span_tables(a, b, focus, nfocus, h_max, h_min, growth, t, phi):
-    """For each stretch j from a[j] to b[j] [m] with its foci ``focus[j,
-    :nfocus[j]]`` [m]: samples t[j] [m] (numpy's linspace(a, b, n), sample by
+def span_tables(a, b, focus, h_max, h_min, growth, t, phi):
+    """For each stretch j from a[j] to b[j] [m], the foci ``focus`` [m]
+    (at least one): samples t[j] [m] (numpy's linspace(a, b, n), sample by
     sample) and phi[j] = int_a^t 1/h ds [-] (trapezoidal), with h = min(h_max,
     h_min + (growth - 1) distance to the nearest focus)."""
     n = t.shape[1]
@@ -34,9 +34,9 @@ def span_tables(a, b, focus, nfocus, h_max, h_min, growth, t, phi):
         prev_inv = 0.0
         for i in range(n):
             ti = i * step + a[j] if i < n - 1 else b[j]
-            dist = abs(ti - focus[j, 0])
-            for k in range(1, nfocus[j]):
-                dist = min(dist, abs(ti - focus[j, k]))
+            dist = abs(ti - focus[0])
+            for k in range(1, focus.shape[0]):
+                dist = min(dist, abs(ti - focus[k]))
             inv = 1.0 / min(h_max, h_min + rate * dist)
             t[j, i] = ti
             phi[j, i] = 0.0 if i == 0 else phi[j, i - 1] + 0.5 * (inv + prev_inv) * (ti - prev_t)
@@ -223,15 +223,9 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
             b[ns] = anchors[j]
             ns += 1
         last = anchors[j]
-    rows = np.empty((ns, focus.shape[0]))
-    for j in range(ns):
-        for k in range(focus.shape[0]):
-            rows[j, k] = focus[k]
     t = np.empty((ns, SAMPLES))
     phi = np.empty((ns, SAMPLES))
-    nfocus = np.empty(ns, dtype=np.int64)
-    nfocus[:] = focus.shape[0]
-    span_tables(a[:ns], b[:ns], rows, nfocus, h_max, h_min, growth, t, phi)
+    span_tables(a[:ns], b[:ns], focus, h_max, h_min, growth, t, phi)
     counts = np.empty(ns, dtype=np.int64)
     for j in range(ns):
         counts[j] = max(1, int(math.ceil(phi[j, SAMPLES - 1] - 1e-9)))
@@ -244,8 +238,8 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     nodes ``points[nf:]``) for each j in ``moving`` (int64), at the mesh's
     element counts: central differences over ``step`` [m]; in each row 0 at
     the anchors (the ends, the foci, the plain nodes) and 1 at the moved
-    point's own node. Returns (rates (moving, nodes), the node of each moved
-    point); rates of 0 rows when a move changes the mesh's stretches."""
+    point's own node. Returns the rates (moving, nodes); 0 rows when a move
+    changes the mesh's stretches."""
     _a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
     base = np.empty(1 + counts.sum())
     place_nodes(t, phi, b, counts, base)
@@ -262,7 +256,7 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
             _a, b, t, phi, own_counts = graded_tables(length, moved[:nf], moved[nf:], h_max,
                                                       h_min, growth)
             if own_counts.shape[0] != counts.shape[0]:  # another set of stretches
-                return np.zeros((0, nn)), own
+                return np.zeros((0, nn))
             place_nodes(t, phi, b, counts, up if sign > 0.0 else down)
         moved[j] = points[j]
         for i in range(nn):
@@ -282,4 +276,4 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
                 rates[r, i] = 0.0
     for r in range(moving.shape[0]):
         rates[r, own[r]] = 1.0
-    return rates, own
+    return rates

@@ -518,20 +518,19 @@ def _over_point(nd, u, point, node, row):
     for i in range(nd):
         a += u[base + nd + i] ** 2
     a = math.sqrt(a)
-    d = np.zeros(3)
-    d[0] = u[base] - x_l
-    d[nd - 1] = u[base + nd - 1] - z_l
-    if nd == 3:
-        d[1] = u[base + 1]
+    # r - r_p, component by component (x, then y in 3D, then z; no array)
+    d_x, d_y, d_z = u[base] - x_l, u[base + 1], u[base + nd - 1] - z_l
     e = 0.0
     for i in range(nd):
-        e += d[i] * u[base + nd + i] / a
+        d_i = d_x if i == 0 else (d_z if i == nd - 1 else d_y)
+        e += d_i * u[base + nd + i] / a
     if row.shape[0] == 0:
         return e
     for i in range(nd):
+        d_i = d_x if i == 0 else (d_z if i == nd - 1 else d_y)
         t_i = u[base + nd + i] / a
         row[base + i] = t_i
-        row[base + nd + i] = (d[i] - e * t_i) / a
+        row[base + nd + i] = (d_i - e * t_i) / a
     return e
 
 
@@ -637,7 +636,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
     "scale", "torques", "rows", "cols", "res_b", "d_b", "kind", "dz", "sm", "rh",
-    "bcols", "row_t", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
+    "bcols", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
     "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate", "at_scratch", "sh",
     "fr_stop", "rhs"])
 
@@ -669,7 +668,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.empty((n_border, n)), np.empty((n_border, n)),
         np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border, dtype=np.int64),
         np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border),
-        np.empty((nbnd, n)), np.zeros(n), np.zeros(nbnd), np.zeros(nbnd),
+        np.empty((nbnd, n)), np.zeros(nbnd), np.zeros(nbnd),
         np.zeros(nbnd), np.zeros(nbnd), np.zeros(nn), np.zeros(n), np.zeros(0),
         np.zeros((1, 1)).T, np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
         np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)), np.zeros(nn),
@@ -1009,7 +1008,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     w.cmask[j_lo] = True  # as held: lift-off's slope constrained
     res_eq, _rs = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
     if res_eq > INNER_RATIO * own:
-        w.delta[j_lo] = -_tangency(nd, u, sup.stinger, B_LO, mesh.bnodes[B_LO], w.row_t)
+        w.delta[j_lo] = -_tangency(nd, u, sup.stinger, B_LO, mesh.bnodes[B_LO], w.no_row)
         return True
     w.cmask[j_lo] = keep
     return False
@@ -1300,21 +1299,13 @@ def _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, al
 
 
 @phase
-def _points_update(nd, u, mesh, sup, react, settings, res_max, res_change):
+def _points_update(nd, u, mesh, sup, react, settings):
     """Phase 9: each rigid point's contact by the complementarity
     min(R, c g) = 0 (semismooth Newton: the branch that the present normal
     reaction R and gap g select): it bears when R - c g > 0, its node then
-    held on it, else R = 0. ``res_change[0]``: the weighted residual
-    ``res_max`` when the stinger's tip last changed branch (updated).
-    Returns (how many branches changed, whether the tip changed again with
-    the residual no lower than at its last change: its branches cycle, and
-    the caller lifts the pipe off above it). A roller has no such other regime:
-    its branch settles as the pipe finds its balance (S67 2D, rollers on
-    the paper's curve every 1.5 to 12 m, 1 to 8 m elements: 135 iterations
-    over 16 solves; stopped at the cycle, 173, the homotopy taking over)."""
+    held on it, else R = 0. Returns how many branches changed."""
     ndn = 2 * nd + 1
     changes = 0
-    cycled = False
     for b in range(B_PT, mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
         if kt < 0:
@@ -1328,10 +1319,7 @@ def _points_update(nd, u, mesh, sup, react, settings, res_max, res_change):
         point[L.PT_R] = r_n if bears else 0.0
         if bears != bearing:
             changes += 1
-            if sup.stinger[ST_ON] != 0.0:  # (the tip: the quadratic stinger's one point)
-                cycled = res_max >= res_change[0]
-                res_change[0] = res_max
-    return changes, cycled
+    return changes
 
 
 @jit
@@ -1409,8 +1397,7 @@ def _newton_kernel(nd):
         changed = True
         if _has_boundaries(mesh):
             mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
-        # the residual when the stinger's tip last changed branch
-        res_change = np.full(1, np.inf)
+        res_change = np.inf  # the residual when the stinger's tip last changed branch
         it = 0
         last_step = np.inf  # the last step's largest move of a position [m]
         r_max = 0.0  # the largest position [m]
@@ -1539,21 +1526,28 @@ def _newton_kernel(nd):
                     r_max = max(r_max, abs(u[i]))
             node_arcs(mesh.s_el, w.s_nd)
             friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
-            n_changed, cycled = _points_update(nd, u, mesh, sup, react, settings, res_max,
-                                               res_change)
+            n_changed = _points_update(nd, u, mesh, sup, react, settings)
             changed = n_changed > 0
             trial_converged = accepted and not changed and m1 <= tol * tol
-            if cycled:
-                # a point's branch changes again with the residual no lower than
-                # at its last change: the branches cycle with no bearing solution
-                # (warm from bearing on the tip to lifting off above it, the
-                # branch flipped every 3 iterations: S67 2D at 4 m, a = -0.0012
-                # from -0.00105, 48 iterations to 16 changes, the cap there was;
-                # now 9, the whole solve 54 -> 14; quick bench warm 1026 -> 898,
-                # the rest and the 2D grid's iterations, the S-lay references at
-                # 0.25 m graded to 0.05 m, unchanged; the cap no longer bound)
-                status = L.TIP_CYCLE
-                break
+            if changed and sup.stinger[ST_ON] != 0.0:
+                # the tip (the quadratic stinger's one point) changes branch
+                # again with the residual no lower than at its last change:
+                # the branches cycle with no bearing solution (warm from
+                # bearing on the tip to lifting off above it, the branch
+                # flipped every 3 iterations: S67 2D at 4 m, a = -0.0012 from
+                # -0.00105, 48 iterations to 16 changes, the cap there was;
+                # now 9, the whole solve 54 -> 14; quick bench warm 1026 ->
+                # 898, the rest and the 2D grid's iterations, the S-lay
+                # references at 0.25 m graded to 0.05 m, unchanged; the cap
+                # no longer bound). A roller has no such other regime: its
+                # branch settles as the pipe finds its balance (S67 2D,
+                # rollers on the paper's curve every 1.5 to 12 m, 1 to 8 m
+                # elements: 135 iterations over 16 solves; stopped at the
+                # cycle, 173, the homotopy taking over)
+                if res_max >= res_change:
+                    status = L.TIP_CYCLE
+                    break
+                res_change = res_max
         if status == L.OK:
             # the friction forces join the reactions; slipping springs' anchors follow
             w.fr_out[:] = 0.0
