@@ -248,7 +248,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         saved = snapshot(pb)
         # the boundaries' map too (a switch of regime at the tip replaces it:
         # these arrays are replaced, never written in place)
-        mapped = (pb.bnodes, pb.s_a, pb.s_b, pb.zone_b)
+        mapped = (pb.bnodes, pb.s_a, pb.s_b, pb.zone_b, pb.grade_b)
         g_off, predicted = load(trial, True)
         # a predicted start that takes twice the iterations of the path's
         # hardest converged call so far (within solver.max_iterations) is
@@ -268,7 +268,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         if status != L.OK and predicted and budget.left > 0:
             # from the last converged state, as the cold start
             restore(pb, saved)
-            pb.bnodes, pb.s_a, pb.s_b, pb.zone_b = mapped
+            pb.bnodes, pb.s_a, pb.s_b, pb.zone_b, pb.grade_b = mapped
             g_off, _ = load(trial, False)
             status, react, info, again, _start = newton_in_regime(case, pb, g_off, budget,
                                                                   where)
@@ -285,7 +285,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
                 converged(level)
             continue
         restore(pb, saved)
-        pb.bnodes, pb.s_a, pb.s_b, pb.zone_b = mapped
+        pb.bnodes, pb.s_a, pb.s_b, pb.zone_b, pb.grade_b = mapped
         step *= 0.5
         if step < smallest:
             _fail(case, where, info, status, f"; load step cut below {smallest:g}")

@@ -84,6 +84,9 @@ class Problem:
     # the map in zones (:meth:`follow`) of a mesh that follows its grading: the
     # current's path moves the boundaries on it (``Problem.follow_rates``)
     zone_b: np.ndarray | None = None
+    # and its map with the grading's own rates: a warm start from this answer
+    # follows its boundaries with it (a mesh graded at its boundaries found)
+    grade_b: np.ndarray | None = None
     # the load path's factors (layout F_*): the current's, full unless the
     # friction path raises it in steps, and friction, off until that path
     factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
@@ -167,7 +170,7 @@ class Problem:
                      np.empty(nn, dtype=np.int64), s_a, s_b, self.s_bd)
         self.s_a, self.s_b = s_a, s_b
         self.bnodes = nodes
-        self.zone_b = None  # (the map is in zones now)
+        self.zone_b = self.grade_b = None  # (the map is in zones now)
 
     def follow_rates(self, nodes, rates):
         """Map the mesh onto the boundaries at ``nodes`` (as :meth:`follow`)
@@ -416,20 +419,25 @@ def _follow_grading(pb: Problem, nodes, total: float, foci, over):
     """After :func:`.boundaries.follow_nodes`: the mesh (graded at ``foci``
     [m] with plain nodes ``over`` [m] over the rollers, :func:`.mesh.graded_nodes`,
     ``total`` [m] long) follows its boundaries on ``nodes`` as its grading
-    moves with them: each boundary's node is a focus of the grading; a
-    roller's node (not a focus: the stinger's elements are h_max long)
-    keeps the zones' shares, the grading's rates there. The zones are kept
-    for the current's path (``zone_b``)."""
-    on_rollers = pb.roller_nodes.size > 0
+    moves with them: each boundary's node is a focus of the grading, or a
+    roller's plain node (:func:`.mesh.grading_rates` moves either; in the
+    zones' shares the rollers had before, a warm start's mesh was 3.5 cm
+    from the one graded at a 5 cm move of a roller, and was graded anew).
+    The zones are kept for the current's path (``zone_b``)."""
     rates = np.zeros((len(nodes), pb.nn))
-    if on_rollers:
-        rates[B_PT:] = pb.s_b[B_PT:]
-    focal = [b for b, k in enumerate(nodes) if k >= 0 and not (on_rollers and b >= B_PT)]
-    if focal:
-        moving = [int(np.argmin(np.abs(np.asarray(foci) - pb.s[nodes[b]]))) for b in focal]
-        rates[focal] = grading_rates(total, foci, moving, pb.stats["h_max"], pb.stats["h_min"],
-                                     nodes=over)
-    pb.zone_b = pb.s_b
+    moving, rows = [], []
+    for b, k in enumerate(nodes):
+        if k < 0:
+            continue
+        if pb.roller_nodes.size > 0 and b >= B_PT:  # a roller's plain node
+            moving.append(len(foci) + b - B_PT)
+        else:
+            moving.append(int(np.argmin(np.abs(np.asarray(foci) - pb.s[k]))))
+        rows.append(b)
+    if rows:
+        rates[rows] = grading_rates(total, foci, moving, pb.stats["h_max"], pb.stats["h_min"],
+                                    nodes=over)
+    pb.zone_b, pb.grade_b = pb.s_b, rates
     pb.follow_rates(nodes, rates)
 
 
@@ -579,8 +587,9 @@ def warm_problem(case: Case, old: Problem) -> Problem:
         new.bnodes, new.s_a, new.s_b = old.bnodes.copy(), old.s_a.copy(), old.s_b.copy()
         new.s_bd = state["s_bd"].copy()
         new.s[:] = state["s"]
-        if old.zone_b is not None:  # the boundaries may move far: in zones
-            new.follow_rates(new.bnodes, old.zone_b)
+        if old.grade_b is not None:  # as its grading moves (the current's path: in zones)
+            new.grade_b, new.zone_b = old.grade_b, old.zone_b
+            new.follow_rates(new.bnodes, old.grade_b)
     _onto_stinger(new, old.stinger)
     new.warm_path = old.current_path
     return new

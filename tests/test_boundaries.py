@@ -576,7 +576,9 @@ def test_the_graded_mesh_kernels_against_numpy(seed):
     """graded_nodes (kernels.grading.graded_tables, place_nodes) against the
     NumPy reference on random lengths, foci (outside the pipe, on its end,
     twice the same) and plain nodes; grading_rates (grading_rates_of)
-    against central differences of the reference at its element counts."""
+    against central differences of the reference at its element counts,
+    moving foci and plain nodes (a plain node's rates from its two stretches
+    alone: kernels.grading._plain_node_moves)."""
     rng = np.random.default_rng(seed)
     length = rng.uniform(50.0, 900.0)
     foci = list(rng.uniform(-10.0, length + 10.0, rng.integers(0, 5)))
@@ -591,19 +593,21 @@ def test_the_graded_mesh_kernels_against_numpy(seed):
     want = _graded_reference(length, foci, h_max, h_min, plain=plain)
     assert got.size == want.size
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-9)
-    moving = [j for j, f in enumerate(foci) if 1.0 < f < length - 1.0
-              and min([abs(f - g) for g in [*foci[:j], *foci[j + 1:], *plain]] or [2.0]) > 1e-3]
+    points = [*foci, *plain]  # (a moving j past the foci moves plain[j - len(foci)])
+    moving = [j for j, f in enumerate(points) if 1.0 < f < length - 1.0
+              and min([abs(f - g) for g in [*points[:j], *points[j + 1:]]] or [2.0]) > 1e-3]
     if not moving:
         return
     rates = grading_rates(length, foci, moving, h_max, h_min, nodes=plain)
     step = 1e-4
     for r, j in enumerate(moving):
-        moved = [[f + sign * step if i == j else f for i, f in enumerate(foci)]
+        moved = [[f + sign * step if i == j else f for i, f in enumerate(points)]
                  for sign in (1.0, -1.0)]
-        up, down = (_graded_reference(length, m, h_max, h_min, plain=plain) for m in moved)
+        up, down = (_graded_reference(length, m[:len(foci)], h_max, h_min, plain=m[len(foci):])
+                    for m in moved)
         if up.size != got.size or down.size != got.size:
             continue  # (a count changes within the step: the kernel keeps the mesh's)
         fd = (up - down) / (2.0 * step)
-        fd[np.isin(got, [0.0, length, *foci, *plain])] = 0.0
-        fd[np.argmin(np.abs(got - foci[j]))] = 1.0
+        fd[np.isin(got, [0.0, length, *points])] = 0.0
+        fd[np.argmin(np.abs(got - points[j]))] = 1.0
         np.testing.assert_allclose(rates[r], fd, atol=1e-6)

@@ -172,6 +172,23 @@ SAMPLES = 129  # samples of each stretch's element count phi(t)
 
 
 @jit
+def _inside(foci, length):
+    """The foci inside (0, length] (one 0 when none is): those a stretch's
+    element sizes grow from (:func:`span_tables`)."""
+    inside = 0
+    for f in foci:
+        if 0.0 < f <= length:
+            inside += 1
+    focus = np.zeros(max(inside, 1))
+    k = 0
+    for f in foci:
+        if 0.0 < f <= length:
+            focus[k] = f
+            k += 1
+    return focus
+
+
+@jit
 def graded_tables(length, foci, plain, h_max, h_min, growth):
     """The stretches of a graded mesh of ``length`` [m] and their tables
     (:func:`pipelay_fast.mesh.graded_nodes`): anchors at the ends, at the
@@ -183,6 +200,7 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
 
     Returns (the stretches' starts a and ends b [m], t, phi (stretches,
     SAMPLES), counts (int64))."""
+    focus = _inside(foci, length)
     inside = 0
     for f in foci:
         if 0.0 < f <= length:
@@ -191,14 +209,10 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
     points[0] = 0.0
     points[1] = length
     n = 2
-    focus = np.zeros(max(inside, 1))
-    k = 0
     for f in foci:
         if 0.0 < f <= length:
             points[n] = f
-            focus[k] = f
             n += 1
-            k += 1
     for f in plain:
         if 0.0 < f <= length:
             points[n] = f
@@ -238,9 +252,11 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     nodes ``points[nf:]``) for each j in ``moving`` (int64), at the mesh's
     element counts: central differences over ``step`` [m]; in each row 0 at
     the anchors (the ends, the foci, the plain nodes) and 1 at the moved
-    point's own node. Returns the rates (moving, nodes); 0 rows when a move
-    changes the mesh's stretches."""
-    _a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
+    point's own node. A plain node moves only the two stretches it ends
+    (:func:`_plain_node_moves`, the same numbers as the whole mesh placed
+    anew). Returns the rates (moving, nodes); 0 rows when a move changes
+    the mesh's stretches."""
+    a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
     base = np.empty(1 + counts.sum())
     place_nodes(t, phi, b, counts, base)
     nn = base.shape[0]
@@ -249,18 +265,21 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     moved = points.copy()
     up = np.empty(nn)
     down = np.empty(nn)
+    focus = _inside(points[:nf], length)
     for r in range(moving.shape[0]):
         j = moving[r]
-        for sign in (1.0, -1.0):
-            moved[j] = points[j] + sign * step
-            _a, b, t, phi, own_counts = graded_tables(length, moved[:nf], moved[nf:], h_max,
-                                                      h_min, growth)
-            if own_counts.shape[0] != counts.shape[0]:  # another set of stretches
-                return np.zeros((0, nn))
-            place_nodes(t, phi, b, counts, up if sign > 0.0 else down)
-        moved[j] = points[j]
-        for i in range(nn):
-            rates[r, i] = (up[i] - down[i]) / (2.0 * step)
+        if not (j >= nf and _plain_node_moves(points, j, a, b, t, phi, counts, focus, h_max,
+                                               h_min, growth, step, rates[r])):
+            for sign in (1.0, -1.0):
+                moved[j] = points[j] + sign * step
+                _a, bm, tm, phim, own_counts = graded_tables(length, moved[:nf], moved[nf:],
+                                                             h_max, h_min, growth)
+                if own_counts.shape[0] != counts.shape[0]:  # another set of stretches
+                    return np.zeros((0, nn))
+                place_nodes(tm, phim, bm, counts, up if sign > 0.0 else down)
+            moved[j] = points[j]
+            for i in range(nn):
+                rates[r, i] = (up[i] - down[i]) / (2.0 * step)
         best = np.inf
         for i in range(nn):
             d = abs(base[i] - points[j])
@@ -277,3 +296,41 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     for r in range(moving.shape[0]):
         rates[r, own[r]] = 1.0
     return rates
+
+
+@jit
+def _plain_node_moves(points, j, a, b, t, phi, counts, focus, h_max, h_min, growth, step, row):
+    """The rates of plain node ``points[j]`` into ``row`` when it is an anchor
+    of its own between two stretches longer than 2 ``step``: moved, only
+    those two stretches change (their ends; the foci are the same), so only
+    their tables are built anew and their nodes placed, with the numbers
+    that building and placing the whole mesh would give. False (``row``
+    untouched) otherwise."""
+    p = points[j]
+    for i in range(points.shape[0]):
+        if i != j and points[i] == p:
+            return False
+    k = -1
+    for s in range(b.shape[0] - 1):
+        if b[s] == p and a[s + 1] == p:
+            k = s
+    if k < 0 or b[k] - a[k] <= 2.0 * step or b[k + 1] - a[k + 1] <= 2.0 * step:
+        return False
+    first = 0  # the index of stretch k's first node
+    for s in range(k):
+        first += counts[s]
+    size = counts[k] + counts[k + 1]
+    two_a = np.empty(2)
+    two_b = np.empty(2)
+    two_t = np.empty((2, t.shape[1]))
+    two_phi = np.empty((2, t.shape[1]))
+    up = np.empty(1 + size)
+    down = np.empty(1 + size)
+    for sign in (1.0, -1.0):
+        two_a[0], two_b[1] = a[k], b[k + 1]
+        two_b[0] = two_a[1] = p + sign * step
+        span_tables(two_a, two_b, focus, h_max, h_min, growth, two_t, two_phi)
+        place_nodes(two_t, two_phi, two_b, counts[k:k + 2], up if sign > 0.0 else down)
+    for m in range(1, 1 + size):
+        row[first + m] = (up[m] - down[m]) / (2.0 * step)
+    return True
