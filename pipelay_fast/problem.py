@@ -426,14 +426,19 @@ def _follow_grading(pb: Problem, nodes, total: float, foci, over):
     The zones are kept for the current's path (``zone_b``)."""
     rates = np.zeros((len(nodes), pb.nn))
     moving, rows = [], []
+    plain = len(foci)  # (``over`` holds the rollers that have a node, in order)
     for b, k in enumerate(nodes):
         if k < 0:
             continue
         if pb.roller_nodes.size > 0 and b >= B_PT:  # a roller's plain node
-            moving.append(len(foci) + b - B_PT)
+            moving.append(plain)
+            plain += 1
         else:
             moving.append(int(np.argmin(np.abs(np.asarray(foci) - pb.s[k]))))
         rows.append(b)
+    if plain != len(foci) + len(over):
+        raise ValueError(f"_follow_grading: {plain - len(foci)} rollers with a node, "
+                         f"{len(over)} plain nodes")
     if rows:
         rates[rows] = grading_rates(total, foci, moving, pb.stats["h_max"], pb.stats["h_min"],
                                     nodes=over)

@@ -524,7 +524,7 @@ def test_the_mesh_follows_touchdown_and_the_rollers_as_its_grading_does(example)
     case = pf.load_case(EXAMPLES / f"{example}.toml")
     pb, _ = _from_guide(case, IterationBudget(case.solver.max_iterations_total))
     nodes, rates = pb.bnodes, pb.grade_b
-    assert nodes[0] >= 0 and (nodes[B_PT:] >= 0).all() and np.array_equal(pb.s_b, rates)
+    assert nodes[0] >= 0 and (nodes[B_PT:] >= 0).all()
     total, s_t, over = float(pb.s[-1]), touchdown_position(pb), pb.s[nodes[B_PT:]]
 
     def graded(move):
@@ -544,3 +544,30 @@ def test_the_mesh_follows_touchdown_and_the_rollers_as_its_grading_does(example)
             continue
         assert errors[0] < 1e-2 * 0.05, b
         assert errors[1] < errors[0] / 16.0, b
+
+
+def test_a_warm_start_s_mesh_moves_with_its_neighbour_s_grading():
+    """Every roller raised 2 cm from a solved neighbour: Newton moves
+    touchdown and the rollers' material points, and the neighbour's mesh
+    follows them with its grading's rates (Problem.grade_b), so after the
+    first pass it is still the mesh graded at the boundaries found
+    (boundaries.graded_on_boundaries: no node 2 % of h_min off). Moved in
+    the zones of three flexural lengths, as warm starts were before, it was
+    3.75 cm off (h_min 0.5 m) and was graded anew: half an iteration more a
+    case in a sweep of the rollers' heights."""
+    from pipelay_fast.boundaries import ON_FOCUS, graded_on_boundaries
+    from pipelay_fast.limits import IterationBudget
+    from pipelay_fast.problem import warm_problem
+    from pipelay_fast.solver import _solve_gravity
+
+    case = pf.load_case(EXAMPLES / "s67_rollers.toml")
+    neighbour = pf.solve(case).state
+    for shift in (0.02, -0.02):
+        shifted = case.with_changes({"lay.stinger.height_shift": shift})
+        pb = warm_problem(shifted, neighbour)
+        pb, _react, _stats = _solve_gravity(shifted, pb,
+                                            IterationBudget(case.solver.max_iterations_total))
+        moved = np.abs(pb.s - neighbour.s).max()
+        assert moved > ON_FOCUS * pb.stats["h_min"]  # (the mesh did move)
+        assert graded_on_boundaries(shifted, pb), shift
+
