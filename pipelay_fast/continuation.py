@@ -245,10 +245,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         if stats["load_steps"] >= max_steps:
             _fail(case, where, info, status, f"; {max_steps} load steps taken, the limit "
                   "that solver.max_load_steps sets")
-        saved = snapshot(pb)
-        # the boundaries' map too (a switch of regime at the tip replaces it:
-        # these arrays are replaced, never written in place)
-        mapped = (pb.bnodes, pb.s_a, pb.s_b, pb.zone_b, pb.grade_b)
+        saved = snapshot(pb)  # (with the boundaries' map: a switch of regime replaces it)
         g_off, predicted = load(trial, True)
         # a predicted start that takes twice the iterations of the path's
         # hardest converged call so far (within solver.max_iterations) is
@@ -268,7 +265,6 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         if status != L.OK and predicted and budget.left > 0:
             # from the last converged state, as the cold start
             restore(pb, saved)
-            pb.bnodes, pb.s_a, pb.s_b, pb.zone_b, pb.grade_b = mapped
             g_off, _ = load(trial, False)
             status, react, info, again, _start = newton_in_regime(case, pb, g_off, budget,
                                                                   where)
@@ -285,7 +281,6 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
                 converged(level)
             continue
         restore(pb, saved)
-        pb.bnodes, pb.s_a, pb.s_b, pb.zone_b, pb.grade_b = mapped
         step *= 0.5
         if step < smallest:
             _fail(case, where, info, status, f"; load step cut below {smallest:g}")

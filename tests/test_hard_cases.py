@@ -211,3 +211,28 @@ def test_touchdown_inside_an_element_on_uniform_meshes():
         assert pushing.min() >= 0.0
         assert reaction[last - 1] > -w * h
         assert result.summary["max_von_mises"] == pytest.approx(ref, rel=1e-3)
+
+
+def test_a_warm_start_from_a_path_that_switched_regime_at_the_tip():
+    """S67 3D at 4 m under a 2 m/s current across the lay, a = -0.00114:
+    along the current's path the pipe stops bearing on the stinger's tip
+    (the tip's regime switches, and with it the mesh's map onto its
+    boundaries). A warm start takes the state before the current and the
+    map it had then (problem.snapshot): with the map after the switch its
+    contacts and nodes disagreed, Newton diverged, and solve fell back to
+    the cold start. Warm from it, a = -0.00116 converges on its own and
+    agrees with the cold answer to 1e-4 (measured 1.5e-6 in peak stress,
+    1.8e-6 in lateral deflection: the friction path from another mesh)."""
+    from pipelay_fast.problem import MAP, STATE
+    from pipelay_fast.solver import _checked_solve
+
+    base = pf.load_case(EXAMPLES / "s67_3d.toml").with_changes(
+        {"solver.element_length": 4.0, "environment.current.speed": 2.0})
+    neighbour = pf.solve(base.with_changes({"lay.stinger.a": -0.00114}))
+    before = dict(zip(STATE + MAP, neighbour.state.before_current, strict=True))
+    assert not np.array_equal(before["bnodes"], neighbour.state.bnodes)  # (it switched)
+    case = base.with_changes({"lay.stinger.a": -0.00116})
+    warm = _checked_solve(case, neighbour.state)  # (solve would fall back to the cold start)
+    cold = pf.solve(case)
+    for key in ("max_von_mises", "max_lateral_deflection", "tdp_z", "top_tension"):
+        assert warm.summary[key] == pytest.approx(cold.summary[key], rel=1e-4), key
