@@ -103,9 +103,9 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4, 
         else:
             rates = np.empty((moving.size, rows.shape[1]))
             rates[plain] = rows
-    if not plain.all():
+    if not plain.all() or moving.size == 0:
         rows = grading_rates_of(float(length), points, len(foci), moving[~plain], *args)
-        if rows.shape[0] == 0:
+        if rows.shape[0] != np.count_nonzero(~plain):
             raise ValueError(f"grading_rates: moving foci {moving.tolist()} by {step} m changes "
                              f"the mesh's stretches (foci {list(foci)} on a length of {length} m)")
         if rates.shape[1] == 0:

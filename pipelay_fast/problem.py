@@ -588,7 +588,7 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     # 2 m/s current, a = -0.00114 and -0.00166)
     state = dict(zip(STATE + MAP, old.before_current or snapshot(old), strict=True))
     g = _guess(guide_case(case) if case.lay.has_rollers else case)
-    new = _problem(case, nd, old.s.copy(), state["u"].copy(), state["tb"][0],
+    new = _problem(case, nd, state["s"].copy(), state["u"].copy(), state["tb"][0],
                    _reference_force(case, g), dict(old.stats))
     new.warm = True
     # the mesh sizes and length of pipe of the cold start (its guess's): the

@@ -223,6 +223,28 @@ def test_grading_rates_are_the_graded_mesh_first_order():
         assert row[0] == row[-1] == 0.0
 
 
+def test_plain_nodes_next_to_an_anchor_take_the_whole_mesh_s_rates():
+    """A plain node on another anchor, or within two steps of one, has no
+    two stretches of its own (kernels.grading.plain_rates_of gives up): every
+    plain row then comes from the whole mesh placed anew
+    (grading_rates_of), the same numbers as asking it directly; the other
+    plain nodes' rows are the same bits either way."""
+    from pipelay_fast.kernels.grading import grading_rates_of
+
+    foci, plain = [60.0, 400.0], [268.0, 274.0, 300.00015, 300.0, 360.0]
+    points = np.array([*foci, *plain])
+    for moving in ([2, 3, 4], [0, 2, 4, 6], [5]):
+        got = grading_rates(400.0, foci, moving, 4.0, 0.5, nodes=plain)
+        want = grading_rates_of(400.0, points, 2, np.array(moving), 4.0, 0.5, 1.2, 1e-4)
+        assert want.shape[0] == len(moving)
+        np.testing.assert_array_equal(got, want)
+    clean = grading_rates(400.0, foci, [2, 3], 4.0, 0.5, nodes=[268.0, 274.0, 360.0])
+    direct = grading_rates_of(400.0, np.array([*foci, 268.0, 274.0, 360.0]), 2, np.array([2, 3]),
+                              4.0, 0.5, 1.2, 1e-4)
+    np.testing.assert_array_equal(clean, direct)
+    assert grading_rates(400.0, foci, [], 4.0, 0.5, nodes=plain).shape == (0, want.shape[1])
+
+
 def test_grading_rates_refuse_a_focus_moved_off_the_pipe():
     """A focus on the upper end moved past it changes the mesh's stretches:
     no rate at fixed element counts (review: the kernel read past its tables)."""
