@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .._jit import jit
+from .._jit import jit, phase
 
 
 @jit(_nrt=False)
@@ -171,7 +171,7 @@ def boundary_map(s, nodes, zones, kind, anchors, s_a, s_b, s_bd):
 SAMPLES = 129  # samples of each stretch's element count phi(t)
 
 
-@jit
+@phase
 def _inside(foci, length):
     """The foci inside (0, length] (one 0 when none is): those a stretch's
     element sizes grow from (:func:`span_tables`)."""
@@ -301,7 +301,7 @@ def plain_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     return rates
 
 
-@jit(_nrt=False)
+@phase
 def _pin_anchors(rates, base, points, moving, length):
     """The rates' rows (one per ``moving`` point) at the mesh's nodes
     ``base``: 0 at every anchor (the ends, ``points``), 1 at the moved
