@@ -89,26 +89,14 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4, 
     focus's own node moves with it at rate 1, the other anchors at 0; every
     moved mesh has the element counts of the mesh itself. ``nodes``: the plain nodes of
     :func:`graded_nodes`; an entry j of ``moving`` past the foci moves
-    nodes[j - len(foci)] (its rates from the two stretches it ends,
-    :func:`.kernels.grading.plain_rates_of`, where it is an anchor of its own)."""
+    nodes[j - len(foci)] (its rates from the two stretches it ends where it
+    is an anchor of its own, :func:`.kernels.grading.plain_rates_of`)."""
     points = np.array([*foci, *nodes], dtype=float)
     moving = np.asarray(moving, dtype=np.int64).reshape(-1)
-    args = (float(h_max), float(h_min), float(growth), float(step))
-    plain = moving >= len(foci)
-    rates = np.empty((moving.size, 0))
-    if plain.any():
-        rows = plain_rates_of(float(length), points, len(foci), moving[plain], *args)
-        if rows.shape[0] == 0:  # (a plain node on another anchor, or next to one)
-            plain[:] = False
-        else:
-            rates = np.empty((moving.size, rows.shape[1]))
-            rates[plain] = rows
-    if not plain.all() or moving.size == 0:
-        rows = grading_rates_of(float(length), points, len(foci), moving[~plain], *args)
-        if rows.shape[0] != np.count_nonzero(~plain):
-            raise ValueError(f"grading_rates: moving foci {moving.tolist()} by {step} m changes "
-                             f"the mesh's stretches (foci {list(foci)} on a length of {length} m)")
-        if rates.shape[1] == 0:
-            rates = np.empty((moving.size, rows.shape[1]))
-        rates[~plain] = rows
+    kernel = plain_rates_of if (moving >= len(foci)).any() else grading_rates_of
+    rates = kernel(float(length), points, len(foci), moving, float(h_max), float(h_min),
+                   float(growth), float(step))
+    if rates.shape[0] != moving.size:
+        raise ValueError(f"grading_rates: moving foci {moving.tolist()} by {step} m changes "
+                         f"the mesh's stretches (foci {list(foci)} on a length of {length} m)")
     return rates

@@ -168,14 +168,20 @@ class Scene:
         base case's tables with the axis values put in (only the tables
         they change validated anew, :func:`.case.with_tables`; the id hashes
         those tables, which are the case's ``to_dict()``: tested)."""
-        changes = _changes(values)
-        tables = _copy_tables(self._tables)
-        for key, value in changes.items():
-            put_path(tables, key, value)
+        tables, changes = self._tables_for(values)
         case = with_tables(self.case, tables, {key.split(".")[0] for key in changes})
         cid = tables_id(tables)
         remember_case_id(case, cid)
         return case, cid
+
+    def _tables_for(self, values: Mapping[str, float]) -> tuple[dict, dict]:
+        """The base case's tables with the axis values put in, and the
+        changes (dotted key -> value) that put them."""
+        changes = _changes(values)
+        tables = _copy_tables(self._tables)
+        for key, value in changes.items():
+            put_path(tables, key, value)
+        return tables, changes
 
     def to_spec(self) -> dict:
         """JSON-able description, read back by :meth:`Sweep.from_spec`."""
@@ -603,10 +609,7 @@ def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dic
 
 def _raw_id(scene: Scene, values: Mapping[str, float]) -> str:
     """Stable id of an invalid case: a hash of its requested tables."""
-    tables = _copy_tables(scene._tables)
-    for key, value in _changes(values).items():
-        put_path(tables, key, value)
-    return tables_id(tables)
+    return tables_id(scene._tables_for(values)[0])
 
 
 def _expand(scene: Scene) -> list[SweepCase]:

@@ -225,10 +225,10 @@ def test_grading_rates_are_the_graded_mesh_first_order():
 
 def test_plain_nodes_next_to_an_anchor_take_the_whole_mesh_s_rates():
     """A plain node on another anchor, or within two steps of one, has no
-    two stretches of its own (kernels.grading.plain_rates_of gives up): every
-    plain row then comes from the whole mesh placed anew
-    (grading_rates_of), the same numbers as asking it directly; the other
-    plain nodes' rows are the same bits either way."""
+    two stretches of its own: its row comes from the whole mesh placed anew
+    (kernels.grading.plain_rates_of, as grading_rates_of), and the other
+    plain nodes' from their two stretches; every row the same bits as
+    grading_rates_of gives, on such a mesh and on a clean one."""
     from pipelay_fast.kernels.grading import grading_rates_of
 
     foci, plain = [60.0, 400.0], [268.0, 274.0, 300.00015, 300.0, 360.0]

@@ -173,8 +173,8 @@ SAMPLES = 129  # samples of each stretch's element count phi(t)
 
 @phase
 def _inside(foci, length):
-    """The foci inside (0, length] (one 0 when none is): those a stretch's
-    element sizes grow from (:func:`span_tables`)."""
+    """The foci inside (0, length] (one 0 when none is: those a stretch's
+    element sizes grow from, :func:`span_tables`) and how many there are."""
     inside = 0
     for f in foci:
         if 0.0 < f <= length:
@@ -185,7 +185,7 @@ def _inside(foci, length):
         if 0.0 < f <= length:
             focus[k] = f
             k += 1
-    return focus
+    return focus, inside
 
 
 @jit
@@ -200,19 +200,14 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
 
     Returns (the stretches' starts a and ends b [m], t, phi (stretches,
     SAMPLES), counts (int64))."""
-    focus = _inside(foci, length)
-    inside = 0
-    for f in foci:
-        if 0.0 < f <= length:
-            inside += 1
+    focus, inside = _inside(foci, length)
     points = np.empty(2 + inside + plain.shape[0])
     points[0] = 0.0
     points[1] = length
     n = 2
-    for f in foci:
-        if 0.0 < f <= length:
-            points[n] = f
-            n += 1
+    for k in range(inside):
+        points[n] = focus[k]
+        n += 1
     for f in plain:
         if 0.0 < f <= length:
             points[n] = f
@@ -251,9 +246,10 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     """ds_i/df_j [-] of the graded mesh's nodes (foci ``points[:nf]``, plain
     nodes ``points[nf:]``) for each j in ``moving`` (int64), at the mesh's
     element counts: central differences over ``step`` [m], the whole mesh
-    placed anew for each; in each row 0 at the anchors (the ends, the foci,
-    the plain nodes) and 1 at the moved point's own node. Returns the rates
-    (moving, nodes); 0 rows when a move changes the mesh's stretches."""
+    placed anew for each (:func:`_whole_mesh_moves`); in each row 0 at the
+    anchors (the ends, the foci, the plain nodes) and 1 at the moved point's
+    own node. Returns the rates (moving, nodes); 0 rows when a move changes
+    the mesh's stretches."""
     _a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
     base = np.empty(1 + counts.sum())
     place_nodes(t, phi, b, counts, base)
@@ -263,42 +259,63 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     up = np.empty(nn)
     down = np.empty(nn)
     for r in range(moving.shape[0]):
-        j = moving[r]
-        for sign in (1.0, -1.0):
-            moved[j] = points[j] + sign * step
-            _a, bm, tm, phim, own_counts = graded_tables(length, moved[:nf], moved[nf:],
-                                                         h_max, h_min, growth)
-            if own_counts.shape[0] != counts.shape[0]:  # another set of stretches
-                return np.zeros((0, nn))
-            place_nodes(tm, phim, bm, counts, up if sign > 0.0 else down)
-        moved[j] = points[j]
-        for i in range(nn):
-            rates[r, i] = (up[i] - down[i]) / (2.0 * step)
+        if not _whole_mesh_moves(length, points, nf, moving[r], h_max, h_min, growth, step,
+                                 counts, moved, up, down, rates[r]):
+            return np.zeros((0, nn))
     _pin_anchors(rates, base, points, moving, length)
     return rates
 
 
 @jit
 def plain_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
-    """:func:`grading_rates_of` for plain nodes alone (each j in ``moving``
-    at least ``nf``), the same numbers: a plain node moves only the two
-    stretches it ends, so only their tables are built anew and their nodes
-    placed (:func:`_plain_node_moves`; 24 rollers' rates 476 -> 75 us). A
-    separate kernel so that a mesh without plain nodes never compiles it.
-    Returns 0 rows when a plain node is not an anchor of its own between two
-    stretches longer than 2 ``step`` (:func:`grading_rates_of` then)."""
+    """:func:`grading_rates_of` for a mesh with plain nodes, the same
+    numbers: a plain node (j at least ``nf``) moves only the two stretches
+    it ends, so only their tables are built anew and their nodes placed
+    (:func:`_plain_node_moves`; 24 rollers' rates 476 -> 75 us); a focus, or
+    a plain node without two stretches of its own, moves the whole mesh
+    (:func:`_whole_mesh_moves`). A kernel of its own so that a mesh without
+    plain nodes never compiles it (J125's first solve: 26.3 s either way,
+    the median of three, one after the other)."""
     a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
     base = np.empty(1 + counts.sum())
     place_nodes(t, phi, b, counts, base)
     nn = base.shape[0]
     rates = np.zeros((moving.shape[0], nn))
-    focus = _inside(points[:nf], length)
+    focus, _count = _inside(points[:nf], length)
+    moved = points.copy()
+    up = np.empty(nn)
+    down = np.empty(nn)
     for r in range(moving.shape[0]):
-        if not _plain_node_moves(points, moving[r], a, b, t, phi, counts, focus, h_max, h_min,
-                                 growth, step, rates[r]):
+        j = moving[r]
+        if j >= nf and _plain_node_moves(points, j, a, b, t, phi, counts, focus, h_max, h_min,
+                                         growth, step, rates[r]):
+            continue
+        if not _whole_mesh_moves(length, points, nf, j, h_max, h_min, growth, step, counts,
+                                 moved, up, down, rates[r]):
             return np.zeros((0, nn))
     _pin_anchors(rates, base, points, moving, length)
     return rates
+
+
+@phase
+def _whole_mesh_moves(length, points, nf, j, h_max, h_min, growth, step, counts, moved, up,
+                      down, row):
+    """Point j's rates into ``row``: the whole mesh built anew and placed (at
+    the element ``counts``) with point j moved by +- ``step`` (``moved`` a
+    copy of ``points``; ``up``, ``down`` work arrays, one value per node).
+    False when a move changes the mesh's stretches."""
+    for sign in (1.0, -1.0):
+        moved[j] = points[j] + sign * step
+        _a, bm, tm, phim, own_counts = graded_tables(length, moved[:nf], moved[nf:], h_max,
+                                                     h_min, growth)
+        if own_counts.shape[0] != counts.shape[0]:  # another set of stretches
+            moved[j] = points[j]
+            return False
+        place_nodes(tm, phim, bm, counts, up if sign > 0.0 else down)
+    moved[j] = points[j]
+    for i in range(row.shape[0]):
+        row[i] = (up[i] - down[i]) / (2.0 * step)
+    return True
 
 
 @phase
