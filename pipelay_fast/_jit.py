@@ -4,7 +4,7 @@ Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
 
 * ``cache=True`` so that worker processes and later sessions load machine code
   from numba's cache instead of recompiling (measured by
-  ``benchmarks/bench_compile.py``: a first solve in a fresh cache 26 to 29 s,
+  ``benchmarks/bench_compile.py``: a first solve in a fresh cache 23 to 25 s,
   a cached start 0.7 s);
 * each kernel compiled once for its callers' plain argument types, and the
   element chain once per dimension (:func:`plain_calls`, ``by_dimension``);
@@ -13,7 +13,15 @@ Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
   so kernels need no exception handling; kernels report failure through status
   codes that the Python layer turns into :class:`pipelay_fast.SolveError`;
 * ``fastmath`` stays off: the 2D and 3D kernels must agree to round-off and the
-  finite-difference tangent tests compare to ~1e-7.
+  finite-difference tangent tests compare to ~1e-7;
+* no calling wrappers but where they are used: numba builds each function a
+  CPython wrapper (Python's call: unboxing every argument) and a C wrapper (a
+  function pointer), and optimises and compiles both again in every caller's
+  module. Only the kernels the Python layer calls, ``jit(entry=True)``, keep
+  the CPython wrapper; none keeps the C wrapper. The first J125 solve in a
+  fresh cache compiles in 23.1 s instead of 26.1 (``bench_compile.py``). A
+  call from Python of any other kernel (tests, benchmarks) goes to a copy
+  compiled with the wrapper (:class:`Kernel`).
 
 Numba checks a cached kernel against its own source file only, not against the
 callees and constants it took from other modules. So, when this module is
@@ -30,21 +38,25 @@ just removed) are ignored: the import never fails because of the cache.
 
 from __future__ import annotations
 
+import collections
 import hashlib
 import inspect
 import os
 import sys
 import tempfile
+import types as pytypes
 
 import numba
 from numba.core import types
+from numba.core.caching import NullCache
+from numba.core.registry import CPUDispatcher
 
 _PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 KERNEL_DIR = os.path.join(_PACKAGE_DIR, "kernels")
 STAMP_NAME = "pipelay_fast-kernels.sha256"
 
 
-def jit(func=None, *, by_dimension=False, **overrides):
+def jit(func=None, *, by_dimension=False, entry=False, **overrides):
     """Decorate a kernel with the project's numba policy (see module docstring).
 
     ``by_dimension``: the kernel is compiled for its callers' dimension, its
@@ -52,13 +64,61 @@ def jit(func=None, *, by_dimension=False, **overrides):
     over components have constant bounds and a dimension's choice between
     kernels is made when it is typed (:func:`.kernels.assembly.element_forces`:
     a planar solve never compiles the spatial element). The Newton kernel's
-    entries :func:`.kernels.newton.newton_2d` and ``newton_3d`` give it."""
-    options = {"cache": True, "nogil": True, "error_model": "numpy"}
+    entries :func:`.kernels.newton.newton_2d` and ``newton_3d`` give it.
+
+    ``entry``: the Python layer calls the kernel, which is compiled with
+    numba's CPython wrapper; the others are :class:`Kernel`."""
+    options = {"nopython": True, "boundscheck": None, "cache": True, "nogil": True,
+               "error_model": "numpy",
+               "no_cfunc_wrapper": True, "no_cpython_wrapper": not entry}
     options.update(overrides)
     keep = ("nd",) if by_dimension else ()
-    if func is None:
-        return lambda f: plain_calls(numba.njit(**options)(f), keep)
-    return plain_calls(numba.njit(**options)(func), keep)
+
+    def compiled(f):
+        targetoptions = dict(options)
+        kind = CPUDispatcher if entry else Kernel
+        dispatcher = kind(py_func=f, locals={}, targetoptions=targetoptions)
+        if targetoptions.pop("cache"):
+            dispatcher.enable_caching()
+        return plain_calls(dispatcher, keep)
+
+    return compiled if func is None else compiled(func)
+
+
+CALLS_FROM_PYTHON: collections.Counter = collections.Counter()
+"""How many times Python called each :class:`Kernel` (by qualified name): none
+in a solve (``tests/test_jit_cache.py``)."""
+
+
+class Kernel(CPUDispatcher):
+    """A kernel called by other kernels only, compiled without numba's CPython
+    wrapper (the module docstring). numba's own call of such a function from
+    Python would crash; here Python's call goes to a copy of the kernel
+    compiled with the wrapper, under a name of its own so that its cache files
+    are its own (numba's cache index does not tell the two apart). Tests call
+    kernels that way; the Python layer calls only ``jit(entry=True)``
+    kernels."""
+
+    def __call__(self, *args, **kws):
+        CALLS_FROM_PYTHON[self.py_func.__qualname__] += 1
+        return self.from_python()(*args, **kws)
+
+    def from_python(self) -> CPUDispatcher:
+        """The copy of this kernel that Python calls (made on first use)."""
+        twin = self.__dict__.get("_from_python")
+        if twin is None:
+            f = self.py_func
+            copy = pytypes.FunctionType(f.__code__, f.__globals__, f.__name__, f.__defaults__,
+                                        f.__closure__)
+            copy.__kwdefaults__ = f.__kwdefaults__
+            copy.__module__ = f.__module__
+            copy.__qualname__ = f.__qualname__ + "__from_python"
+            options = {**self.targetoptions, "no_cpython_wrapper": False}
+            twin = CPUDispatcher(py_func=copy, locals={}, targetoptions=options)
+            if not isinstance(self._cache, NullCache):
+                twin.enable_caching()
+            self.__dict__["_from_python"] = twin
+        return twin
 
 
 def plain_calls(dispatcher, keep=()):
@@ -140,7 +200,7 @@ NEWTON_CACHE_PREFIX = "newton._newton_kernel"  # numba's index file of the Newto
 def kernels_cached() -> bool:
     """Whether numba's cache holds the Newton kernel's machine code for these
     sources (stale files are gone at import, :func:`expire_stale_cache`): when
-    it does not, the first solve compiles the kernels (26 to 29 s,
+    it does not, the first solve compiles the kernels (23 to 25 s,
     ``benchmarks/bench_compile.py``), and the command line says so."""
     for cache_dir in cache_dirs(KERNEL_DIR):
         try:

@@ -146,7 +146,7 @@ def _compile_notice(quiet: bool) -> None:
     first run), unless ``quiet``."""
     if not quiet and not _jit.kernels_cached():
         print("compiling the numerical kernels: the first run in a new environment takes "
-              "about 30 s more (each worker compiles once; later runs load them from "
+              "about 25 s more (each worker compiles once; later runs load them from "
               "numba's cache)", file=sys.stderr, flush=True)
 
 

@@ -14,8 +14,10 @@ import numba
 import numba.core.caching as caching
 import pytest
 
+import pipelay_fast as pf
 from pipelay_fast import _jit
 from pipelay_fast.kernels import loads
+from tests.helpers import EXAMPLES
 
 PACKAGE = Path(_jit.__file__).resolve().parent
 
@@ -25,7 +27,7 @@ import json, numpy as np
 from pipelay_fast.kernels import layout, loads
 props = 100.0 + np.arange(layout.N_PROPS)
 weight = loads.effective_weight(props, 1e9)  # above the sea and the contents: the dry weight
-stats = loads.effective_weight.stats
+stats = loads.effective_weight.from_python().stats  # the copy Python calls (_jit.Kernel)
 print(json.dumps({"file": loads.__file__, "weight": weight, "cache": stats.cache_path,
                   "hits": sum(stats.cache_hits.values())}))
 """
@@ -127,3 +129,54 @@ def test_every_module_with_kernels_is_hashed():
     uses_jit = {str(path) for path in PACKAGE.rglob("*.py")
                 if re.search(r"^from \.+_jit import", path.read_text(), flags=re.MULTILINE)}
     assert uses_jit and uses_jit <= {str(Path(p).resolve()) for p in _jit.kernel_sources()}
+
+
+# two kernels under the project's policy: an entry and the callee it calls
+TWO_KERNELS = """
+from pipelay_fast._jit import jit
+
+@jit
+def inner(x):
+    return 2.0 * x + 1.0
+
+@jit(entry=True)
+def outer(x):
+    return inner(x) - 1.0
+"""
+
+CALLS = """
+import json, sys
+import two_kernels as k
+first = sys.argv[1]
+values = [k.outer(3.0), k.inner(3.0)] if first == "outer" else [k.inner(3.0), k.outer(3.0)]
+print(json.dumps({"values": values, "outer_hits": sum(k.outer.stats.cache_hits.values())}))
+"""
+
+
+@pytest.mark.skipif(numba.config.DISABLE_JIT, reason="no machine code without the JIT")
+def test_a_callee_called_from_python_has_a_cache_of_its_own(tmp_path):
+    """A callee is cached without numba's CPython wrapper (``_jit.Kernel``);
+    numba's cache index does not tell the two kinds apart, so Python's copy must
+    never load it (numba's own call of it would crash the process)."""
+    (tmp_path / "two_kernels.py").write_text(TWO_KERNELS)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([str(tmp_path), str(PACKAGE.parent)])}
+    runs = []
+    for first in ("outer", "inner", "outer"):  # compiled, then each loaded from the cache
+        done = subprocess.run([sys.executable, "-c", CALLS, first], cwd=tmp_path, env=env,
+                              capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, done.stderr
+        runs.append(json.loads(done.stdout.splitlines()[-1]))
+    for run, first in zip(runs, ("outer", "inner", "outer"), strict=True):
+        assert run["values"] == ([6.0, 7.0] if first == "outer" else [7.0, 6.0])
+    assert [run["outer_hits"] for run in runs] == [0, 1, 1]
+
+
+def test_a_solve_calls_only_the_entry_kernels_from_python():
+    """Every kernel the Python layer calls is compiled with the CPython wrapper
+    (``jit(entry=True)``): a call of any other goes to a second compilation."""
+    before = _jit.CALLS_FROM_PYTHON.copy()
+    for scene in ("j125", "s67_3d", "s67_rollers"):
+        result = pf.solve(pf.load_case(EXAMPLES / f"{scene}.toml"))
+        result.profile  # noqa: B018 (built when read)
+    assert _jit.CALLS_FROM_PYTHON == before

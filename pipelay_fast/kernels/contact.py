@@ -68,7 +68,7 @@ def lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, held):
         held[node] = stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU]
 
 
-@jit
+@jit(entry=True)
 def tip_geometry(nd, s_el, u, stinger):
     """The pipe over the stinger tip (x_L, z_L): the material point whose z
     equals z_L (on the element spanning it). Returns (found, the vertical
@@ -215,7 +215,7 @@ def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
                 col[dof] -= mu * w * _anchor_slope(fric, ccol, s, node) * s_b[node] / d_slip
 
 
-@jit
+@jit(entry=True)
 def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
     """Add the seabed friction springs to the residual ``g`` (and, when ``ab``
     has more than one row, their stiffness to its diagonal row ``kv``).
@@ -273,7 +273,7 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
             out[dof] = force
 
 
-@jit
+@jit(entry=True)
 def friction_track(nd, u, react, props, bed_active, fric, s):
     """Per Newton iteration: on an elastic seabed each node's normal force W,
     the foundation's force at a node below the surface, k (-x) over the

@@ -37,7 +37,7 @@ def _at(r, rp, s, e, xi, tip, gap, slope, curve):
     return g2
 
 
-@jit(_nrt=False)
+@jit(entry=True, _nrt=False)
 def point_clearance(r, rp, s, tip, up, samples, steps, gap, slope, curve):
     """Signed distance [m] from ``tip`` to the centreline (nodes ``r``,
     slopes ``rp``, arc lengths ``s``), sign by ``up``: on the four elements
@@ -91,7 +91,7 @@ def point_clearance(r, rp, s, tip, up, samples, steps, gap, slope, curve):
     return best_sign * best
 
 
-@jit(_nrt=False)
+@jit(entry=True, _nrt=False)
 def hermite_state(idx, xi, xi2, xi3, le, u_old, nd, u):
     """The state at new nodes (:func:`pipelay_fast.problem.interpolate_state`
     gives each one's old element ``idx``, its place ``xi`` in it, ``xi2`` =
@@ -133,7 +133,7 @@ def _end_curvature(s, r, rp, e, i, start):
     return 2.0 / le * rp[e, i] - 6.0 / (le * le) * chord + 4.0 / le * rp[e + 1, i]
 
 
-@jit(_nrt=False)
+@jit(entry=True, _nrt=False)
 def centreline_fields(nd, s, u, clamped, r, rp, rpp, kvec, t3):
     """r, r' and r'' at the nodes [m, -, 1/m] into ``r``, ``rp``, ``rpp``
     (nn, nd); in (x, y, z), the plane's y = 0 embedded, the curvature vector

@@ -44,7 +44,7 @@ def span_tables(a, b, focus, h_max, h_min, growth, t, phi):
             prev_inv = inv
 
 
-@jit(_nrt=False)
+@jit(entry=True, _nrt=False)
 def place_nodes(t, phi, b, counts, nodes):
     """Node positions [m] into ``nodes`` (1 + sum(counts)): 0, then
     ``counts[j]`` elements in stretch j at equal steps of phi[j] (linear
@@ -86,7 +86,7 @@ def _first_not_below(s, value):
     return lo
 
 
-@jit(_nrt=False)
+@jit(entry=True, _nrt=False)
 def boundary_map(s, nodes, zones, kind, anchors, s_a, s_b, s_bd):
     """The map of a mesh onto its contact boundaries
     (:meth:`pipelay_fast.problem.Problem.follow`): each node's arc length is
@@ -188,7 +188,7 @@ def _inside(foci, length):
     return focus, inside
 
 
-@jit
+@jit(entry=True)
 def graded_tables(length, foci, plain, h_max, h_min, growth):
     """The stretches of a graded mesh of ``length`` [m] and their tables
     (:func:`pipelay_fast.mesh.graded_nodes`): anchors at the ends, at the
@@ -241,7 +241,7 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
     return a[:ns].copy(), b[:ns].copy(), t, phi, counts
 
 
-@jit
+@jit(entry=True)
 def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     """ds_i/df_j [-] of the graded mesh's nodes (foci ``points[:nf]``, plain
     nodes ``points[nf:]``) for each j in ``moving`` (int64), at the mesh's
@@ -266,7 +266,7 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     return rates
 
 
-@jit
+@jit(entry=True)
 def plain_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     """:func:`grading_rates_of` for a mesh with plain nodes, the same
     numbers: a plain node (j at least ``nf``) moves only the two stretches

@@ -490,7 +490,7 @@ def _point_gap(nd, u, point, node, phi):
             - math.sin(phi) * (u[base + nd - 1] - point[L.PT_Z]))
 
 
-@jit(_nrt=False)
+@jit(entry=True, _nrt=False)
 def point_gaps(nd, u, points, nodes, gaps):
     """Each point's clearance [m] into ``gaps``: :func:`_point_gap` of the
     node ``nodes[j]`` over point j, along the normal of the pipe's tangent
@@ -1322,13 +1322,13 @@ def _points_update(nd, u, mesh, sup, react, settings):
     return changes
 
 
-@jit
+@jit(entry=True)
 def system_2d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
     """:func:`_system` in the plane, from Python (kl = ku = 9)."""
     _system(2, s_el, u, model, torques, ab, 9, 9, g, ends, want_tangent, s_b, bnodes, bcols)
 
 
-@jit
+@jit(entry=True)
 def system_3d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
     """:func:`_system` in space, from Python (kl = ku = 13)."""
     _system(3, s_el, u, model, torques, ab, 13, 13, g, ends, want_tangent, s_b, bnodes, bcols)
@@ -1343,7 +1343,7 @@ def _newton_kernel(nd):
     numba copies an inlined function's whole scope once per block, and
     inlining this one cost 5.9 s of the first compile."""
 
-    @jit
+    @jit(entry=True)
     def newton(u, mesh, model, sup, ends, settings, react, info):
         """Solve G(u) = reactions for one load level; see the module docstring.
         Compiled as :func:`newton_2d` and :func:`newton_3d`, ``nd`` the
