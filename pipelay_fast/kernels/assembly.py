@@ -114,7 +114,7 @@ def _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent,
                         bcols[b, g0 + a] += rate * dfe[a]
 
 
-@jit
+@jit(_nrt=False)
 def distribute_torque(nd, s_el, u, props, torques):
     """Torque per element from H' + t.m = 0 with H(top) given.
 
@@ -145,7 +145,7 @@ def distribute_torque(nd, s_el, u, props, torques):
         acc += tm * s_el[e]
 
 
-@jit
+@jit(_nrt=False)
 def rotate_pair_vec(v, p, q, c, s):
     """(v_p, v_q) <- R (v_p, v_q) with R = [[c, -s], [s, c]]."""
     a = v[p]
@@ -154,7 +154,7 @@ def rotate_pair_vec(v, p, q, c, s):
     v[q] = s * a + c * b
 
 
-@jit
+@jit(_nrt=False)
 def rotate_pair_band(ab, kl, ku, n, p, q, c, s, lo, hi):
     """K <- R K R^T on the dof pair (p, q); rows/cols coupled to it lie in [lo, hi]."""
     kv = kl + ku
@@ -170,7 +170,7 @@ def rotate_pair_band(ab, kl, ku, n, p, q, c, s, lo, hi):
         ab[kv + i - q, q] = s * a + c * b
 
 
-@jit
+@jit(_nrt=False)
 def node_coupling_range(nd, node, n):
     """First and last global dof coupled to ``node`` (its two elements)."""
     ndn = 2 * nd + 1
@@ -179,7 +179,7 @@ def node_coupling_range(nd, node, n):
     return lo, hi
 
 
-@jit
+@jit(_nrt=False)
 def rotate_node(nd, ab, kl, ku, g, node, phi_r, phi_rp, want_tangent):
     """Express node ``node``'s (x, z) pairs of r and r' in its rotated frame.
 
@@ -204,7 +204,7 @@ def rotate_node(nd, ab, kl, ku, g, node, phi_r, phi_rp, want_tangent):
             rotate_pair_band(ab, kl, ku, n, p, q, c, s, lo, hi)
 
 
-@jit
+@jit(_nrt=False)
 def curve_node(nd, ab, kl, ku, g, node, fp, fpp, zp, want_tangent):
     """Express node ``node`` in coordinates attached to a support curve x = f(z).
 

@@ -38,13 +38,13 @@ ST_ON = 5
 N_STINGER = 6
 
 
-@jit
+@jit(_nrt=False)
 def stinger_angle(stinger, z):
     """Angle of the stinger tangent above horizontal at z [rad]."""
     return math.atan(2.0 * stinger[ST_A] * z + stinger[ST_B])
 
 
-@jit
+@jit(_nrt=False)
 def lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, held):
     """Mark in ``held`` the nodes the stinger holds laterally (3D): those over
     its z range, the held top and fixed nodes excepted. They are held on the
@@ -68,7 +68,7 @@ def lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, held):
         held[node] = stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU]
 
 
-@jit(entry=True)
+@jit(entry=True, _nrt=False)
 def tip_geometry(nd, s_el, u, stinger):
     """The pipe over the stinger tip (x_L, z_L): the material point whose z
     equals z_L (on the element spanning it). Returns (found, the vertical
@@ -101,7 +101,7 @@ def tip_geometry(nd, s_el, u, stinger):
     return True, x - x_l, s_tip + xi * le
 
 
-@jit
+@jit(_nrt=False)
 def _friction_dofs(nd, props, comp):
     """(dof slot, coefficient, anchor column, direction column) of component
     ``comp`` (0 lateral, 1 axial); slot -1 when that friction is absent."""
@@ -112,7 +112,7 @@ def _friction_dofs(nd, props, comp):
     return nd - 1, props[L.MU_Z], L.FR_Z, L.FR_DIRZ
 
 
-@jit
+@jit(_nrt=False)
 def node_arcs(s_el, s):
     """Node arc lengths [m] from the element lengths (the lower end at s = 0)."""
     s[0] = 0.0
@@ -120,7 +120,7 @@ def node_arcs(s_el, s):
         s[e + 1] = s[e] + s_el[e]
 
 
-@jit
+@jit(_nrt=False)
 def _anchor_partner(fric, s, node):
     """(other node, t) of :func:`anchor_at`: the anchor of node ``node``'s
     material point is its own anchor plus t times the difference to the
@@ -139,7 +139,7 @@ def _anchor_partner(fric, s, node):
     return other, (s_n - s0) / (s1 - s0)
 
 
-@jit
+@jit(_nrt=False)
 def anchor_at(fric, col, s, node):
     """Anchor ``col`` of the material point at node ``node``'s arc length s[node]:
     the anchors belong to material points (column FR_S), and a mesh that follows
@@ -151,7 +151,7 @@ def anchor_at(fric, col, s, node):
     return fric[node, col] + t * (fric[other, col] - fric[node, col])
 
 
-@jit
+@jit(_nrt=False)
 def _anchor_slope(fric, col, s, node):
     """d(anchor)/ds [-] of :func:`anchor_at` at node ``node``: the slope of the
     segment it interpolates on (their mean where the node sits on its own
@@ -173,7 +173,7 @@ def _anchor_slope(fric, col, s, node):
     return total / count if count > 0 else 0.0
 
 
-@jit
+@jit(_nrt=False)
 def normal_force(nd, g, bed_active, fric, node):
     """The normal force W [N] a node's friction acts with: on a rigid seabed
     contact its reaction at the present state, the residual of its x row
@@ -185,7 +185,7 @@ def normal_force(nd, g, bed_active, fric, node):
     return fric[node, L.FR_W]
 
 
-@jit
+@jit(_nrt=False)
 def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
     """Add to ``col`` d(friction in the residual)/d s_T at fixed nodal unknowns:
     a sticking spring's stretch u - anchor(s_i) changes as its node moves along
@@ -215,7 +215,7 @@ def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
                 col[dof] -= mu * w * _anchor_slope(fric, ccol, s, node) * s_b[node] / d_slip
 
 
-@jit(entry=True)
+@jit(entry=True, _nrt=False)
 def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
     """Add the seabed friction springs to the residual ``g`` (and, when ``ab``
     has more than one row, their stiffness to its diagonal row ``kv``).
@@ -273,7 +273,7 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
             out[dof] = force
 
 
-@jit(entry=True)
+@jit(entry=True, _nrt=False)
 def friction_track(nd, u, react, props, bed_active, fric, s):
     """Per Newton iteration: on an elastic seabed each node's normal force W,
     the foundation's force at a node below the surface, k (-x) over the
@@ -305,7 +305,7 @@ def friction_track(nd, u, react, props, bed_active, fric, s):
                 fric[node, L.FR_Y] = u[base + 1]
 
 
-@jit
+@jit(_nrt=False)
 def friction_step(nd, u, du, s, model, bed_active, fric, stop, alpha):
     """The longest fraction (at most ``alpha``) of the step ``du`` (global
     frame) that takes no sliding spring through its stick zone: a spring

@@ -157,7 +157,7 @@ def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b,
         g[ends.slide_dof] += ends.tb[0]
 
 
-@jit
+@jit(_nrt=False)
 def _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, want_tangent):
     ndn = 2 * nd + 1
     for node in range(phi_r.shape[0]):
@@ -167,7 +167,7 @@ def _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, want_tangent):
             rotate_node(nd, ab, kl, ku, g, node, phi_r[node], phi_rp[node], want_tangent)
 
 
-@jit
+@jit(_nrt=False)
 def _zero_at(v, start, count):
     """True when v[start:start + count] is all zero."""
     for i in range(start, start + count):
@@ -176,7 +176,7 @@ def _zero_at(v, start, count):
     return True
 
 
-@jit
+@jit(_nrt=False)
 def _curve_all(nd, ab, kl, ku, g, u, stinger, st_active, want_tangent):
     """Express every stinger contact node in the stinger's curve coordinates
     (:func:`.assembly.curve_node`)."""
@@ -191,7 +191,7 @@ def _curve_all(nd, ab, kl, ku, g, u, stinger, st_active, want_tangent):
             curve_node(nd, ab, kl, ku, g, node, fp, fpp, u[base + 2 * nd - 1], want_tangent)
 
 
-@jit
+@jit(_nrt=False)
 def _onto_curve(nd, u, u_old, dv, alpha, stinger, st_active):
     """State at ``u_old`` + ``alpha`` ``dv`` for the stinger contact nodes, whose
     increments ``dv`` are in curve coordinates (c, z, c', z'): z and z' move
@@ -214,7 +214,7 @@ def _onto_curve(nd, u, u_old, dv, alpha, stinger, st_active):
         u[p + nd] = (2.0 * a * z1 + b) * zp1 + cp0 + alpha * dv[p + nd]
 
 
-@jit
+@jit(_nrt=False)
 def _curve_reactions(nd, u, stinger, st_active, phi_r, phi_rp, react):
     """Reactions of the stinger contacts in the rotated frame the results read:
     in curve coordinates the support's force is G_x (1, -f'), so its normal
@@ -233,7 +233,7 @@ def _curve_reactions(nd, u, stinger, st_active, phi_r, phi_rp, react):
         react[base + nd] /= c
 
 
-@jit
+@jit(_nrt=False)
 def _top_te(nd, g, u, top_node):
     """Effective tension at the top: the top reaction (= G there) along the tangent."""
     ndn = 2 * nd + 1
@@ -246,7 +246,7 @@ def _top_te(nd, g, u, top_node):
     return te / math.sqrt(a)
 
 
-@jit
+@jit(_nrt=False)
 def _top_tension_row(nd, ab, kl, ku, g, u, top_node, d):
     """Te at the top = G_top . t and its derivative row ``d`` (global frame)."""
     ndn = 2 * nd + 1
@@ -275,7 +275,7 @@ def _top_tension_row(nd, ab, kl, ku, g, u, top_node, d):
     return te
 
 
-@jit
+@jit(_nrt=False)
 def _local_value(nd, u, node, slot, phi_r, phi_rp):
     """Unknown ``slot`` of ``node`` in the node's rotated frame."""
     ndn = 2 * nd + 1
@@ -296,7 +296,7 @@ def _local_value(nd, u, node, slot, phi_r, phi_rp):
     return s * u[p] + c * u[q]
 
 
-@jit
+@jit(_nrt=False)
 def _to_global(nd, du_local, phi_r, phi_rp):
     """Rotate an increment from the nodal frames back to the global frame."""
     ndn = 2 * nd + 1
@@ -316,7 +316,7 @@ def _to_global(nd, du_local, phi_r, phi_rp):
             du_local[q] = -s * a + c * b
 
 
-@jit
+@jit(_nrt=False)
 def _weighted_max(nd, g, cmask, fref, href):
     ndn = 2 * nd + 1
     worst = 0.0
@@ -366,7 +366,7 @@ B_LO = 1
 B_PT = 2
 
 
-@jit
+@jit(_nrt=False)
 def mesh_lengths(s_a, s_b, s_bd, s_el):
     """Element lengths [m] of the mesh that follows the contact boundaries:
     node i sits at s_i = s_a[i] + sum_b s_b[b, i] s_bd[b], s_bd the arc lengths
@@ -378,7 +378,7 @@ def mesh_lengths(s_a, s_b, s_bd, s_el):
         s_el[e] = le
 
 
-@jit
+@jit(_nrt=False)
 def _has_boundaries(mesh):
     """True when some contact boundary is an unknown (the mesh follows it)."""
     for b in range(mesh.bnodes.shape[0]):
@@ -387,7 +387,7 @@ def _has_boundaries(mesh):
     return False
 
 
-@jit
+@jit(_nrt=False)
 def _solve_dense(nb, sm, rh, dz):
     """Solve the nb x nb border system ``sm dz = rh`` (Gaussian elimination with
     partial pivoting; sm and rh are overwritten). Returns False when singular."""
@@ -419,7 +419,7 @@ def _solve_dense(nb, sm, rh, dz):
     return True
 
 
-@jit
+@jit(_nrt=False)
 def _tangency(nd, u, stinger, b, node, row):
     """The pipe tangent to its support at a boundary node whose slope is
     otherwise free: lift-off's equation (b = 1), c' = x' - f'(z) z' = 0 on the
@@ -471,7 +471,7 @@ def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
     return fe[nd], (rate_b[e + 1] - rate_b[e]) * dfe[nd]
 
 
-@jit
+@jit(_nrt=False)
 def _bnd_scale(b, fref, href):
     """The scale of boundary b's equation: a moment (touchdown), a slope
     (lift-off), a length (a point's)."""
@@ -480,7 +480,7 @@ def _bnd_scale(b, fref, href):
     return 1.0 if b == B_LO else href
 
 
-@jit
+@jit(_nrt=False)
 def _point_gap(nd, u, point, node, phi):
     """Clearance [m] of node ``node`` from the rigid point ``point`` (a row of
     ``sup.points``) along the normal of a frame turned by ``phi`` (the pipe's,
@@ -502,7 +502,7 @@ def point_gaps(nd, u, points, nodes, gaps):
         gaps[j] = _point_gap(nd, u, points[j], k, phi)
 
 
-@jit
+@jit(_nrt=False)
 def _over_point(nd, u, point, node, row):
     """A point's boundary equation: node ``node`` is the material point over
     the rigid point ``point``, t . (r - r_p) = 0 with t = r'/|r'| the pipe's
@@ -544,7 +544,7 @@ def _bnd_equation(nd, u, sup, b, node, row):
     return _over_point(nd, u, sup.points[b - B_PT], node, row)
 
 
-@jit
+@jit(_nrt=False)
 def _element_at(s_old, node, t):
     """(element, xi) of material point ``t`` [m] on nodes ``s_old`` [m],
     searched from node ``node``."""
@@ -557,7 +557,7 @@ def _element_at(s_old, node, t):
     return e, (t - s_old[e]) / (s_old[e + 1] - s_old[e])
 
 
-@jit
+@jit(_nrt=False)
 def _pipe_at(nd, u_old, s_old, e, xi, sh, value, rate):
     """The pipe of state ``u_old`` on nodes ``s_old`` at ``xi`` of element
     ``e``: its nodal unknowns (r, r', lambda) into ``value`` and their
@@ -581,7 +581,7 @@ def _pipe_at(nd, u_old, s_old, e, xi, sh, value, rate):
     rate[2 * nd] = (u_old[b + 2 * nd] - u_old[a + 2 * nd]) / le
 
 
-@jit
+@jit(_nrt=False)
 def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has_bnd, mesh, w):
     """The state a fraction ``alpha`` along the Newton step: nodal unknowns
     (stinger contacts along their curve), bottom tension and boundary arc
@@ -750,7 +750,7 @@ def _nodal_frames(nd, u, mesh, sup, ends):
             sup.phi_r[kt] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
 
 
-@jit
+@jit(_nrt=False)
 def _frame_turn(nd, ab, kl, g, u, mesh, sup):
     """The frame over a rigid point is the pipe's, phi = atan2(x', z')
     (:func:`_nodal_frames`), and turns with r': its rows (normal n . G,
@@ -810,7 +810,7 @@ def _to_nodal_residual(nd, u, mesh, sup, w, m_td):
             w.res_bnd[b] = _bnd_equation(nd, u, sup, b, mesh.bnodes[b], w.no_row)
 
 
-@jit
+@jit(_nrt=False)
 def _to_nodal_frames(nd, v, u, sup, w):
     """A global-frame row or column into the nodal frames and curve
     coordinates. (A kernel: it has five callers.)"""
@@ -1252,7 +1252,7 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
             or (has_bnd and m1 <= MERIT_RISE * merit0) or (has_lo and not hold and m1 < 1e300))
 
 
-@jit(by_dimension=True)
+@jit(by_dimension=True, _nrt=False)
 def _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd):
     """The state a fraction ``alpha`` along the step (:func:`_take_step`,
     from ``w.u_old`` and the bottom tension ``tb_old``) and its merit
@@ -1322,13 +1322,13 @@ def _points_update(nd, u, mesh, sup, react, settings):
     return changes
 
 
-@jit(entry=True)
+@jit(entry=True, _nrt=False)
 def system_2d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
     """:func:`_system` in the plane, from Python (kl = ku = 9)."""
     _system(2, s_el, u, model, torques, ab, 9, 9, g, ends, want_tangent, s_b, bnodes, bcols)
 
 
-@jit(entry=True)
+@jit(entry=True, _nrt=False)
 def system_3d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
     """:func:`_system` in space, from Python (kl = ku = 13)."""
     _system(3, s_el, u, model, torques, ab, 13, 13, g, ends, want_tangent, s_b, bnodes, bcols)
