@@ -4,7 +4,7 @@ Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
 
 * ``cache=True`` so that worker processes and later sessions load machine code
   from numba's cache instead of recompiling (measured by
-  ``benchmarks/bench_compile.py``: a first solve in a fresh cache 23 to 25 s,
+  ``benchmarks/bench_compile.py``: a first solve in a fresh cache 21.5 to 24 s,
   a cached start 0.7 s);
 * each kernel compiled once for its callers' plain argument types, and the
   element chain once per dimension (:func:`plain_calls`, ``by_dimension``);
@@ -200,7 +200,7 @@ NEWTON_CACHE_PREFIX = "newton._newton_kernel"  # numba's index file of the Newto
 def kernels_cached() -> bool:
     """Whether numba's cache holds the Newton kernel's machine code for these
     sources (stale files are gone at import, :func:`expire_stale_cache`): when
-    it does not, the first solve compiles the kernels (23 to 25 s,
+    it does not, the first solve compiles the kernels (21.5 to 24 s,
     ``benchmarks/bench_compile.py``), and the command line says so."""
     for cache_dir in cache_dirs(KERNEL_DIR):
         try:
