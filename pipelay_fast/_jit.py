@@ -67,14 +67,27 @@ def jit(func=None, *, by_dimension=False, entry=False, **overrides):
     entries :func:`.kernels.newton.newton_2d` and ``newton_3d`` give it.
 
     ``entry``: the Python layer calls the kernel, which is compiled with
-    numba's CPython wrapper; the others are :class:`Kernel`."""
+    numba's CPython wrapper; the others are :class:`Kernel`.
+
+    ``_nrt`` (numba's reference counting) is required but for a phase: True
+    when the kernel, or a phase inlined into it, creates an array; False
+    when it does not (its arrays' counts then cost nothing). numba compiles
+    a kernel that does not set it with its first caller's setting, so an
+    allocating kernel first reached from one without counting failed to
+    compile (``_system`` under ``system_2d``, before this rule)."""
     options = {"nopython": True, "boundscheck": None, "cache": True, "nogil": True,
                "error_model": "numpy",
                "no_cfunc_wrapper": True, "no_cpython_wrapper": not entry}
     options.update(overrides)
+    if "_nrt" not in options and "inline" not in options:
+        raise TypeError("a kernel says whether it allocates: jit(_nrt=True) if it (or a phase "
+                        "inlined into it) creates an array, jit(_nrt=False) if not (numba "
+                        "compiles a kernel without its own setting with its first caller's)")
     keep = ("nd",) if by_dimension else ()
 
     def compiled(f):
+        if numba.config.DISABLE_JIT:  # as numba's own decorators: the Python function
+            return f
         targetoptions = dict(options)
         kind = CPUDispatcher if entry else Kernel
         dispatcher = kind(py_func=f, locals={}, targetoptions=targetoptions)

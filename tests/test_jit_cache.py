@@ -135,11 +135,11 @@ def test_every_module_with_kernels_is_hashed():
 TWO_KERNELS = """
 from pipelay_fast._jit import jit
 
-@jit
+@jit(_nrt=False)
 def inner(x):
     return 2.0 * x + 1.0
 
-@jit(entry=True)
+@jit(entry=True, _nrt=False)
 def outer(x):
     return inner(x) - 1.0
 """
@@ -180,3 +180,36 @@ def test_a_solve_calls_only_the_entry_kernels_from_python():
         result = pf.solve(pf.load_case(EXAMPLES / f"{scene}.toml"))
         result.profile  # noqa: B018 (built when read)
     assert _jit.CALLS_FROM_PYTHON == before
+
+
+def test_a_kernel_says_whether_it_allocates():
+    def kernel(x):
+        return x
+
+    with pytest.raises(TypeError, match="whether it allocates"):
+        _jit.jit(kernel)
+    assert _jit.jit(kernel, _nrt=False).targetoptions["_nrt"] is False
+    assert "_nrt" not in _jit.phase(kernel).targetoptions  # inlined: its caller's
+
+
+RESIDUAL_FIRST = """
+import numpy as np
+import pipelay_fast as pf
+from pipelay_fast import continuation
+from pipelay_fast.solver import build_problem
+g = continuation._residual(build_problem(pf.load_case(__import__("sys").argv[1])))
+print(float(np.abs(g).max()))
+"""
+
+
+@pytest.mark.skipif(numba.config.DISABLE_JIT, reason="no machine code without the JIT")
+def test_the_residual_compiles_before_the_newton_kernel(tmp_path):
+    """``system_2d`` (no reference counting) calls ``_system``, which
+    allocates: compiled first from it, before the Newton kernel, it inherited
+    the caller's setting and failed to compile, and every solve of the
+    process after it."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    done = subprocess.run([sys.executable, "-c", RESIDUAL_FIRST, str(EXAMPLES / "s67.toml")],
+                          env=env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert float(done.stdout.splitlines()[-1]) > 0.0  # the guess is out of balance

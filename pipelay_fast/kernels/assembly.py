@@ -243,7 +243,7 @@ def curve_node(nd, ab, kl, ku, g, node, fp, fpp, zp, want_tangent):
     g[q2] += fp * g[p2]
 
 
-@jit
+@jit(_nrt=False)
 def element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """:func:`element_forces` callable from Python (tests, one-off calls)."""
     element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)

@@ -354,7 +354,7 @@ def friction_step(nd, u, du, s, model, bed_active, fric, stop, alpha):
     return alpha
 
 
-@jit
+@jit(_nrt=True)
 def friction_commit(nd, u, model, bed_active, fric, s):
     """End of a load step (return mapping): a spring stretched to or beyond
     its mobilising displacement slides, its anchor following the pipe to

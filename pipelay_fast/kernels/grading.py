@@ -188,7 +188,7 @@ def _inside(foci, length):
     return focus, inside
 
 
-@jit(entry=True)
+@jit(entry=True, _nrt=True)
 def graded_tables(length, foci, plain, h_max, h_min, growth):
     """The stretches of a graded mesh of ``length`` [m] and their tables
     (:func:`pipelay_fast.mesh.graded_nodes`): anchors at the ends, at the
@@ -241,7 +241,7 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
     return a[:ns].copy(), b[:ns].copy(), t, phi, counts
 
 
-@jit(entry=True)
+@jit(entry=True, _nrt=True)
 def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     """ds_i/df_j [-] of the graded mesh's nodes (foci ``points[:nf]``, plain
     nodes ``points[nf:]``) for each j in ``moving`` (int64), at the mesh's
@@ -266,7 +266,7 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     return rates
 
 
-@jit(entry=True)
+@jit(entry=True, _nrt=True)
 def plain_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     """:func:`grading_rates_of` for a mesh with plain nodes, the same
     numbers: a plain node (j at least ``nf``) moves only the two stretches
@@ -342,7 +342,7 @@ def _pin_anchors(rates, base, points, moving, length):
         rates[r, own] = 1.0
 
 
-@jit
+@jit(_nrt=True)
 def _plain_node_moves(points, j, a, b, t, phi, counts, focus, h_max, h_min, growth, step, row):
     """The rates of plain node ``points[j]`` into ``row`` when it is an anchor
     of its own between two stretches longer than 2 ``step``: moved, only

@@ -141,7 +141,7 @@ I_PAST = 5  # PAST_TIP: how far [m] along the pipe the step would take lift-off 
 N_INFO = 6
 
 
-@jit(by_dimension=True)
+@jit(by_dimension=True, _nrt=True)
 def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b, bnodes, bcols):
     """Residual (+ tangent, global frame, and the boundaries' columns dG/ds_b
     of the elements, :func:`.assembly.assemble`) with the nodal loads, the
@@ -443,7 +443,7 @@ def _tangency(nd, u, stinger, b, node, row):
     return u[base + nd] - fp * zp
 
 
-@jit(by_dimension=True)
+@jit(by_dimension=True, _nrt=True)
 def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
     """Touchdown's equation: the moment at touchdown on the free side, the
     residual [N m] of the first free element at the slope unknown of its lower
@@ -1343,7 +1343,7 @@ def _newton_kernel(nd):
     numba copies an inlined function's whole scope once per block, and
     inlining this one cost 5.9 s of the first compile."""
 
-    @jit(entry=True)
+    @jit(entry=True, _nrt=True)
     def newton(u, mesh, model, sup, ends, settings, react, info):
         """Solve G(u) = reactions for one load level; see the module docstring.
         Compiled as :func:`newton_2d` and :func:`newton_3d`, ``nd`` the
