@@ -149,7 +149,8 @@ import json, sys
 import two_kernels as k
 first = sys.argv[1]
 values = [k.outer(3.0), k.inner(3.0)] if first == "outer" else [k.inner(3.0), k.outer(3.0)]
-print(json.dumps({"values": values, "outer_hits": sum(k.outer.stats.cache_hits.values())}))
+print(json.dumps({"values": values, "outer_hits": sum(k.outer.stats.cache_hits.values()),
+                  "copy_hits": sum(k.inner.from_python().stats.cache_hits.values())}))
 """
 
 
@@ -170,6 +171,7 @@ def test_a_callee_called_from_python_has_a_cache_of_its_own(tmp_path):
     for run, first in zip(runs, ("outer", "inner", "outer"), strict=True):
         assert run["values"] == ([6.0, 7.0] if first == "outer" else [7.0, 6.0])
     assert [run["outer_hits"] for run in runs] == [0, 1, 1]
+    assert [run["copy_hits"] for run in runs] == [0, 1, 1]  # Python's copy is cached too
 
 
 def test_a_solve_calls_only_the_entry_kernels_from_python():
@@ -188,7 +190,13 @@ def test_a_kernel_says_whether_it_allocates():
 
     with pytest.raises(TypeError, match="whether it allocates"):
         _jit.jit(kernel)
-    assert _jit.jit(kernel, _nrt=False).targetoptions["_nrt"] is False
+    inner = _jit.jit(kernel, _nrt=False)
+    assert inner.targetoptions["_nrt"] is False
+    entry = _jit.jit(kernel, entry=True, _nrt=False)
+    # no C wrapper; Python's wrapper for the entries only
+    assert inner.targetoptions["no_cfunc_wrapper"] and entry.targetoptions["no_cfunc_wrapper"]
+    assert inner.targetoptions["no_cpython_wrapper"] and isinstance(inner, _jit.Kernel)
+    assert not entry.targetoptions["no_cpython_wrapper"] and not isinstance(entry, _jit.Kernel)
     assert "_nrt" not in _jit.phase(kernel).targetoptions  # inlined: its caller's
 
 
