@@ -88,14 +88,19 @@ def jit(func=None, *, by_dimension=False, entry=False, **overrides):
     def compiled(f):
         if numba.config.DISABLE_JIT:  # as numba's own decorators: the Python function
             return f
-        targetoptions = dict(options)
-        kind = CPUDispatcher if entry else Kernel
-        dispatcher = kind(py_func=f, locals={}, targetoptions=targetoptions)
-        if targetoptions.pop("cache"):
-            dispatcher.enable_caching()
-        return plain_calls(dispatcher, keep)
+        return plain_calls(_dispatcher(CPUDispatcher if entry else Kernel, f, options), keep)
 
     return compiled if func is None else compiled(func)
+
+
+def _dispatcher(kind, f, options):
+    """numba's dispatcher of class ``kind`` for ``f``, its target options
+    ``options`` but ``cache`` (which enables numba's on-disk cache)."""
+    targetoptions = {k: v for k, v in options.items() if k != "cache"}
+    dispatcher = kind(py_func=f, locals={}, targetoptions=targetoptions)
+    if options.get("cache"):
+        dispatcher.enable_caching()
+    return dispatcher
 
 
 CALLS_FROM_PYTHON: collections.Counter = collections.Counter()
@@ -126,10 +131,9 @@ class Kernel(CPUDispatcher):
             copy.__kwdefaults__ = f.__kwdefaults__
             copy.__module__ = f.__module__
             copy.__qualname__ = f.__qualname__ + "__from_python"
-            options = {**self.targetoptions, "no_cpython_wrapper": False}
-            twin = CPUDispatcher(py_func=copy, locals={}, targetoptions=options)
-            if not isinstance(self._cache, NullCache):
-                twin.enable_caching()
+            twin = _dispatcher(CPUDispatcher, copy, {
+                **self.targetoptions, "no_cpython_wrapper": False,
+                "cache": not isinstance(self._cache, NullCache)})
             self.__dict__["_from_python"] = twin
         return twin
 

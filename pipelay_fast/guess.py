@@ -316,4 +316,3 @@ def guide_case(case: Case) -> Case:
         coarse["solver.min_element_length"] = GUIDE_COARSENING * solver.min_element_length
     return case.with_changes({"lay.stinger": {"a": a, "lower": [x_l, z_l], "upper": [x_u, z_u]},
                               "lay.top": None, "lay.top_angle": angle, **coarse})
-

@@ -138,7 +138,7 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     import pandas as pd
 
     from .dataset import read_summary
-    from .select import _variable
+    from .select import design_variable
     from .sweep import AXES
 
     root = Path(root)
@@ -149,7 +149,7 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     slay = ok[ok["method"] == "S"]
     groups = []  # (key, the design axis it varies, its cases along it)
     for k, g in slay.groupby(list(GROUP_KEYS), sort=True, observed=True, dropna=False):
-        variable = _variable(None, g)  # (select's: the design axis whose column varies)
+        variable = design_variable(None, g)
         if variable in g and g[variable].nunique() > 1:
             groups.append((dict(zip(GROUP_KEYS, k, strict=True)), variable,
                            g.sort_values(variable)))

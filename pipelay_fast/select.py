@@ -82,7 +82,7 @@ def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) 
     for key, group in ok.groupby(keys, dropna=False, sort=True):
         values = dict(zip(keys, key, strict=True))
         scene = sweep.scene(values["scene"]) if sweep is not None else None
-        variable = _variable(scene, group)
+        variable = design_variable(scene, group)
         rows.append(_select_group(group.sort_values(variable), values, scene, variable))
     table = pd.DataFrame(rows, columns=list(SELECTION_UNITS))
     for column, unit in SELECTION_UNITS.items():
@@ -93,7 +93,7 @@ def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) 
     return table
 
 
-def _variable(scene: Scene | None, group: pd.DataFrame) -> str:
+def design_variable(scene: Scene | None, group: pd.DataFrame) -> str:
     """The design axis a group is chosen over: the one its scene varies (from
     the results when the scene is not at hand: the one whose column varies,
     else the one the cases give)."""

@@ -241,6 +241,18 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
     return a[:ns].copy(), b[:ns].copy(), t, phi, counts
 
 
+@phase
+def _base_mesh(length, points, nf, n_moving, h_max, h_min, growth):
+    """The graded mesh of the foci ``points[:nf]`` and plain nodes
+    ``points[nf:]``: its stretches' tables (:func:`graded_tables`), its nodes
+    and a zero row of rates for each of ``n_moving`` points. Returns (a, b,
+    t, phi, counts, nodes, rates)."""
+    a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
+    base = np.empty(1 + counts.sum())
+    place_nodes(t, phi, b, counts, base)
+    return a, b, t, phi, counts, base, np.zeros((n_moving, base.shape[0]))
+
+
 @jit(entry=True, _nrt=True)
 def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     """ds_i/df_j [-] of the graded mesh's nodes (foci ``points[:nf]``, plain
@@ -250,18 +262,12 @@ def grading_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     anchors (the ends, the foci, the plain nodes) and 1 at the moved point's
     own node. Returns the rates (moving, nodes); 0 rows when a move changes
     the mesh's stretches."""
-    _a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
-    base = np.empty(1 + counts.sum())
-    place_nodes(t, phi, b, counts, base)
-    nn = base.shape[0]
-    rates = np.zeros((moving.shape[0], nn))
-    moved = points.copy()
-    up = np.empty(nn)
-    down = np.empty(nn)
+    _a, _b, _t, _phi, counts, base, rates = _base_mesh(length, points, nf, moving.shape[0],
+                                                       h_max, h_min, growth)
     for r in range(moving.shape[0]):
         if not _whole_mesh_moves(length, points, nf, moving[r], h_max, h_min, growth, step,
-                                 counts, moved, up, down, rates[r]):
-            return np.zeros((0, nn))
+                                 counts, rates[r]):
+            return np.zeros((0, base.shape[0]))
     _pin_anchors(rates, base, points, moving, length)
     return rates
 
@@ -276,43 +282,36 @@ def plain_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     (:func:`_whole_mesh_moves`). A kernel of its own so that a mesh without
     plain nodes never compiles it (J125's first solve: 26.3 s either way,
     the median of three, one after the other)."""
-    a, b, t, phi, counts = graded_tables(length, points[:nf], points[nf:], h_max, h_min, growth)
-    base = np.empty(1 + counts.sum())
-    place_nodes(t, phi, b, counts, base)
-    nn = base.shape[0]
-    rates = np.zeros((moving.shape[0], nn))
+    a, b, t, phi, counts, base, rates = _base_mesh(length, points, nf, moving.shape[0], h_max,
+                                                   h_min, growth)
     focus, _count = _inside(points[:nf], length)
-    moved = points.copy()
-    up = np.empty(nn)
-    down = np.empty(nn)
     for r in range(moving.shape[0]):
         j = moving[r]
         if j >= nf and _plain_node_moves(points, j, a, b, t, phi, counts, focus, h_max, h_min,
                                          growth, step, rates[r]):
             continue
         if not _whole_mesh_moves(length, points, nf, j, h_max, h_min, growth, step, counts,
-                                 moved, up, down, rates[r]):
-            return np.zeros((0, nn))
+                                 rates[r]):
+            return np.zeros((0, base.shape[0]))
     _pin_anchors(rates, base, points, moving, length)
     return rates
 
 
 @phase
-def _whole_mesh_moves(length, points, nf, j, h_max, h_min, growth, step, counts, moved, up,
-                      down, row):
-    """Point j's rates into ``row``: the whole mesh built anew and placed (at
-    the element ``counts``) with point j moved by +- ``step`` (``moved`` a
-    copy of ``points``; ``up``, ``down`` work arrays, one value per node).
-    False when a move changes the mesh's stretches."""
+def _whole_mesh_moves(length, points, nf, j, h_max, h_min, growth, step, counts, row):
+    """Point j's rates into ``row`` (one value per node): the whole mesh
+    built anew and placed (at the element ``counts``) with point j moved by
+    +- ``step``. False when a move changes the mesh's stretches."""
+    moved = points.copy()
+    up = np.empty(row.shape[0])
+    down = np.empty(row.shape[0])
     for sign in (1.0, -1.0):
         moved[j] = points[j] + sign * step
         _a, bm, tm, phim, own_counts = graded_tables(length, moved[:nf], moved[nf:], h_max,
                                                      h_min, growth)
         if own_counts.shape[0] != counts.shape[0]:  # another set of stretches
-            moved[j] = points[j]
             return False
         place_nodes(tm, phim, bm, counts, up if sign > 0.0 else down)
-    moved[j] = points[j]
     for i in range(row.shape[0]):
         row[i] = (up[i] - down[i]) / (2.0 * step)
     return True
