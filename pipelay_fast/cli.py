@@ -23,7 +23,8 @@ import sys
 from importlib.resources import files
 from pathlib import Path
 
-from . import __version__, _jit
+from . import __version__
+from .kernels import _jit
 from .case import load_case
 from .results import SUMMARY_UNITS
 from .solver import SolveError, solve

@@ -96,7 +96,7 @@ def test_a_first_run_says_the_kernels_compile(tmp_path, capsys, monkeypatch):
     Newton kernel: cached), and ``solve`` says on stderr, before it solves,
     that the kernels compile when they are not cached; not when they are, nor
     with --quiet."""
-    from pipelay_fast import _jit
+    from pipelay_fast.kernels import _jit
 
     # numba's own files: after a solve, its cache holds the Newton kernel
     assert main(["solve", str(J125), "--quiet"]) == 0

@@ -15,11 +15,11 @@ import numba.core.caching as caching
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast import _jit
+from pipelay_fast.kernels import _jit
 from pipelay_fast.kernels import loads
 from tests.helpers import EXAMPLES
 
-PACKAGE = Path(_jit.__file__).resolve().parent
+PACKAGE = Path(pf.__file__).resolve().parent
 
 # effective_weight (kernels/loads.py) reads props[W_DRY], W_DRY a constant of kernels/layout.py
 PROBE = """
@@ -59,7 +59,7 @@ def test_an_edit_in_another_module_reaches_the_cached_kernel(tmp_path, numba_cac
     shutil.copytree(PACKAGE, tmp_path / "pipelay_fast",
                     ignore=shutil.ignore_patterns("__pycache__"))
     layout = tmp_path / "pipelay_fast" / "kernels" / "layout.py"
-    jit_module = tmp_path / "pipelay_fast" / "_jit.py"
+    jit_module = tmp_path / "pipelay_fast" / "kernels" / "_jit.py"
     cache_dir = tmp_path / "numba-cache" if numba_cache_dir else None
 
     first = _probe(tmp_path, cache_dir)
@@ -133,7 +133,7 @@ def test_every_module_with_kernels_is_hashed():
 
 # two kernels under the project's policy: an entry and the callee it calls
 TWO_KERNELS = """
-from pipelay_fast._jit import jit
+from pipelay_fast.kernels._jit import jit
 
 @jit(_nrt=False)
 def inner(x):

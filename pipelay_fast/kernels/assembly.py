@@ -8,7 +8,7 @@ import numpy as np
 from numba.core import types
 from numba.extending import overload
 
-from .._jit import jit, phase
+from ._jit import jit, phase
 from . import layout as L
 from .banded import band_add_block
 from .element import WORK_SIZE, element_force_ws
@@ -21,7 +21,7 @@ def element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dl
     (:func:`.element.element_force_ws`); the arguments are the latter's.
 
     In a kernel compiled for its dimension (``nd`` a literal, see
-    :func:`pipelay_fast._jit.plain_calls`) the choice is made when it is
+    :func:`pipelay_fast.kernels._jit.plain_calls`) the choice is made when it is
     typed, so only that dimension's element kernel is compiled
     (:func:`_element_forces_impl`); from Python, or with ``nd`` a plain
     integer, it branches at run time (called from Python, it runs

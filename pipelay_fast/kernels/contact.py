@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from .._jit import jit
+from ._jit import jit
 from . import layout as L
 from .element import hermite_crossing
 

@@ -48,7 +48,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit
+from ._jit import jit
 from . import layout as L
 from .loads import drag_force, effective_weight, wall_minus_effective
 from .types import Model, load_factors

@@ -25,7 +25,7 @@ x follow from it directly.
 
 from __future__ import annotations
 
-from .._jit import jit
+from ._jit import jit
 from . import layout as L
 from .element import _CUTLEV, _CUTS, GAUSS_W, GAUSS_XI, _cut_jumps, level_cuts
 from .loads import current_speed, effective_weight, wall_minus_effective

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import jit
+from ._jit import jit
 
 
 @jit(_nrt=False)

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .._jit import jit, phase
+from ._jit import jit, phase
 
 
 @jit(_nrt=False)

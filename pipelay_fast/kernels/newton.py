@@ -109,7 +109,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from .._jit import jit, phase
+from ._jit import jit, phase
 from . import layout as L
 from .assembly import assemble, curve_node, distribute_torque, element_forces, rotate_node
 from .banded import band_factor, band_solve_many
@@ -694,7 +694,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     each kernel with all its callees linked in, so a kernel of its own above
     the element's adds the element's compile time again. The phases are
     inlined into the Newton kernel (:func:`_newton_kernel`,
-    :func:`pipelay_fast._jit.phase`), and this keeps the element's callers in
+    :func:`pipelay_fast.kernels._jit.phase`), and this keeps the element's callers in
     one place.)
 
     Returns (the top's effective tension [N], touchdown's equation [N m])."""

@@ -51,8 +51,8 @@ from numba.core import types
 from numba.core.caching import NullCache
 from numba.core.registry import CPUDispatcher
 
-_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
-KERNEL_DIR = os.path.join(_PACKAGE_DIR, "kernels")
+KERNEL_DIR = os.path.dirname(os.path.abspath(__file__))
+_PACKAGE_DIR = os.path.dirname(KERNEL_DIR)
 STAMP_NAME = "pipelay_fast-kernels.sha256"
 
 
@@ -174,9 +174,9 @@ def phase(func):
 
 
 def kernel_sources() -> list[str]:
-    """This module and the modules of ``kernels/``: all the sources the kernels compile from."""
+    """The modules of ``kernels/``, this one included: all the sources the kernels compile from."""
     names = sorted(n for n in os.listdir(KERNEL_DIR) if n.endswith(".py"))
-    return [os.path.abspath(__file__), *(os.path.join(KERNEL_DIR, n) for n in names)]
+    return [os.path.join(KERNEL_DIR, n) for n in names]
 
 
 def sources_digest(paths) -> str:
