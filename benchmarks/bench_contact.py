@@ -373,10 +373,10 @@ def part_warm(jobs_meta, recs) -> pd.DataFrame:
 
 def part_paper(workers: int) -> tuple[pd.DataFrame, list[str]]:
     """Sweep and select the paper's studies into a temporary directory."""
-    from pipelay_fast.dataset import read_summary
-    from pipelay_fast.runner import run_sweep
-    from pipelay_fast.select import select
-    from pipelay_fast.sweep import load_sweep
+    from pipelay_fast.study.dataset import read_summary
+    from pipelay_fast.study.runner import run_sweep
+    from pipelay_fast.study.select import select
+    from pipelay_fast.study.sweep_file import load_sweep
 
     rows, notes = [], []
     for study in PAPER_STUDIES:

@@ -23,7 +23,8 @@ from pathlib import Path
 from bench_jlay import machine_info
 
 import pipelay_fast as pf
-from pipelay_fast import continuation, solver
+from pipelay_fast.api import solve as api_solve
+from pipelay_fast.engine import continuation, solver
 
 EXAMPLES = Path(pf.__file__).parent / "examples"
 SETTINGS = {
@@ -33,8 +34,8 @@ SETTINGS = {
     "s67_3d": [{}, {"solver.element_length": 16.0, "solver.grading": False}],
     "s125_3d": [{}, {"solver.element_length": 8.0}],
 }
-PARTS = [(continuation, "run_newton"), (solver, "build_problem"), (solver, "build_profile"),
-         (solver, "build_summary")]
+PARTS = [(continuation, "run_newton"), (solver, "build_problem"), (api_solve, "build_profile"),
+         (api_solve, "build_summary")]
 
 
 def timed(spent: dict, module, name: str):

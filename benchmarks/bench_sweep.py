@@ -38,8 +38,8 @@ import pandas as pd
 import pyarrow
 
 import pipelay_fast as pf
-from pipelay_fast.runner import run_sweep
-from pipelay_fast.sweep import load_sweep
+from pipelay_fast.study.runner import run_sweep
+from pipelay_fast.study.sweep_file import load_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -19,8 +19,8 @@ For each scene and element length in LENGTHS (QUICK_LENGTHS with --quick):
   lift-off) and with ``solver.grading = false`` (uniform, like OpenSees).
 
 Outputs compared: max von Mises stress (OpenSees: from its element end forces
-with pipelay_fast's formula, ``pipelay_fast.results.build_profile``), the sagbend and overbend peak
-moments, touchdown z, top and bottom effective tension. Errors: each tool
+with pipelay_fast's formula, ``pipelay_fast.output.results.build_profile``), the
+sagbend and overbend peak moments, touchdown z, top and bottom effective tension. Errors: each tool
 against ITS OWN finest mesh (OpenSees: OS_REFERENCE m; pipelay_fast:
 PF_REFERENCE), relative for stresses, moments and tensions, in metres for
 touchdown. Agreement: the two finest meshes against each other.

@@ -11,7 +11,7 @@ For each scene and each model choice (one row per scene x choice x setting):
 * ``grading``: ``solver.grading`` on / off at GRADING_LENGTHS [m];
 * ``dimension``: ``solver.dimension`` "2d" / "3d" (planar scenes only);
 * ``seabed``: rigid (default) / elastic, ``seabed.stiffness`` = SEABED_STIFFNESS;
-* ``catenary``: the natural catenary of :mod:`pipelay_fast.guess` (no bending,
+* ``catenary``: the natural catenary of :mod:`pipelay_fast.engine.guess` (no bending,
   no stress: vm_rel_error is NaN), TDP z = span end z - catenary span;
 * ``warm``: ``pf.solve(case, warm=neighbour)``, the neighbour being the scene
   with stinger ``a`` + DA_WARM (S-lay) or top tension x TENSION_WARM (J-lay).
@@ -55,8 +55,8 @@ import pandas as pd  # noqa: E402
 from bench_jlay import machine_info  # noqa: E402
 
 import pipelay_fast as pf  # noqa: E402
-from pipelay_fast.case import Solver  # noqa: E402
-from pipelay_fast.guess import first_guess  # noqa: E402
+from pipelay_fast.engine.guess import first_guess  # noqa: E402
+from pipelay_fast.input.case import Solver  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = Path(pf.__file__).parent / "examples"

@@ -8,10 +8,12 @@
 ...              bounds=(400e3, 700e3)).case.lay.top_tension
 """
 
-from .case import Case, load_case
-from .results import Result
-from .solver import SolveError, solve
-from .target import TargetError, solve_for
+from ._version import __version__
+from .api.solve import solve
+from .api.target import TargetError, solve_for
+from .input.case import Case, load_case
+from .input.errors import SolveError
+from .output.results import Result
 
-__all__ = ["Case", "Result", "SolveError", "TargetError", "load_case", "solve", "solve_for"]
-__version__ = "0.1.0"
+__all__ = ["__version__", "Case", "Result", "SolveError", "TargetError", "load_case", "solve",
+           "solve_for"]

@@ -23,11 +23,12 @@ import sys
 from importlib.resources import files
 from pathlib import Path
 
-from . import __version__
+from ._version import __version__
+from .api.solve import solve
+from .input.case import load_case
+from .input.errors import SolveError
 from .kernels import _jit
-from .case import load_case
-from .results import SUMMARY_UNITS
-from .solver import SolveError, solve
+from .output.results import SUMMARY_UNITS
 
 # SI unit -> (display unit, factor); the Parquet files keep SI
 DISPLAY_UNITS = {"N": ("kN", 1e-3), "N m": ("kN m", 1e-3), "Pa": ("MPa", 1e-6)}
@@ -152,7 +153,7 @@ def _compile_notice(quiet: bool) -> None:
 
 
 def _solve(args: argparse.Namespace) -> int:
-    from .io import write_result  # pyarrow only when needed
+    from .output.io import write_result  # pyarrow only when needed
 
     try:
         case = load_case(args.case)
@@ -234,8 +235,8 @@ def _example(args: argparse.Namespace) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from .runner import run_sweep
-    from .sweep import load_sweep
+    from .study.runner import run_sweep
+    from .study.sweep_file import load_sweep
 
     try:
         sweep = load_sweep(args.sweep)
@@ -271,7 +272,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _table(args: argparse.Namespace) -> int:
-    from .laytable import format_lay_table, lay_table
+    from .study.laytable import format_lay_table, lay_table
 
     try:
         table = lay_table(args.results)
@@ -283,7 +284,8 @@ def _table(args: argparse.Namespace) -> int:
 
 def _plot(args: argparse.Namespace) -> int:
     try:
-        from .plot import plot_result, plot_sweep
+        from .output.plot import plot_result
+        from .study.plot import plot_sweep
     except ImportError as err:  # pragma: no cover - the plot extra is missing
         return _error(str(err), EXIT_USAGE)
     source = args.source
@@ -306,7 +308,7 @@ def _plot(args: argparse.Namespace) -> int:
 
 
 def _select(args: argparse.Namespace) -> int:
-    from .select import format_selection, select
+    from .study.select import format_selection, select
 
     if not (args.results / "sweep.json").is_file():
         return _error(f"{args.results} holds no sweep results (no sweep.json)", EXIT_USAGE)

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.boundaries import stinger_foci, touchdown_position
-from pipelay_fast.mesh import graded_nodes, grading_rates
+from pipelay_fast.engine.boundaries import stinger_foci, touchdown_position
+from pipelay_fast.engine.mesh import graded_nodes, grading_rates
 from tests.helpers import EXAMPLES, elastica_for, slay_elastica_for
 from tests.test_jlay import TENSIONS
 
@@ -294,7 +294,7 @@ def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, examp
     call by call, the passes discarded when the laid pipe is doubled
     included (forced once here: the lower end said to hold too much of the
     lateral force)."""
-    from pipelay_fast import continuation, solver
+    from pipelay_fast.engine import continuation, solver
     from pipelay_fast.kernels.newton import I_ITER
 
     problems, iterations = [], []
@@ -424,7 +424,7 @@ def test_regained_span_closes_the_gap_span_equations(ell):
     lam^2) (the gap without tension)."""
     from scipy.integrate import solve_bvp
 
-    from pipelay_fast.boundaries import regained_span
+    from pipelay_fast.engine.boundaries import regained_span
 
     def rhs(s, y):
         return np.vstack([y[1], y[2], y[3], y[2] + 1.0])
@@ -454,9 +454,9 @@ def test_a_cable_leaving_below_the_tip_starts_bearing_with_the_span_found(exampl
     lift-off (``regained_span``): within 5 % of the span Newton finds on the
     bundled mesh (the cable's lift-off and the closed form are asymptotic,
     first order in the flexural length)."""
+    from pipelay_fast.engine.problem import build_problem
+    from pipelay_fast.engine.solver import solve_problem
     from pipelay_fast.kernels.newton import B_LO, B_PT
-    from pipelay_fast.problem import build_problem
-    from pipelay_fast.solver import solve_problem
 
     case = pf.load_case(EXAMPLES / f"{example}.toml").with_changes({"lay.stinger.a": a})
     start = build_problem(case)
@@ -474,7 +474,7 @@ def test_moving_a_boundary_carries_the_state_along_the_pipe():
     state is the old one's at the moved nodes. With a cubic shape and a
     linear tension (which cubic Hermite and linear interpolation reproduce
     exactly) that is the closed form at the new arc lengths."""
-    from pipelay_fast.problem import build_problem
+    from pipelay_fast.engine.problem import build_problem
 
     case = pf.load_case(EXAMPLES / "s67.toml")
     pb = build_problem(case)
@@ -641,12 +641,12 @@ def test_a_warm_start_s_lift_off_moves_far_along_the_stinger(scene, h, da):
     """Warm from a neighbour a 1.5e-4 or 3e-4 away, lift-off moves metres
     along the stinger: the warm mesh follows it in its zone (touchdown and
     the rigid points with the neighbour's grading, Problem.grade_b), and
-    the warm start converges on its own (solver._checked_solve: solve would
+    the warm start converges on its own (api.solve._checked_solve: solve would
     hide a failure behind the cold start) to the cold answer, to 1e-8 in
     peak stress and lift-off and 1e-6 in the lateral deflection (measured
     1e-10, 2e-11 and 9e-8). With lift-off moved by the grading's rates too,
     all three stalled for 100 iterations (residual 8e-3 to 13) or diverged."""
-    from pipelay_fast.solver import _checked_solve
+    from pipelay_fast.api.solve import _checked_solve
 
     case = pf.load_case(EXAMPLES / f"{scene}.toml").with_changes(
         {"solver.element_length": h})

@@ -1,4 +1,4 @@
-"""Tests of pipelay_fast.case: derived quantities against hand computations,
+"""Tests of pipelay_fast.input.case: derived quantities against hand computations,
 round trips, and refusal of bad input with the dotted key in the message."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipelay_fast.case import Case, Current, Pipe, Stinger, load_case
+from pipelay_fast.input.case import Case, Current, Pipe, Stinger, load_case
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "pipelay_fast" / "examples"
 

@@ -1,4 +1,4 @@
-"""The ``[checks]`` table and the DNV-ST-F101 equations of pipelay_fast.checks."""
+"""The ``[checks]`` table and the DNV-ST-F101 equations of pipelay_fast.input.checks."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.checks import (
+from pipelay_fast.input.checks import (
     Checks,
     collapse_pressure,
     flow_stress_factor,
@@ -106,7 +106,7 @@ def test_collapse_pressure_is_the_cubic_root():
     """p_c against numpy.roots of (p - p_el)(p^2 - p_p^2) - p p_el p_p f0 D/t,
     for the paper's pipe and a thick and a thin one."""
     for di in (0.58, 0.50, 0.594):
-        pipe = pf.case.Pipe(outer_diameter=0.61, inner_diameter=di, smys=448e6,
+        pipe = pf.input.case.Pipe(outer_diameter=0.61, inner_diameter=di, smys=448e6,
                             smts=531e6)
         checks = Checks(**{**REQUIRED, "fabrication": "seamless"})
         d, t = 0.61, (0.61 - di) / 2
@@ -129,7 +129,7 @@ def test_lcc_pure_bending_and_pure_pressure():
     """Each term alone (design effects given): M_Sd = M_p alpha_c / g gives
     1; p_e = p_c / g gives 1; S_Sd = 0.4 S_p (either sign) gives
     (g 0.4 / alpha_c)^4."""
-    pipe = pf.case.Pipe(outer_diameter=0.61, inner_diameter=0.58, smys=448e6, smts=531e6)
+    pipe = pf.input.case.Pipe(outer_diameter=0.61, inner_diameter=0.58, smys=448e6, smts=531e6)
     checks = Checks(**REQUIRED)
     d, t = 0.61, 0.015
     fy, fu = 448e6 * 0.96, 531e6 * 0.96
@@ -160,7 +160,7 @@ def test_lcc_internal_overpressure_by_hand(grade, smys, smts):
     2/3 (bending and tension both present), at 2/3 (the two alpha_p agree)
     and at p_i = p_e (both forms give the bending part)."""
     d, di = 0.61, 0.58
-    pipe = pf.case.Pipe(outer_diameter=d, inner_diameter=di, grade=grade)
+    pipe = pf.input.case.Pipe(outer_diameter=d, inner_diameter=di, grade=grade)
     checks = Checks(**{**REQUIRED, "safety_class": "medium"})
     t = (d - di) / 2
     fy, fu = smys * 0.96, smts * 0.96

@@ -9,9 +9,9 @@ import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 
-from pipelay_fast.case import load_case
 from pipelay_fast.cli import main
-from pipelay_fast.io import read_units
+from pipelay_fast.input.case import load_case
+from pipelay_fast.output.io import read_units
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "pipelay_fast" / "examples"
 J125 = EXAMPLES / "j125.toml"

@@ -70,7 +70,7 @@ def test_no_checks_leaves_utilisations_nan(s67):
     for key in ("overbend_strain_utilisation", "sagbend_lcc_utilisation",
                 "sagbend_lcc_axial_ratio", "max_utilisation"):
         assert math.isnan(sm[key]), key
-    assert set(DESIGN) <= set(pf.results.SUMMARY_UNITS)
+    assert set(DESIGN) <= set(pf.output.results.SUMMARY_UNITS)
 
 
 def test_tip_clearance_zero_when_bearing(s67):

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.guess import free_span
-from pipelay_fast.problem import slipping_length_bound
+from pipelay_fast.engine.friction import slipping_length_bound
+from pipelay_fast.engine.guess import free_span
 from tests.helpers import EXAMPLES
 
 
@@ -122,7 +122,7 @@ def test_current_steps_are_counted_as_newton_ran_them(monkeypatch):
     current's factor rises (a step is one call, or several when the regime
     at the stinger's tip switches or a predicted start is dropped for the
     last converged state: neither happens in this J-lay)."""
-    from pipelay_fast import continuation
+    from pipelay_fast.engine import continuation
     from pipelay_fast.kernels import layout as L
     from pipelay_fast.kernels.newton import I_ITER
 

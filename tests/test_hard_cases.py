@@ -223,8 +223,8 @@ def test_a_warm_start_from_a_path_that_switched_regime_at_the_tip():
     the cold start. Warm from it, a = -0.00116 converges on its own and
     agrees with the cold answer to 1e-4 (measured 1.5e-6 in peak stress,
     1.8e-6 in lateral deflection: the friction path from another mesh)."""
-    from pipelay_fast.problem import MAP, STATE
-    from pipelay_fast.solver import _checked_solve
+    from pipelay_fast.api.solve import _checked_solve
+    from pipelay_fast.engine.state import MAP, STATE
 
     base = pf.load_case(EXAMPLES / "s67_3d.toml").with_changes(
         {"solver.element_length": 4.0, "environment.current.speed": 2.0})

@@ -15,8 +15,7 @@ import numba.core.caching as caching
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.kernels import _jit
-from pipelay_fast.kernels import loads
+from pipelay_fast.kernels import _jit, loads
 from tests.helpers import EXAMPLES
 
 PACKAGE = Path(pf.__file__).resolve().parent
@@ -203,8 +202,8 @@ def test_a_kernel_says_whether_it_allocates():
 RESIDUAL_FIRST = """
 import numpy as np
 import pipelay_fast as pf
-from pipelay_fast import continuation
-from pipelay_fast.solver import build_problem
+from pipelay_fast.engine import continuation
+from pipelay_fast.engine.problem import build_problem
 g = continuation._residual(build_problem(pf.load_case(__import__("sys").argv[1])))
 print(float(np.abs(g).max()))
 """

@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.continuation import run_newton
+from pipelay_fast.engine.continuation import run_newton
+from pipelay_fast.engine.model import build_props
+from pipelay_fast.engine.state import Problem
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.banded import (
     band_factor,
@@ -26,9 +28,7 @@ from pipelay_fast.kernels.contact import (
 )
 from pipelay_fast.kernels.newton import I_RES, _system
 from pipelay_fast.kernels.types import load_factors
-from pipelay_fast.model import build_props
-from pipelay_fast.problem import Problem
-from pipelay_fast.results import foundation_force
+from pipelay_fast.output.results import foundation_force
 from tests.helpers import EXAMPLES
 
 
@@ -355,8 +355,8 @@ def test_carrying_a_node_along_the_pipe_is_its_hermite_interpolation(nd):
     at points inside elements, on nodes and in the graded elements; its
     derivative along the pipe at a node, on each side, against a one-sided
     difference of it."""
+    from pipelay_fast.engine.state import interpolate_state
     from pipelay_fast.kernels.newton import _element_at, _pipe_at
-    from pipelay_fast.problem import interpolate_state
 
     case = pf.load_case("pipelay_fast/examples/s67.toml").with_changes(
         {"solver.dimension": f"{nd}d", "environment.current.speed": 0.0})
@@ -634,7 +634,7 @@ def test_the_state_interpolation_kernel_is_its_numpy_reference(nd):
     """interpolate_state (hermite_state) against the NumPy reference, bit for
     bit, on random meshes and states, new nodes inside, on and beyond the
     old mesh's ends; and a cubic centreline interpolated exactly."""
-    from pipelay_fast.problem import interpolate_state
+    from pipelay_fast.engine.state import interpolate_state
 
     rng = np.random.default_rng(nd)
     ndn = 2 * nd + 1
@@ -693,7 +693,7 @@ def test_the_centreline_fields_kernel_against_numpy_and_a_circle(nd):
     round-off; and on a circle of radius R sampled exactly on a graded mesh,
     the curvature vector's error falls as h^2 towards (0, -1/R, 0) (the
     circle turning from +x towards +z)."""
-    from pipelay_fast.results import nodal_fields
+    from pipelay_fast.output.results import nodal_fields
 
     rng = np.random.default_rng(10 + nd)
     ndn = 2 * nd + 1

@@ -7,10 +7,11 @@ from pathlib import Path
 import pytest
 
 from pipelay_fast.cli import main
-from pipelay_fast.dataset import read_summary
-from pipelay_fast.laytable import format_lay_table, lay_table
-from pipelay_fast.runner import run_sweep
-from pipelay_fast.sweep import Sweep, load_sweep
+from pipelay_fast.study.dataset import read_summary
+from pipelay_fast.study.laytable import format_lay_table, lay_table
+from pipelay_fast.study.runner import run_sweep
+from pipelay_fast.study.sweep import Sweep
+from pipelay_fast.study.sweep_file import load_sweep
 
 LAY_TABLE = Path(__file__).resolve().parents[1] / "sweeps" / "lay_table.toml"
 

@@ -13,11 +13,12 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.cli import main
-from pipelay_fast.dataset import read_summary
-from pipelay_fast.plot import DPI, PANEL_SIZE, plot_sweep
-from pipelay_fast.runner import run_sweep
-from pipelay_fast.select import select
-from pipelay_fast.sweep import load_sweep
+from pipelay_fast.output.plot import DPI, PANEL_SIZE
+from pipelay_fast.study.dataset import read_summary
+from pipelay_fast.study.plot import plot_sweep
+from pipelay_fast.study.runner import run_sweep
+from pipelay_fast.study.select import select
+from pipelay_fast.study.sweep_file import load_sweep
 from tests.helpers import EXAMPLES
 
 pytest.importorskip("matplotlib")

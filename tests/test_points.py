@@ -22,12 +22,12 @@ import numpy as np
 import pytest
 from scipy.integrate import cumulative_trapezoid
 
-from pipelay_fast.continuation import run_newton
+from pipelay_fast.engine.continuation import run_newton
+from pipelay_fast.engine.state import Problem
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.contact import N_STINGER
 from pipelay_fast.kernels.newton import B_PT
 from pipelay_fast.kernels.types import load_factors
-from pipelay_fast.problem import Problem
 
 Q = 1000.0  # weight per length [N/m]
 EI = 1e9  # [N m2]

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.results import PROFILE_UNITS, SUMMARY_UNITS
+from pipelay_fast.output.results import PROFILE_UNITS, SUMMARY_UNITS
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"

@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.limits import check_case
-from pipelay_fast.mesh import graded_nodes
+from pipelay_fast.engine.mesh import graded_nodes
+from pipelay_fast.input.limits import check_case
 from tests.helpers import EXAMPLES
 
 SWEEPS = Path(__file__).resolve().parents[1] / "sweeps"

@@ -29,12 +29,12 @@ import pytest
 from scipy.integrate import quad
 
 import pipelay_fast as pf
-from pipelay_fast.case import RollerStinger
-from pipelay_fast.dataset import read_rollers, read_summary
-from pipelay_fast.io import read_units
-from pipelay_fast.runner import run_sweep
-from pipelay_fast.select import select
-from pipelay_fast.sweep import load_sweep
+from pipelay_fast.input.case import RollerStinger
+from pipelay_fast.output.io import read_units
+from pipelay_fast.study.dataset import read_rollers, read_summary
+from pipelay_fast.study.runner import run_sweep
+from pipelay_fast.study.select import select
+from pipelay_fast.study.sweep_file import load_sweep
 
 from .helpers import EXAMPLES, weights
 
@@ -331,8 +331,8 @@ def test_a_roller_answer_does_not_warm_start_a_j_lay():
 
 
 def test_solve_writes_the_roller_table(tmp_path):
-    from pipelay_fast.io import write_result
-    from pipelay_fast.results import ROLLER_UNITS
+    from pipelay_fast.output.io import write_result
+    from pipelay_fast.output.results import ROLLER_UNITS
 
     res = pf.solve(example_case("s67_rollers"))
     paths = write_result(res, tmp_path)
@@ -463,7 +463,7 @@ def test_a_scene_varies_one_stinger_axis():
 
 
 def test_select_prints_the_roller_choices(radius_sweep):
-    from pipelay_fast.select import format_selection
+    from pipelay_fast.study.select import format_selection
 
     table = select(radius_sweep, write=False)
     text = format_selection(table)
@@ -490,7 +490,7 @@ def test_the_answer_does_not_depend_on_the_guide_s_mesh(monkeypatch):
     roller solve starts: solved on the case's own elements instead of twice
     as long ones, the rollers' answer (mesh graded anew at the case's sizes)
     is the same to the solver's tolerance, bearing on the same rollers."""
-    from pipelay_fast import guess
+    from pipelay_fast.engine import guess
 
     case = pf.load_case("pipelay_fast/examples/s67_rollers.toml")
     coarse = pf.solve(case)
@@ -515,11 +515,11 @@ def test_the_mesh_follows_touchdown_and_the_rollers_as_its_grading_does(example)
     d^2; with the zones' shares, the rollers' rates before, 3.5 cm off at
     d = 5 cm); between rollers, in uniform stretches, the rates are linear
     (to 1e-10 m: round-off of the central differences)."""
-    from pipelay_fast.boundaries import touchdown_position
+    from pipelay_fast.engine.boundaries import touchdown_position
+    from pipelay_fast.engine.mesh import graded_nodes
+    from pipelay_fast.engine.solver import _from_guide
+    from pipelay_fast.input.limits import IterationBudget
     from pipelay_fast.kernels.newton import B_PT
-    from pipelay_fast.limits import IterationBudget
-    from pipelay_fast.mesh import graded_nodes
-    from pipelay_fast.solver import _from_guide
 
     case = pf.load_case(EXAMPLES / f"{example}.toml")
     pb, _ = _from_guide(case, IterationBudget(case.solver.max_iterations_total))
@@ -555,10 +555,10 @@ def test_a_warm_start_s_mesh_moves_with_its_neighbour_s_grading():
     the zones of three flexural lengths, as warm starts were before, it was
     3.75 cm off (h_min 0.5 m) and was graded anew: half an iteration more a
     case in a sweep of the rollers' heights."""
-    from pipelay_fast.boundaries import ON_FOCUS, graded_on_boundaries
-    from pipelay_fast.limits import IterationBudget
-    from pipelay_fast.problem import warm_problem
-    from pipelay_fast.solver import _solve_gravity
+    from pipelay_fast.engine.boundaries import ON_FOCUS, graded_on_boundaries
+    from pipelay_fast.engine.solver import _solve_gravity
+    from pipelay_fast.engine.warm import warm_problem
+    from pipelay_fast.input.limits import IterationBudget
 
     case = pf.load_case(EXAMPLES / "s67_rollers.toml")
     neighbour = pf.solve(case).state

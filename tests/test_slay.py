@@ -231,7 +231,7 @@ def test_a_warm_step_starts_from_the_neighbours_increment():
     the cubic Hermite and linear interpolations reproduce), the increment is
     the closed-form difference; a step the neighbour did not take, or one
     with other boundaries, starts from the state as it is."""
-    from pipelay_fast.problem import build_problem
+    from pipelay_fast.engine.problem import build_problem
 
     pb = build_problem(pf.load_case(EXAMPLES / "s67_3d.toml"))
     nd, ndn = pb.nd, pb.ndn
@@ -540,7 +540,7 @@ def test_a_warm_state_slides_to_keep_its_element_lengths(s67):
     back to their lengths to second order in the shift (here under 1 % of
     the change the shift made), the top stays and the lower end slides
     along the seabed (x held)."""
-    from pipelay_fast.problem import _slide_to_length
+    from pipelay_fast.engine.warm import _slide_to_length
 
     pb = pf.solve(s67.with_changes({"environment.current.speed": 0.0})).state
     pos = (np.arange(pb.nn) * pb.ndn)[:, None] + np.arange(pb.nd)

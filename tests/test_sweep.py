@@ -12,8 +12,9 @@ import pytest
 
 from pipelay_fast import load_case
 from pipelay_fast.cli import main
-from pipelay_fast.results import case_id
-from pipelay_fast.sweep import MAX_CHAIN_LENGTH, chains, load_sweep
+from pipelay_fast.output.results import case_id
+from pipelay_fast.study.sweep import MAX_CHAIN_LENGTH, chains
+from pipelay_fast.study.sweep_file import load_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "pipelay_fast" / "examples"
@@ -175,8 +176,8 @@ def test_a_sweep_builds_each_case_as_with_changes_does(name):
     ``with_changes`` gives, and so does its id (``case_id`` of that case,
     with the scene's target when it has one; the id hashed anew from the
     case's ``to_dict()``, not read from the ids the sweep remembered)."""
-    from pipelay_fast.results import tables_id
-    from pipelay_fast.sweep import _changes, _with_target
+    from pipelay_fast.output.results import tables_id
+    from pipelay_fast.study.sweep import _changes, _with_target
 
     sweep = load_sweep(ROOT / "sweeps" / f"{name}.toml")
     for c in sweep.cases():

@@ -24,12 +24,13 @@ import pyarrow.parquet as pq
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast import runner
 from pipelay_fast.cli import main
-from pipelay_fast.dataset import read_profiles, read_summary
-from pipelay_fast.io import read_units
-from pipelay_fast.runner import progress_bar, run_sweep
-from pipelay_fast.sweep import chains, load_sweep
+from pipelay_fast.output.io import read_units
+from pipelay_fast.study import runner
+from pipelay_fast.study.dataset import read_profiles, read_summary
+from pipelay_fast.study.runner import progress_bar, run_sweep
+from pipelay_fast.study.sweep import chains
+from pipelay_fast.study.sweep_file import load_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 SPEC = {

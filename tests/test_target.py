@@ -7,9 +7,9 @@ import math
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.dataset import read_summary
-from pipelay_fast.runner import run_sweep
-from pipelay_fast.sweep import load_sweep
+from pipelay_fast.study.dataset import read_summary
+from pipelay_fast.study.runner import run_sweep
+from pipelay_fast.study.sweep_file import load_sweep
 from tests.helpers import EXAMPLES
 
 
@@ -135,7 +135,7 @@ def test_select_refines_a_with_the_scenes_target(tmp_path):
                        "bounds": [300e3, 1200e3]},
             "scenes": [{"name": "S67", "case": "s67",
                         "vary": {"a": [-0.0010, -0.0012, -0.0014, -0.0016]}}]}
-    from pipelay_fast.select import select
+    from pipelay_fast.study.select import select
 
     run_sweep(load_sweep(spec), tmp_path / "out", workers=1, progress=False)
     (row,) = select(tmp_path / "out").itertuples()

@@ -24,8 +24,8 @@ import math
 
 import numpy as np
 
-from ._jit import jit
 from . import layout as L
+from ._jit import jit
 from .element import hermite_crossing
 
 # stinger vector slots

@@ -109,8 +109,8 @@ from collections import namedtuple
 
 import numpy as np
 
-from ._jit import jit, phase
 from . import layout as L
+from ._jit import jit, phase
 from .assembly import assemble, curve_node, distribute_torque, element_forces, rotate_node
 from .banded import band_factor, band_solve_many
 from .contact import (

@@ -101,11 +101,12 @@ projected on the node's tangent (the line's angle plus the node's rotation),
 the internal moment m = M_j at an element's upper end and -M_i at its lower end
 (sagging positive, EI theta'); nodal values are the mean of the two elements
 meeting there (the top and the lower end: their one element). Von Mises stress
-as pipelay_fast defines it (``pipelay_fast.results.build_profile``): wall tension Tw = Te + pi Ai -
-pe Ae, sigma_a = Tw/As +- |m| Do/(2I), hoop (pi Di - pe Do)/(2t), the larger
-fibre. Touchdown: the last node in seabed contact k; the moment of the free
-span, which grows linearly from zero at touchdown, is extrapolated to zero from
-nodes k+1 and k+2 (clipped to [s_k - h, s_k+1]). Lift-off (S-lay): the lowest
+as pipelay_fast defines it (``pipelay_fast.output.results.build_profile``): wall
+tension Tw = Te + pi Ai - pe Ae, sigma_a = Tw/As +- |m| Do/(2I), hoop
+(pi Di - pe Do)/(2t), the larger fibre. Touchdown: the last node in seabed
+contact k; the moment of the free span, which grows linearly from zero at
+touchdown, is extrapolated to zero from nodes k+1 and k+2 (clipped to
+[s_k - h, s_k+1]). Lift-off (S-lay): the lowest
 node in stinger contact.
 """
 
@@ -257,7 +258,7 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
         natural catenary's touchdown.
     bed_stiffness, stinger_stiffness : float
         Penalty stiffnesses [N/m per m of pipe].
-    curve : pipelay_fast.case.Stinger or None
+    curve : pipelay_fast.input.case.Stinger or None
         A roller stinger's rollers lie on this quadratic curve (from
         ``lay.top``, held along its tangent there, to the last roller): the
         rollers are compression-only supports at the nodes the curve's arc
@@ -603,7 +604,7 @@ def solve(case, element_length: float, *, laid_flex: float = LAID_FLEX,
 
 
 def von_mises(case, te, moment, x):
-    """Largest fibre von Mises stress [Pa], as ``pipelay_fast.results.build_profile``
+    """Largest fibre von Mises stress [Pa], as ``pipelay_fast.output.results.build_profile``
     without torque.
 
     ``te`` effective tension [N], ``moment`` bending moment [N m], ``x`` height [m].

@@ -37,7 +37,7 @@ explicit ``pipe.smys`` and ``pipe.smts``.
 
 from __future__ import annotations
 
-from ._validate import choice
+from .validate import choice
 
 __all__ = ["DEFAULT_GRADE", "GRADES", "grade_strengths"]
 

@@ -24,11 +24,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from tqdm import tqdm
 
+from ..api.solve import solve
+from ..api.target import solve_for
+from ..input.errors import SolveError
+from ..output.results import SUMMARY_UNITS
 from .dataset import Dataset, encode_chunk, repeated_text
-from .results import SUMMARY_UNITS
-from .solver import SolveError, solve
 from .sweep import INPUT_UNITS, Sweep, SweepCase, chains
-from .target import solve_for
 
 __all__ = ["BACKENDS", "SweepReport", "run_sweep", "solve_case", "solve_chain"]
 

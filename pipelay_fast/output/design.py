@@ -11,11 +11,11 @@ import math
 
 import numpy as np
 
-from .checks import design_load_effects, lcc_axial_ratio, lcc_utilisation
-from .kernels.geometry import point_clearance
+from ..input.checks import design_load_effects, lcc_axial_ratio, lcc_utilisation
+from ..kernels.geometry import point_clearance
 
-__all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "lcc_profile",
-           "lcc_sections", "tip_clearance"]
+__all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "interior_peak",
+           "lcc_profile", "lcc_sections", "tip_clearance"]
 
 DESIGN_UNITS = {
     "layback": "m", "tip_clearance": "m", "departure_angle_deg": "deg", "tdp_tension": "N",
@@ -27,6 +27,16 @@ DESIGN_UNITS = {
 
 NEWTON_STEPS = 20  # for the foot of the normal; it converges in 3 to 5
 SAMPLES = 33  # per element, where the foot of the normal is sought from
+
+
+def interior_peak(values) -> float:
+    """Largest interior local maximum (the sagbend peak), ignoring a peak that sits
+    at an end of the span (a clamped top's moment); the plain maximum if none."""
+    v = np.asarray(values, dtype=float)
+    if v.size < 3:
+        return float(v.max())
+    inner = (v[1:-1] >= v[:-2]) & (v[1:-1] >= v[2:])
+    return float(v[1:-1][inner].max()) if inner.any() else float(v.max())
 
 
 def tip_clearance(r, rp, s, tip, up) -> float:
@@ -53,25 +63,11 @@ def _moment_vectors(cols: dict) -> np.ndarray:
     return np.stack([cols["moment_x"], cols["moment_y"], cols["moment_z"]], axis=1)
 
 
-def functional_effects(case, cols: dict):
-    """(moment vectors [N m], effective tensions [N]) of ``case`` without its
-    current (weight and tension: the functional load case), at the sections
-    of the profile ``cols``, matched by unstretched length from the top (the
-    top is the same point in both). Solves that case (the plain
-    :func:`pipelay_fast.solve`, from its own guess).
-
-    Raises
-    ------
-    SolveError
-        When the case without current does not solve.
-    """
-    from .solver import SolveError, solve
-
-    try:
-        still = solve(case.with_changes({"environment.current": None})).columns
-    except SolveError as err:
-        raise SolveError(f"case {case.name!r}: its functional load case (no current, for "
-                         f"checks.current_load = 'environmental') did not solve: {err}") from err
+def functional_effects(cols: dict, still: dict):
+    """(moment vectors [N m], effective tensions [N]) of the functional load
+    case (weight and tension: the case without its current, whose profile
+    columns are ``still``) at the sections of the profile ``cols``, matched
+    by unstretched length from the top (the top is the same point in both)."""
     down, still_down = cols["s"][-1] - cols["s"], still["s"][-1] - still["s"]
     order = np.argsort(still_down)
     moment = np.stack([np.interp(down, still_down[order], m[order])
@@ -80,9 +76,11 @@ def functional_effects(case, cols: dict):
     return moment, tension
 
 
-def lcc_sections(case, cols: dict):
+def lcc_sections(case, cols: dict, functional: dict | None = None):
     """(utilisation [-], |S_Sd|/S_p [-]) of every section of the profile
-    ``cols``: the load-controlled criterion
+    ``cols``, with ``functional`` the profile columns of the case's
+    functional load case (:meth:`pipelay_fast.input.checks.Checks.splits_current`:
+    required when it splits the current off, ignored otherwise): the load-controlled criterion
     (:func:`pipelay_fast.checks.lcc_utilisation`) of the design load effects
     under the load effect factor combination giving the larger utilisation
     there (:attr:`pipelay_fast.checks.Checks.load_combinations`), and that
@@ -92,7 +90,14 @@ def lcc_sections(case, cols: dict):
     if checks is None:
         nan = np.full(cols["s"].size, math.nan)
         return nan, nan.copy()
-    functional = functional_effects(case, cols) if checks.splits_current(case) else None
+    if checks.splits_current(case):
+        if functional is None:
+            raise ValueError(f"case {case.name!r}: its load-controlled check splits the current "
+                             "off (checks.current_load = 'environmental') and needs the "
+                             "functional load case's profile")
+        functional = functional_effects(cols, functional)
+    else:
+        functional = None
     moments, tension = _moment_vectors(cols), cols["effective_tension"]
     p_e, p_i = case.external_pressure(cols["x"]), case.internal_pressure(cols["x"])
     utilisation, ratio = [], []
@@ -106,15 +111,15 @@ def lcc_sections(case, cols: dict):
     return utilisation[governing, at], ratio[governing, at]
 
 
-def lcc_profile(case, cols: dict) -> np.ndarray:
+def lcc_profile(case, cols: dict, functional: dict | None = None) -> np.ndarray:
     """The load-controlled utilisation [-] of every section of the profile
     ``cols``, the first of :func:`lcc_sections`; NaN without ``[checks]``."""
-    return lcc_sections(case, cols)[0]
+    return lcc_sections(case, cols, functional)[0]
 
 
 def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
                    bearing: bool, departure_angle: float,
-                   roller_clearance: float | None = None) -> dict:
+                   roller_clearance: float | None = None, functional: dict | None = None) -> dict:
     """The columns of ``DESIGN_UNITS`` of a solved case.
 
     ``cols``: the profile columns; ``r``, ``rp``: nodal position and slope in
@@ -124,10 +129,9 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
     bears on the stinger's tip; ``departure_angle``: the angle where the
     pipe leaves the stinger (S-lay) or the vessel (J-lay) [deg];
     ``roller_clearance``: a roller stinger's clearance at its last roller
-    [m], its ``tip_clearance``.
+    [m], its ``tip_clearance``; ``functional``: the functional load case's
+    profile columns (:func:`lcc_sections`).
     """
-    from .results import interior_peak
-
     s = cols["s"]
     pipe, checks, stinger = case.pipe, case.checks, case.lay.stinger
     at_tdp = {name: float(np.interp(s_tdp, s, cols[name])) for name in ("y", "z",
@@ -159,7 +163,7 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
     over_u = sag_u = sag_axial = nan
     if checks is not None:
         over_u = over_strain / checks.overbend_strain_limit
-        lcc, lcc_axial = lcc_sections(case, cols)
+        lcc, lcc_axial = lcc_sections(case, cols, functional)
         region = behind if sagbend is None else sagbend
         checked = lcc[region]
         if sagbend is None:

@@ -36,8 +36,8 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import brentq, minimize_scalar
 
+from ..output.io import write_table
 from .dataset import read_summary
-from .io import write_table
 from .runner import CASE_ERRORS, solve_case
 from .sweep import AXES, DESIGN_AXES, Scene, Sweep
 

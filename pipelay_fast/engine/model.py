@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from .case import Case
-from .kernels import layout as L
+from ..input.case import Case
+from ..kernels import layout as L
 
 _PROFILES = {
     "uniform": L.PROFILE_UNIFORM,

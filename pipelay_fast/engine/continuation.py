@@ -14,18 +14,12 @@ import math
 
 import numpy as np
 
-from .boundaries import (
-    MAX_TIP_SWITCHES,
-    bear_on_tip,
-    lift_off_above_tip,
-    passes_below_tip,
-    tip_released,
-)
-from .case import Case
-from .errors import SolveError
-from .kernels import layout as L
-from .kernels.contact import friction_forces
-from .kernels.newton import (
+from ..input.case import Case
+from ..input.errors import SolveError
+from ..input.limits import IterationBudget
+from ..kernels import layout as L
+from ..kernels.contact import friction_forces
+from ..kernels.newton import (
     B_PT,
     I_DELTA,
     I_ITER,
@@ -38,9 +32,15 @@ from .kernels.newton import (
     system_2d,
     system_3d,
 )
-from .kernels.types import Mesh, Settings
-from .limits import IterationBudget
-from .problem import Problem, restore, snapshot
+from ..kernels.types import Mesh, Settings
+from .boundaries import (
+    MAX_TIP_SWITCHES,
+    bear_on_tip,
+    lift_off_above_tip,
+    passes_below_tip,
+    tip_released,
+)
+from .state import Problem, restore, snapshot
 
 
 class ShortLaid(Exception):

@@ -24,11 +24,15 @@ solve:
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
 
+from ..input.case import Case
+from ..input.errors import SolveError
+from ..input.limits import IterationBudget
+from ..kernels import layout as L
+from ..kernels.contact import ST_ZL, friction_track
 from .boundaries import (
     MAX_TIP_SWITCHES,
     graded_on_boundaries,
@@ -37,25 +41,12 @@ from .boundaries import (
     stinger_foci,
     touchdown_position,
 )
-from .case import Case
 from .continuation import ShortLaid, apply_current, newton_with_fallback
-from .errors import SolveError
+from .friction import anchor_friction, friction_path
 from .guess import guide_case
-from .kernels import layout as L
-from .kernels.contact import ST_ZL, friction_track
-from .limits import IterationBudget, strain_beyond_line
-from .problem import (
-    Problem,
-    anchor_friction,
-    build_problem,
-    friction_path,
-    remesh,
-    restore,
-    roller_problem,
-    snapshot,
-    warm_problem,
-)
-from .results import Result, build_profile, build_rollers, build_summary
+from .problem import build_problem, remesh, roller_problem
+from .state import Problem, restore, snapshot
+from .warm import warm_problem
 
 MAX_MESH_PASSES = 4
 # The first mesh's Newton tolerance [-]. That mesh is to find where the
@@ -283,68 +274,7 @@ def _with_more_laid(case: Case, pb: Problem) -> Problem:
     return remesh(case, pb, s_t, stinger_foci(case, pb), laid=max(2.0 * lam, 2.0 * s_t))
 
 
-def solve(case: Case, *, warm: Result | None = None) -> Result:
-    """Solve one case.
-
-    ``warm``: the result of a neighbouring case (same dimension and lay method,
-    e.g. the previous `a` of a sweep); Newton starts from its solution on its
-    mesh instead of from the catenary guess, and falls back to the catenary
-    guess if that fails (or if its answer is refused).
-
-    Returns
-    -------
-    Result
-        ``.summary`` (dict, the columns of ``results.SUMMARY_UNITS``) and ``.profile`` (DataFrame,
-        one row per node).
-
-    Raises
-    ------
-    SolveError
-        When Newton and the load-path fallback both fail, or
-        solver.max_iterations_total Newton iterations are spent (each start,
-        warm and cold, has its own budget); the message names the case, the
-        load step, the residual and the reason. Also when the answer is
-        refused: non-finite, strained beyond solver.max_strain, or lifting
-        off below the stinger's tip (:func:`_check_regime`). An answer whose
-        contact pulls is not refused: the contact boundaries' equations
-        leave none (none in the grids and random cases of
-        ``benchmarks/bench_contact.py``).
-    ValueError
-        When the mesh would exceed solver.max_elements (checked before it is
-        built).
-    """
-    if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
-        raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
-                         f"{type(warm).__name__}")
-    if warm is not None:
-        try:
-            return _checked_solve(case, warm.state)
-        except SolveError:  # a neighbour too far away: start from the catenary
-            pass
-    return _checked_solve(case)
-
-
-def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
-    """Solve, build the result and refuse it if it is not finite or is
-    strained beyond solver.max_strain."""
-    pb, react, stats, s_t, s_l = solve_problem(case, warm)
-    _check_regime(case, pb)
-    columns = build_profile(case, pb, react)
-    rollers = build_rollers(case, pb, react)
-    summary = build_summary(case, pb, columns, stats, s_t, s_l, rollers)
-    bad = [key for key, val in summary.items() if isinstance(val, float) and math.isinf(val)]
-    bad += [key for key, col in columns.items()
-            if col.dtype.kind == "f" and not np.isfinite(col).all()]
-    if bad:
-        raise SolveError(f"case {case.name!r}: the solution has non-finite values in "
-                         f"{', '.join(bad)}; it is not returned")
-    beyond = strain_beyond_line(case, columns)
-    if beyond is not None:
-        raise SolveError(f"case {case.name!r}: {beyond}")
-    return Result(case, summary, columns, state=pb, roller_columns=rollers)
-
-
-def _check_regime(case: Case, pb: Problem):
+def check_regime(case: Case, pb: Problem):
     """Refuse a lift-off that the boundaries unknowns put below the stinger's
     tip, on the curve continued past it: there the pipe bears on the tip,
     but the solve ended lifting off (it switches between the two regimes at
@@ -361,4 +291,4 @@ def _check_regime(case: Case, pb: Problem):
             f"at most {MAX_TIP_SWITCHES} times)")
 
 
-__all__ = ["Problem", "SolveError", "solve"]
+__all__ = ["Problem", "SolveError", "check_regime", "solve_problem"]

@@ -19,10 +19,11 @@ from collections.abc import Mapping
 
 from scipy.optimize import brentq
 
-from ._validate import get_path
-from .case import Case
-from .results import SUMMARY_UNITS, Result
-from .solver import SolveError, solve
+from ..input.case import Case
+from ..input.errors import SolveError
+from ..input.validate import get_path
+from ..output.results import SUMMARY_UNITS, Result
+from .solve import solve
 
 __all__ = ["TargetError", "TARGET_RTOL", "solve_for", "target_columns", "unit_text"]
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kernels.grading import graded_tables, grading_rates_of, place_nodes, plain_rates_of
+from ..kernels.grading import graded_tables, grading_rates_of, place_nodes, plain_rates_of
 
 GROWTH = 1.2
 

@@ -136,7 +136,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pipelay_fast._validate import choice, fail, set_numbers
+from .validate import choice, fail, set_numbers
 
 __all__ = ["CURRENT_LOADS", "Checks", "FABRICATION_FACTORS", "LCC_AXIAL_LIMIT",
            "LOAD_COMBINATIONS", "SAFETY_CLASS_FACTORS", "check_inputs", "collapse_pressure",

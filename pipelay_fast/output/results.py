@@ -14,13 +14,13 @@ import math
 import numpy as np
 import pandas as pd
 
-from .case import Case
-from .design import DESIGN_UNITS, design_columns
-from .kernels import layout as L
-from .kernels.contact import ST_ON
-from .kernels.geometry import centreline_fields
-from .kernels.newton import point_gaps
-from .model import pin_jump
+from ..engine.boundaries import last_roller_in_contact, roller_gaps
+from ..engine.model import pin_jump
+from ..input.case import Case
+from ..kernels import layout as L
+from ..kernels.contact import ST_ON
+from ..kernels.geometry import centreline_fields
+from .design import DESIGN_UNITS, design_columns, interior_peak
 
 PROFILE_UNITS = {
     "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
@@ -105,11 +105,16 @@ class Result:
     target : dict or None
         Of a target solve (:func:`pipelay_fast.solve_for`): the column, its
         goal, the varied key, its value and the number of solves.
+    functional : dict or None
+        The profile columns of the case's functional load case (the case
+        without its current) when its code check splits the current off
+        (:meth:`pipelay_fast.input.checks.Checks.splits_current`), else None.
     """
 
     def __init__(self, case: Case, summary: dict, columns: dict, state=None,
-                 roller_columns: dict | None = None):
+                 roller_columns: dict | None = None, functional: dict | None = None):
         self.case = case
+        self.functional = functional
         self.summary = summary
         self.columns = columns
         self.roller_columns = roller_columns
@@ -176,19 +181,6 @@ def liftoff_reaction(s, reaction, k) -> float:
     return float(reaction[k] - h * (2.0 * p0 + p1) / 6.0)
 
 
-def foundation_exit(s, x) -> float:
-    """Arc length [m] where the pipe rises out of an elastic seabed: x = 0
-    between the last node below the surface (x < 0) and the next, linearly;
-    the lower end's when no node is below it."""
-    below = np.flatnonzero(x < 0.0)
-    if below.size == 0:
-        return float(s[0])
-    k = int(below[-1])
-    if k + 1 >= s.size:
-        return float(s[k])
-    return float(s[k] + (s[k + 1] - s[k]) * (-x[k]) / (x[k + 1] - x[k]))
-
-
 def node_shares(s) -> np.ndarray:
     """Each node's share of the pipe [m]: half of each element beside it."""
     share = np.zeros(s.size)
@@ -202,16 +194,6 @@ def foundation_force(s, x, k_bed) -> np.ndarray:
     surface over its share of the pipe (the NumPy reference of the normal
     force W that :func:`.kernels.contact.friction_track` gives friction)."""
     return k_bed * np.maximum(-x, 0.0) * node_shares(s)
-
-
-def interior_peak(values) -> float:
-    """Largest interior local maximum (the sagbend peak), ignoring a peak that sits
-    at an end of the span (a clamped top's moment); the plain maximum if none."""
-    v = np.asarray(values, dtype=float)
-    if v.size < 3:
-        return float(v.max())
-    inner = (v[1:-1] >= v[:-2]) & (v[1:-1] >= v[2:])
-    return float(v[1:-1][inner].max()) if inner.any() else float(v.max())
 
 
 def constraint_forces(nd, pb, react):
@@ -251,26 +233,6 @@ def stinger_columns(lay) -> dict:
     return {"a": getattr(st, "a", math.nan),
             "stinger_radius": math.nan if radius is None else float(radius),
             "roller_shift": float(getattr(st, "height_shift", math.nan))}
-
-
-def last_roller_in_contact(pb) -> int:
-    """The index of the last roller (from the vessel down) the pipe bears
-    on; -1 when it bears on none or there are no rollers."""
-    nodes = pb.roller_nodes
-    bearing = np.flatnonzero((pb.points[:nodes.size, L.PT_BEAR] != 0.0) & (nodes >= 0))
-    return int(bearing[-1]) if bearing.size else -1
-
-
-def roller_gaps(pb) -> np.ndarray:
-    """The pipe's clearance [m] above each roller of a roller stinger: its
-    axis at the node over the roller, along the pipe's normal there, the
-    Newton kernel's gap (:func:`.kernels.newton._point_gap`, in the frame
-    of the pipe's tangent there, :func:`.kernels.newton.point_gaps`);
-    negative: below it."""
-    nodes = np.ascontiguousarray(pb.roller_nodes, dtype=np.int64)
-    gaps = np.empty(nodes.size)
-    point_gaps(pb.nd, pb.u, pb.points, nodes, gaps)
-    return gaps
 
 
 def build_rollers(case: Case, pb, react) -> dict | None:
@@ -382,8 +344,11 @@ def build_profile(case: Case, pb, react) -> dict:
 
 
 def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
-                  s_liftoff: float | None = None, rollers: dict | None = None) -> dict:
-    """The summary row of one solved case from its profile columns.
+                  s_liftoff: float | None = None, rollers: dict | None = None,
+                  functional: dict | None = None) -> dict:
+    """The summary row of one solved case from its profile columns
+    (``functional``: the profile columns of its functional load case, for
+    the code check, :func:`pipelay_fast.output.design.lcc_sections`).
 
     Overbend and sagbend are told apart by the sign of the in-plane bending
     moment (moment_y): hogging over the stinger, sagging in the free span
@@ -431,7 +396,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         max_roller = float(rollers["reaction"].max())
         last_clearance = float(rollers["clearance"][-1])
     design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure,
-                            last_clearance)
+                            last_clearance, functional)
     return {
         "case_id": case_id(case),
         "method": case.lay.method,

@@ -93,7 +93,7 @@ def write_result(result: Result, out_dir: str | os.PathLike) -> tuple[Path, ...]
     ``out_dir`` is created if missing. Returns the paths written (summary,
     profile, then rollers).
     """
-    from . import __version__
+    from .._version import __version__
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -36,7 +36,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from .results import PROFILE_UNITS, ROLLER_UNITS, SUMMARY_UNITS
+from ..output.results import PROFILE_UNITS, ROLLER_UNITS, SUMMARY_UNITS
 from .sweep import INPUT_UNITS, TARGET_UNITS, Sweep
 
 __all__ = ["Chunk", "Dataset", "PROFILE_COLUMNS", "ROLLER_COLUMNS", "SUMMARY_COLUMNS",

@@ -20,14 +20,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.optimize import brentq
 
-from .kernels.contact import ST_ON, tip_geometry
-from .kernels.newton import B_LO
+from ..kernels import layout as L
+from ..kernels.contact import ST_ON, tip_geometry
+from ..kernels.newton import B_LO, point_gaps
 from .mesh import graded_nodes
-from .results import foundation_exit, last_roller_in_contact
 
 if TYPE_CHECKING:
-    from .case import Case
-    from .problem import Problem
+    from ..input.case import Case
+    from .state import Problem
 
 
 def follow_boundaries(case: Case, pb: Problem, s_focus: float):
@@ -258,3 +258,36 @@ def lift_off_above_tip(case: Case, pb: Problem):
     at re-contact's node, with no node over the tip."""
     pb.tip[0], pb.tip[1] = 0.0, 0.0
     follow_nodes(case, pb, (pb.td_node, pb.lo_node, -1))
+
+
+def foundation_exit(s, x) -> float:
+    """Arc length [m] where the pipe rises out of an elastic seabed: x = 0
+    between the last node below the surface (x < 0) and the next, linearly;
+    the lower end's when no node is below it."""
+    below = np.flatnonzero(x < 0.0)
+    if below.size == 0:
+        return float(s[0])
+    k = int(below[-1])
+    if k + 1 >= s.size:
+        return float(s[k])
+    return float(s[k] + (s[k + 1] - s[k]) * (-x[k]) / (x[k + 1] - x[k]))
+
+
+def last_roller_in_contact(pb) -> int:
+    """The index of the last roller (from the vessel down) the pipe bears
+    on; -1 when it bears on none or there are no rollers."""
+    nodes = pb.roller_nodes
+    bearing = np.flatnonzero((pb.points[:nodes.size, L.PT_BEAR] != 0.0) & (nodes >= 0))
+    return int(bearing[-1]) if bearing.size else -1
+
+
+def roller_gaps(pb) -> np.ndarray:
+    """The pipe's clearance [m] above each roller of a roller stinger: its
+    axis at the node over the roller, along the pipe's normal there, the
+    Newton kernel's gap (:func:`.kernels.newton._point_gap`, in the frame
+    of the pipe's tangent there, :func:`.kernels.newton.point_gaps`);
+    negative: below it."""
+    nodes = np.ascontiguousarray(pb.roller_nodes, dtype=np.int64)
+    gaps = np.empty(nodes.size)
+    point_gaps(pb.nd, pb.u, pb.points, nodes, gaps)
+    return gaps

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .case import Case
+from ..input.case import Case
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
 
@@ -98,14 +98,6 @@ def free_span(case: Case) -> Catenary:
     return Catenary(brentq(gap, lo, hi, xtol=1e-10 * w1), w1, w2, depth, x_top)
 
 
-def stinger_arc(stinger, z0, z1, n=401):
-    """z samples from z0 to z1 and the stinger arc length from z0 [m]."""
-    z = np.linspace(z0, z1, n)
-    ds = np.sqrt(1.0 + stinger.slope(z) ** 2)
-    arc = np.concatenate(([0.0], np.cumsum(0.5 * (ds[1:] + ds[:-1]) * np.diff(z))))
-    return z, arc
-
-
 # The guess's lift-off is the cable's tangent point moved one flexural length
 # lam up the stinger, to first order in lam; near the change of regime the
 # answer still bears on the tip where the guess lifts off above it, by up to
@@ -166,11 +158,11 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         # a stiff pipe leaves about one flexural length sqrt(EI/Te) further up
         # the stinger (boundary-layer asymptotics, EI -> 0)
         lam = math.sqrt(case.pipe.bending_stiffness / max(tension(float(st.height(z_c))), 1e-9))
-        z_arc, arc = stinger_arc(st, z_c, z_u)
+        z_arc, arc = st.arc(z_c, z_u)
         z_s = float(np.interp(lam, arc, z_arc))
         z_lo = max(z_s, z_l)
         if z_s < z_l:
-            past = float(stinger_arc(st, z_s, z_l)[1][-1])
+            past = float(st.arc(z_s, z_l)[1][-1])
             if past < GUESS_LIFTOFF_ERROR * lam:
                 past = None  # within the guess's error of the tip: Newton decides
     x_lo = float(st.height(z_lo))
@@ -190,7 +182,7 @@ def _slay_span(case: Case, bottom_tension=None):
     st = case.lay.stinger
     z_lo, h, past = slay_liftoff(case, bottom_tension)
     cat = Catenary(h, w1, w2, case.environment.water_depth, float(st.height(z_lo)))
-    _, arc = stinger_arc(st, z_lo, st.upper[1])
+    _, arc = st.arc(z_lo, st.upper[1])
     return z_lo, cat, float(arc[-1]), past
 
 
@@ -251,7 +243,7 @@ def shape(case: Case, g: Guess, s):
     kappa = np.where(on_bed, 0.0, np.cos(th) ** 2 * np.asarray(case.effective_weight(x)) / cat.h)
     if g.s_liftoff is not None:
         st = lay.stinger
-        zs, arc = stinger_arc(st, g.liftoff_z, st.upper[1])
+        zs, arc = st.arc(g.liftoff_z, st.upper[1])
         on_st = s >= g.s_liftoff
         zz = np.interp(s[on_st] - g.s_liftoff, arc, zs)
         slope = np.asarray(st.slope(zz))

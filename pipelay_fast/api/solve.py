@@ -1,0 +1,106 @@
+"""``pipelay_fast.solve``: one case from its validated input to its result.
+
+The engine (:func:`pipelay_fast.engine.solver.solve_problem`) finds the
+equilibrium; the output layer (:mod:`pipelay_fast.output.results`) builds the
+profile and the summary from it; this module refuses an answer that is not
+finite or lies outside the model.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..engine.solver import check_regime, solve_problem
+from ..engine.state import Problem
+from ..input.case import Case
+from ..input.errors import SolveError
+from ..input.limits import strain_beyond_line
+from ..output.results import Result, build_profile, build_rollers, build_summary
+
+
+def solve(case: Case, *, warm: Result | None = None) -> Result:
+    """Solve one case.
+
+    ``warm``: the result of a neighbouring case (same dimension and lay method,
+    e.g. the previous `a` of a sweep); Newton starts from its solution on its
+    mesh instead of from the catenary guess, and falls back to the catenary
+    guess if that fails (or if its answer is refused).
+
+    Returns
+    -------
+    Result
+        ``.summary`` (dict, the columns of ``results.SUMMARY_UNITS``) and ``.profile`` (DataFrame,
+        one row per node).
+
+    Raises
+    ------
+    SolveError
+        When Newton and the load-path fallback both fail, or
+        solver.max_iterations_total Newton iterations are spent (each start,
+        warm and cold, has its own budget); the message names the case, the
+        load step, the residual and the reason. Also when the answer is
+        refused: non-finite, strained beyond solver.max_strain, or lifting
+        off below the stinger's tip (:func:`check_regime`). An answer whose
+        contact pulls is not refused: the contact boundaries' equations
+        leave none (none in the grids and random cases of
+        ``benchmarks/bench_contact.py``).
+    ValueError
+        When the mesh would exceed solver.max_elements (checked before it is
+        built).
+    """
+    if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
+        raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
+                         f"{type(warm).__name__}")
+    if warm is not None:
+        try:
+            return _checked_solve(case, warm.state)
+        except SolveError:  # a neighbour too far away: start from the catenary
+            pass
+    return _checked_solve(case)
+
+
+def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
+    """Solve, build the result and refuse it if it is not finite or is
+    strained beyond solver.max_strain."""
+    pb, react, stats, s_t, s_l = solve_problem(case, warm)
+    check_regime(case, pb)
+    columns = build_profile(case, pb, react)
+    rollers = build_rollers(case, pb, react)
+    functional = _functional_case(case)
+    summary = build_summary(case, pb, columns, stats, s_t, s_l, rollers, functional)
+    bad = [key for key, val in summary.items() if isinstance(val, float) and math.isinf(val)]
+    bad += [key for key, col in columns.items()
+            if col.dtype.kind == "f" and not np.isfinite(col).all()]
+    if bad:
+        raise SolveError(f"case {case.name!r}: the solution has non-finite values in "
+                         f"{', '.join(bad)}; it is not returned")
+    beyond = strain_beyond_line(case, columns)
+    if beyond is not None:
+        raise SolveError(f"case {case.name!r}: {beyond}")
+    return Result(case, summary, columns, state=pb, roller_columns=rollers,
+                  functional=functional)
+
+
+def _functional_case(case: Case) -> dict | None:
+    """The profile columns of ``case`` without its current (the functional
+    load case of its code check, solved from its own guess) when the check
+    splits the current off (:meth:`pipelay_fast.input.checks.Checks.splits_current`);
+    None otherwise.
+
+    Raises
+    ------
+    SolveError
+        When the case without current does not solve.
+    """
+    if case.checks is None or not case.checks.splits_current(case):
+        return None
+    try:
+        return _checked_solve(case.with_changes({"environment.current": None})).columns
+    except SolveError as err:
+        raise SolveError(f"case {case.name!r}: its functional load case (no current, for "
+                         f"checks.current_load = 'environmental') did not solve: {err}") from err
+
+
+__all__ = ["SolveError", "solve"]

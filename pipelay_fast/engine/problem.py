@@ -1,0 +1,361 @@
+"""A solve's problem as arrays: the mesh, its constraints and its state.
+
+:class:`Problem` holds what the Newton kernel reads (the case's data, the
+mesh that follows the contact boundaries, the supports, the ends, the
+state). It is built from the first guess (:func:`build_problem`), carried
+over from a solved neighbour (:func:`warm_problem`), or graded anew with the
+state interpolated onto the new mesh (:func:`remesh`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..input.case import Case
+from ..input.limits import check_mesh_size
+from ..kernels import layout as L
+from ..kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL
+from ..kernels.newton import B_PT
+from .boundaries import (
+    bear_on_tip,
+    follow_boundaries,
+    follow_nodes,
+    over_rollers,
+    roller_gaps,
+    touchdown_position,
+)
+from .friction import anchor_friction, friction_laid_length
+from .guess import first_guess, shape
+from .mesh import graded_nodes, grading_rates
+from .model import build_props, dimension_of, pin_jump
+from .state import Problem, interpolate_state
+
+
+def _mesh_sizes(case: Case, lam: float):
+    """h_max, h_min [m] of a case whose flexural length sqrt(EI/T) at
+    touchdown is ``lam`` [m] (ungraded, h_min = h_max: a mesh remeshed to put
+    a node somewhere stays uniform between its nodes, :func:`remesh`)."""
+    h_max = case.solver.element_length
+    if not case.solver.grading:
+        h_min = h_max
+    elif case.solver.min_element_length is not None:
+        h_min = case.solver.min_element_length
+    else:
+        h_min = min(h_max, max(h_max / 8.0, 0.02 * lam))
+    return h_max, min(h_min, h_max)
+
+
+def _guess(case: Case):
+    """The first guess of a case (:func:`.guess.first_guess`), its laid pipe
+    the default of solver.laid_length unless that is given."""
+    h_max = case.solver.element_length
+
+    def laid_default(cat):
+        return (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
+                + friction_laid_length(case, cat))
+
+    return first_guess(case, laid_default)
+
+
+def _mesh_stats(case: Case, g) -> dict:
+    """What a case's meshes are graded by, from its first guess ``g``: the
+    element lengths h_max, h_min [m], the flexural length at touchdown [m],
+    the boundary layer [m] (0: none) and the length of pipe modelled [m]."""
+    lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)  # the flexural length at touchdown
+    h_max, h_min = _mesh_sizes(case, lam)
+    # a tension-dominated lay (the flexural length shorter than the heavy
+    # elastica's (EI / w)^(1/3)) has boundary layers of that length at its
+    # contact boundaries (:func:`.continuation.boundary_step`); 0: none
+    layer = lam if lam < (case.pipe.bending_stiffness / abs(g.cat.w1)) ** (1.0 / 3.0) else 0.0
+    return {"h_min": h_min, "h_max": h_max, "flexural_length": lam, "boundary_layer": layer,
+            "cold_total": g.total}
+
+
+def _reference_force(case: Case, g) -> float:
+    """The force [N] Newton's residual is measured against, from the first guess."""
+    return max(g.cat.top_tension, abs(g.cat.w1) * g.total, case.lay.top_tension or 0.0)
+
+
+def build_problem(case: Case) -> Problem:
+    """First guess, graded mesh and constraints of a case (a roller
+    stinger's: :func:`roller_problem`)."""
+    nd = dimension_of(case)
+    ndn = 2 * nd + 1
+    g = _guess(case)
+    stats = {**_mesh_stats(case, g),
+             "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
+    h_max, h_min, lam = stats["h_max"], stats["h_min"], stats["flexural_length"]
+    # A stiff pipe touches down about one flexural length before the catenary
+    # does (boundary-layer asymptotics): the mesh is finest there and the
+    # initial seabed contact ends there.
+    s_focus = max(g.laid - lam, 0.25 * g.laid)
+    foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
+    s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading,
+                     check=lambda n: check_mesh_size(case, n, g.total, g.laid,
+                                                     _laid_source(case, g.cat, lam)))
+    x, z, th, te, kappa = shape(case, g, s)
+    u = np.zeros(s.size * ndn)
+    u[0::ndn] = x
+    u[nd - 1::ndn] = z
+    u[nd::ndn] = np.sin(th)
+    u[2 * nd - 1::ndn] = np.cos(th)
+    u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
+    pb = _problem(case, nd, s, u, g.cat.h, _reference_force(case, g), stats)
+    follow_boundaries(case, pb, s_focus)
+    # the catenary leaves below the tip: the pipe bears on it, with the gap
+    # span the guess's lift-off past the tip gives (:func:`.guess.slay_liftoff`)
+    if g.tip_past is not None:
+        bear_on_tip(case, pb, g.tip_past)
+    return pb
+
+
+def roller_problem(case: Case, guide: Problem) -> Problem:
+    """A roller stinger's problem from the answer ``guide`` of its guide case
+    (the quadratic stinger through its rollers, :func:`.guess.guide_case`):
+    the same length of pipe, a node over each roller (the guide answer's
+    material point nearest it, ROLLER_PROJECTIONS projections on its
+    tangent from the nearest node; ungraded there), graded at the answer's
+    touchdown, the state interpolated. The rollers it passes on or below
+    bear (Newton's first step lifts the pipe onto those it passes below:
+    from this equilibrium, where the reactions mean something, that step
+    was cheaper than moving the rollers onto their places in load steps
+    from where the answer passes them: 277 against 316 iterations over 24
+    cold cases with the guide then fitted through the last roller, the tip
+    rollers raised up to 1 m among them; from the first guess itself,
+    0.2 m below the last rollers of S67 on 12 m spacing, the contacts swung
+    for 5 to 30 iterations and 1.5 m spacing diverged)."""
+    nd, ndn = guide.nd, guide.ndn
+    rollers = case.lay.roller_positions()
+    stats = dict(guide.stats)
+    # the case's own element sizes (the guide's are coarser: it is a start)
+    h_max, h_min = _mesh_sizes(case, stats["flexural_length"])
+    stats["h_max"], stats["h_min"] = h_max, h_min
+    s_t = touchdown_position(guide)
+    total = float(guide.s[-1])
+    # from the nearest node, projections on the answer's tangent
+    u = guide.u
+    d2 = ((u[0::ndn][None, :] - rollers[:, :1]) ** 2
+          + (u[nd - 1::ndn][None, :] - rollers[:, 1:]) ** 2)
+    s_r = guide.s[np.argmin(d2, axis=1)]
+    for _ in range(ROLLER_PROJECTIONS):
+        u_r = interpolate_state(guide.s, u, nd, s_r)
+        xp, zp = u_r[nd::ndn], u_r[2 * nd - 1::ndn]
+        along = ((rollers[:, 0] - u_r[0::ndn]) * xp
+                 + (rollers[:, 1] - u_r[nd - 1::ndn]) * zp) / np.hypot(xp, zp)
+        s_r = np.clip(s_r + along, s_t, total)
+    source = "the guide's answer (the quadratic stinger through the rollers)"
+    s = graded_nodes(total, [s_t, total], h_max, h_min, grading=case.solver.grading,
+                     check=lambda n: check_mesh_size(case, n, total, s_t, source), nodes=s_r)
+    u = interpolate_state(guide.s, guide.u, nd, s)
+    pb = _problem(case, nd, s, u, guide.tb[0], guide.fref, stats)
+    pb.fix_val[:ndn] = guide.fix_val[:ndn]
+    k_td = int(np.argmin(np.abs(s - s_t)))
+    pb.bed_active[1:k_td + 1] = 1
+    over = np.searchsorted(s, s_r)  # (each a node: graded_nodes keeps them)
+    over -= (over > 0) & (np.abs(s[np.maximum(over - 1, 0)] - s_r) < np.abs(s[over] - s_r))
+    nodes = (k_td, -1, *over.tolist())
+    follow_nodes(case, pb, nodes)
+    if case.solver.grading:  # graded at touchdown, the grading moving with it
+        _follow_grading(pb, nodes, total, [s_t, total], s_r)
+    pb.points[:, L.PT_BEAR] = (roller_gaps(pb) <= ROLLER_ON * h_min).astype(float)
+    return pb
+
+
+def _follow_grading(pb: Problem, nodes, total: float, foci, over):
+    """After :func:`.boundaries.follow_nodes`: the mesh (graded at ``foci``
+    [m] with plain nodes ``over`` [m] over the rollers, :func:`.mesh.graded_nodes`,
+    ``total`` [m] long) follows its boundaries on ``nodes`` as its grading
+    moves with them: each boundary's node is a focus of the grading, or a
+    roller's plain node (:func:`.mesh.grading_rates` moves either; in the
+    zones' shares the rollers had before, a warm start's mesh was 3.5 cm
+    from the one graded at a 5 cm move of a roller, and was graded anew).
+    The zones are kept for the current's path (``zone_b``)."""
+    rates = np.zeros((len(nodes), pb.nn))
+    moving, rows = [], []
+    plain = len(foci)  # (``over`` holds the rollers that have a node, in order)
+    for b, k in enumerate(nodes):
+        if k < 0:
+            continue
+        if pb.roller_nodes.size > 0 and b >= B_PT:  # a roller's plain node
+            moving.append(plain)
+            plain += 1
+        else:
+            moving.append(int(np.argmin(np.abs(np.asarray(foci) - pb.s[k]))))
+        rows.append(b)
+    if plain != len(foci) + len(over):
+        raise ValueError(f"_follow_grading: {plain - len(foci)} rollers with a node, "
+                         f"{len(over)} plain nodes")
+    if rows:
+        rates[rows] = grading_rates(total, foci, moving, pb.stats["h_max"], pb.stats["h_min"],
+                                    nodes=over)
+    pb.zone_b, pb.grade_b = pb.s_b, rates
+    pb.follow_rates(nodes, rates)
+
+
+ROLLER_PROJECTIONS = 2  # the points over the rollers: 2 projections from the nearest node
+ROLLER_ON = 1e-6  # a roller bears at the start within this share of h_min of the pipe
+
+
+def _laid_source(case: Case, cat, lam: float) -> str:
+    """What set the laid length of the first mesh (for the mesh-size check)."""
+    if case.lay.pipe_length is not None:
+        return f"lay.pipe_length = {case.lay.pipe_length!r} m less the suspended span"
+    if case.solver.laid_length is not None:
+        return f"solver.laid_length = {case.solver.laid_length!r} m"
+    text = (f"the default of solver.laid_length: two flexural lengths sqrt(EI/T) = {lam:.4g} m "
+            "at touchdown, five elements")
+    slip = friction_laid_length(case, cat)
+    if slip > 0.0:
+        text += (f" and {slip:.4g} m for seabed friction to take up the lateral drag "
+                 "(environment.current.speed, seabed.lateral_friction)")
+    return text
+
+
+def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
+    """Constraint arrays for nodes ``s`` with state ``u``. The contact sets
+    start empty: the mapping of the mesh onto the boundaries sets them
+    (:func:`follow_boundaries`, :func:`remesh`), or a warm start copies them."""
+    ndn = 2 * nd + 1
+    nn = s.size
+    lay = case.lay
+    x_top, z_top = lay.top
+    fix_mask = np.zeros(nn * ndn, dtype=np.int8)
+    fix_val = np.zeros(nn * ndn)
+    phi_r = np.zeros(nn)
+    phi_rp = np.zeros(nn)
+    top = nn - 1
+    base = top * ndn
+    for i, val in enumerate((x_top, 0.0, z_top) if nd == 3 else (x_top, z_top)):
+        fix_mask[base + i] = 1
+        fix_val[base + i] = val
+    stinger = np.zeros(N_STINGER)
+    st = lay.curve  # (a roller stinger is its points)
+    pinned = lay.top_angle == "pinned"
+    top_angle = None if pinned else lay.top_angle
+    if st is not None:
+        stinger[:] = (st.a, st.b, st.c, st.lower[1], st.upper[1], 1.0)
+        if top_angle is None:
+            # the firing line, and below a pinned top (the pipe conforms up to
+            # the pin, model.pin_jump): held along the stinger's tangent
+            top_angle = float(st.angle(st.upper[1]))
+    if top_angle is not None:
+        phi_rp[top] = math.radians(top_angle)
+        fix_mask[base + nd] = 1  # r' normal to the prescribed direction = 0
+        if nd == 3 and not pinned:
+            fix_mask[base + nd + 1] = 1  # r'_y = 0
+    # lower end: on the seabed with y held; z held only with a given pipe length
+    fix_mask[0] = 1
+    if nd == 3:
+        fix_mask[1] = 1
+    zi = nd - 1
+    slide_dof, top_target = zi, 0.0
+    if lay.pipe_length is not None:
+        fix_mask[zi] = 1
+        fix_val[zi] = u[zi]
+        slide_dof, tb = -1, 0.0
+    elif lay.top_tension is not None:
+        top_target = lay.top_tension - pin_jump(case)  # Te below a pinned top
+    else:
+        tb = lay.bottom_tension
+    if not case.seabed.is_rigid:  # a foundation: the lower end's x free
+        fix_mask[0] = 0
+    bed_active = np.zeros(nn, dtype=np.int8)
+    st_active = np.zeros(nn, dtype=np.int8)
+    props, table = build_props(case)
+    fric = np.zeros((nn, L.N_FRIC))
+    anchor_friction(fric, u, nd, s)
+    return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed_active,
+                   stinger, st_active, _points(case, stinger), fric, np.zeros(nn * ndn),
+                   slide_dof,
+                   np.array([float(tb)]), top,
+                   top_target, fref, stats["h_max"], stats=stats)
+
+
+def _points(case: Case, stinger: np.ndarray) -> np.ndarray:
+    """The rigid points of a case (rows ``L.PT_*``): the quadratic stinger's
+    tip (x_L, z_L), a roller stinger's rollers (each holding the pipe
+    laterally or not), none in J-lay."""
+    rollers = case.lay.roller_positions()
+    if rollers is not None:
+        pts = np.zeros((len(rollers), L.N_PT))
+        pts[:, L.PT_X] = rollers[:, 0]
+        pts[:, L.PT_Z] = rollers[:, 1]
+        pts[:, L.PT_HOLD] = case.lay.stinger.lateral_hold()
+        return pts
+    if stinger[ST_ON] == 0.0:
+        return np.zeros((0, L.N_PT))
+    pts = np.zeros((1, L.N_PT))
+    z_l = stinger[ST_ZL]
+    pts[0, L.PT_X] = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
+    pts[0, L.PT_Z] = z_l
+    return pts
+
+
+def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
+           laid: float | None = None, grading: bool = False,
+           total: float | None = None) -> Problem:
+    """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
+    state interpolated onto it.
+
+    Laid pipe is prepended when touchdown came closer to the lower end than one
+    flexural length (to two of them), or to ``laid`` [m] behind touchdown when
+    that is given; with ``total`` [m], laid pipe is added or cut at the lower
+    end to that length of pipe (but for the flexural length kept). The mesh
+    follows the boundaries in zones (:meth:`Problem.follow`,
+    for boundaries that are still to be found) or, with ``grading`` (graded at
+    boundaries found), as its grading moves with them
+    (:meth:`Problem.follow_rates`), the zones kept for the current's path.
+    """
+    nd, ndn = pb.nd, pb.ndn
+    lam = pb.stats["flexural_length"]
+    extra = 0.0 if total is None else total - pb.s[-1]
+    if case.lay.pipe_length is None and s_tdp + extra < lam:
+        extra = 2.0 * lam - s_tdp
+    if laid is not None:
+        extra = max(extra, laid - s_tdp)
+    total = pb.s[-1] + extra
+    focus = s_tdp + extra
+    held = [f + extra for f in stinger_foci]
+    foci = [focus, total, *held]
+    over = over_rollers(pb) + extra  # nodes, ungraded there
+    source = (f"remeshed, {extra:.4g} m of it prepended to keep two flexural lengths "
+              f"sqrt(EI/T) = {lam:.4g} m behind touchdown, which a lower tension T there "
+              "lengthens")
+    s = graded_nodes(total, foci, pb.stats["h_max"], pb.stats["h_min"],
+                     check=lambda n: check_mesh_size(case, n, total, focus, source), nodes=over)
+    u = interpolate_state(pb.s + extra, pb.u, nd, s)
+    first = s < extra
+    if first.any():
+        u[0::ndn][first] = 0.0
+        u[nd - 1::ndn][first] = pb.u[nd - 1] - (extra - s[first])
+        u[nd::ndn][first] = 0.0
+        u[2 * nd - 1::ndn][first] = 1.0
+        u[2 * nd::ndn][first] = pb.u[2 * nd]
+        if nd == 3:
+            u[1::ndn][first] = pb.u[1]
+            u[nd + 1::ndn][first] = 0.0
+    stats = dict(pb.stats)
+    new = _problem(case, nd, s, u, pb.tb[0], pb.fref, stats)
+    # the lower end stays held where the case holds it (with a given pipe
+    # length, at z = 0: cut or lengthened there, the pipe's state was held
+    # where the neighbour's laid pipe put that material point, 2 m off,
+    # and its top tension came out 59 % off; Newton moves it back)
+    new.fix_val[:ndn] = pb.fix_val[:ndn]
+    new.warm, new.tolerance, new.warm_path = pb.warm, pb.tolerance, pb.warm_path
+    # the new mesh follows the same boundaries, each on the node graded onto it
+    def at(k):
+        return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))
+    new.bed_active[:] = 0
+    new.bed_active[1:at(pb.td_node) + 1] = 1
+    if pb.lo_node >= 0:
+        new.st_active[:] = 0
+        new.st_active[at(pb.lo_node):-1] = 1
+    nodes = [at(int(k)) for k in pb.bnodes]
+    follow_nodes(case, new, nodes)
+    if grading:
+        _follow_grading(new, nodes, total, foci, over)
+    # a bearing point keeps bearing (the node over it moves with the pipe)
+    new.points[:, L.PT_BEAR:L.PT_R + 1] = pb.points[:, L.PT_BEAR:L.PT_R + 1]
+    return new
