@@ -205,9 +205,10 @@ def _slay_bottom_tension(case: Case) -> float:
     return brentq(gap, lo, hi, xtol=1e-10 * w1)
 
 
-def first_guess(case: Case, laid_default) -> Guess:
-    """The first shape; ``laid_default(cat)`` gives the laid length behind the
-    suspended span's natural catenary ``cat``."""
+def first_guess(case: Case, laid_of) -> Guess:
+    """The first shape; ``laid_of(cat)`` gives the laid length [m] behind the
+    suspended span's natural catenary ``cat`` (not called when
+    ``lay.pipe_length`` sets it)."""
     lay = case.lay
     if lay.method == "J":
         cat = free_span(case)
@@ -215,14 +216,14 @@ def first_guess(case: Case, laid_default) -> Guess:
         if lay.pipe_length is not None:
             laid = lay.pipe_length - susp
         else:
-            laid = case.solver.laid_length or laid_default(cat)
+            laid = laid_of(cat)
         return Guess(cat, laid, None, laid + susp)
     if lay.pipe_length is not None:
         z_lo, cat, arc, past = _slay_span(case, _slay_bottom_tension(case))
         laid = lay.pipe_length - cat.length - arc
     else:
         z_lo, cat, arc, past = _slay_span(case)
-        laid = case.solver.laid_length or laid_default(cat)
+        laid = laid_of(cat)
     s_lo = laid + cat.length
     return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, tip_past=past)
 

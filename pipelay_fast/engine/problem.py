@@ -47,16 +47,18 @@ def _mesh_sizes(case: Case, lam: float):
     return h_max, min(h_min, h_max)
 
 
-def _guess(case: Case):
-    """The first guess of a case (:func:`.guess.first_guess`), its laid pipe
-    the default of solver.laid_length unless that is given."""
+def _guess(case: Case, laid: float | None = None):
+    """The first guess of a case (:func:`.guess.first_guess`) with ``laid``
+    [m] of laid pipe; None: solver.laid_length, or its default when that is
+    not given either."""
     h_max = case.solver.element_length
+    given = laid if laid is not None else case.solver.laid_length
 
-    def laid_default(cat):
-        return (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
-                + friction_laid_length(case, cat))
+    def laid_of(cat):
+        return given or (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
+                         + friction_laid_length(case, cat))
 
-    return first_guess(case, laid_default)
+    return first_guess(case, laid_of)
 
 
 def _mesh_stats(case: Case, g) -> dict:
@@ -78,12 +80,13 @@ def _reference_force(case: Case, g) -> float:
     return max(g.cat.top_tension, abs(g.cat.w1) * g.total, case.lay.top_tension or 0.0)
 
 
-def build_problem(case: Case) -> Problem:
+def build_problem(case: Case, laid: float | None = None) -> Problem:
     """First guess, graded mesh and constraints of a case (a roller
-    stinger's: :func:`roller_problem`)."""
+    stinger's: :func:`roller_problem`), with ``laid`` [m] of laid pipe
+    behind the guess's touchdown (None: the case's, :func:`_guess`)."""
     nd = dimension_of(case)
     ndn = 2 * nd + 1
-    g = _guess(case)
+    g = _guess(case, laid)
     stats = {**_mesh_stats(case, g),
              "stinger_foci": [g.s_liftoff] if g.s_liftoff is not None else []}
     h_max, h_min, lam = stats["h_max"], stats["h_min"], stats["flexural_length"]
@@ -94,7 +97,7 @@ def build_problem(case: Case) -> Problem:
     foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
     s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading,
                      check=lambda n: check_mesh_size(case, n, g.total, g.laid,
-                                                     _laid_source(case, g.cat, lam)))
+                                                     _laid_source(case, g.cat, lam, laid)))
     x, z, th, te, kappa = shape(case, g, s)
     u = np.zeros(s.size * ndn)
     u[0::ndn] = x
@@ -198,10 +201,14 @@ ROLLER_PROJECTIONS = 2  # the points over the rollers: 2 projections from the ne
 ROLLER_ON = 1e-6  # a roller bears at the start within this share of h_min of the pipe
 
 
-def _laid_source(case: Case, cat, lam: float) -> str:
-    """What set the laid length of the first mesh (for the mesh-size check)."""
+def _laid_source(case: Case, cat, lam: float, laid: float | None = None) -> str:
+    """What set the laid length of the first mesh (for the mesh-size check);
+    ``laid``: the solve's own laid length [m], :func:`build_problem`'s."""
     if case.lay.pipe_length is not None:
         return f"lay.pipe_length = {case.lay.pipe_length!r} m less the suspended span"
+    if laid is not None:
+        return (f"{laid:.4g} m of laid pipe, doubled because seabed friction did not hold "
+                "the laid pipe before its modelled lower end")
     if case.solver.laid_length is not None:
         return f"solver.laid_length = {case.solver.laid_length!r} m"
     text = (f"the default of solver.laid_length: two flexural lengths sqrt(EI/T) = {lam:.4g} m "

@@ -71,11 +71,11 @@ def solve_problem(case: Case, warm: Problem | None = None):
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
     t0 = time.perf_counter()
-    current = case
+    laid = None  # the case's
     budget = IterationBudget(case.solver.max_iterations_total)
     meshes = 0
     for _ in range(MAX_LAID_DOUBLINGS + 1):
-        pb, react, stats, s_t, s_l = _solve_mesh(current, warm, budget)
+        pb, react, stats, s_t, s_l = _solve_mesh(case, warm, budget, laid)
         warm = None
         meshes += stats["meshes"]
         if not _lower_end_holds(pb, react) or case.lay.pipe_length is not None:
@@ -83,11 +83,11 @@ def solve_problem(case: Case, warm: Problem | None = None):
             stats["iterations"], stats["meshes"] = budget.used, meshes
             stats["seconds"] = time.perf_counter() - t0
             return pb, react, stats, s_t, s_l
-        laid = s_t + pb.stats["flexural_length"]  # what this mesh modelled behind touchdown
-        current = current.with_changes({"solver.laid_length": 2.0 * laid})
+        # twice what this mesh modelled behind touchdown
+        laid = 2.0 * (s_t + pb.stats["flexural_length"])
     raise SolveError(
         f"case {case.name!r}: seabed friction does not hold the laid pipe before its "
-        f"modelled lower end even with {current.solver.laid_length:.0f} m of it (the current "
+        f"modelled lower end even with {laid:.0f} m of it (the current "
         "on the laid pipe may exceed the friction); check seabed.lateral_friction and the "
         "current profile, or set solver.laid_length"
     )
@@ -107,11 +107,13 @@ def _lower_end_holds(pb: Problem, react) -> bool:
     return abs(react[1]) > LOWER_END_SHARE * total
 
 
-def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
+def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
+                laid: float | None = None):
     """Solve under gravity, grading the mesh anew at the boundaries found until
     it is graded at them (:func:`graded_on_boundaries`), then follow the
     current's path (the mesh follows the boundaries it moves). ``budget``:
-    the solve's Newton iterations left.
+    the solve's Newton iterations left; ``laid``: the first mesh's laid
+    pipe [m] (None: the case's; a cold start only).
 
     Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
     """
@@ -121,9 +123,9 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     if warm is not None:
         pb = warm_problem(case, warm)
     elif guided:
-        pb, guide_iterations = _from_guide(case, budget)
+        pb, guide_iterations = _from_guide(case, budget, laid)
     else:
-        pb = build_problem(case)
+        pb = build_problem(case, laid)
     # friction is path dependent: gravity first, then the current in steps
     path = friction_path(case)
     if path:
@@ -213,7 +215,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget):
     return pb, react, stats, s_t, liftoff_position(case, pb)
 
 
-def _from_guide(case: Case, budget: IterationBudget):
+def _from_guide(case: Case, budget: IterationBudget, laid: float | None = None):
     """A roller stinger's start: its guide (the quadratic stinger through the
     rollers, :func:`.guess.guide_case`) solved under gravity on its first
     mesh to LOOSE_TOLERANCE, then the roller problem built from that answer
@@ -225,7 +227,7 @@ def _from_guide(case: Case, budget: IterationBudget):
 
     Returns (problem, the guide's Newton iterations)."""
     guide = guide_case(case)
-    pb = build_problem(guide)
+    pb = build_problem(guide, laid)
     if friction_path(guide):
         pb.on_gravity_path()
     pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)

@@ -23,13 +23,71 @@ from ..kernels.types import Ends, Model, Supports, load_factors
 
 @dataclass
 class Problem:
-    """Everything a Newton solve needs, as arrays (one mesh, one set of constraints)."""
+    """Everything a Newton solve needs, as arrays: one mesh, one set of
+    constraints, the unknowns. nn nodes, nd = 2 or 3, ndn = 2 nd + 1
+    unknowns a node (:mod:`pipelay_fast.kernels.layout`).
+
+    Built by :mod:`.problem` (cold start, remesh, roller stinger) or
+    :mod:`.warm` (from a neighbour); the Newton kernel updates the state
+    (``u``, ``tb``, the contact sets, ``y_held``, the boundaries ``s_bd``)
+    through :func:`.continuation.run_newton`.
+
+    The case's data
+        ``nd``; ``props`` (N_PROPS,): the case's scalars, indexed by
+        ``layout`` (SI units); ``table`` (n, 2): the current table
+        [[x m, speed m/s], ...]; ``factors`` (N_FACTORS,): the load path's
+        factors on the current and friction (layout ``F_*``, set by
+        :mod:`.solver` and :mod:`.continuation`).
+    The mesh and its map onto the contact boundaries (:meth:`follow`,
+    :meth:`follow_rates`, :meth:`update_nodes`)
+        ``s`` (nn,) [m]: node arc lengths from the lower end, unstretched;
+        node i at ``s_a[i] + sum_b s_b[b, i] s_bd[b]`` [m]; ``bnodes`` (nb,)
+        the node on each boundary (touchdown, lift-off or re-contact on the
+        stinger, then one per rigid point, the stinger's tip first; -1:
+        none); ``s_bd`` (nb,) [m] the boundaries' arc lengths; ``zone_b``,
+        ``grade_b`` (nb, nn) [-]: the map's rates in zones, and with the
+        grading's own rates (a warm start from this answer follows them).
+    The constraints (:data:`pipelay_fast.kernels.types.Supports`)
+        ``fix_mask`` (nn ndn,) int8, 1 where an unknown is prescribed, to
+        ``fix_val`` [m, -, N]; ``phi_r``, ``phi_rp`` (nn,) [rad]: the nodal
+        frames' rotations of r and r' (the stinger's tangent at a node on
+        it); ``bed_active``, ``st_active`` (nn,) int8: the seabed and
+        stinger contact sets; ``stinger`` (N_STINGER,): the quadratic
+        stinger's coefficients and ends (contact ``ST_*``; ``ST_ON`` 0
+        without one); ``points`` (n_points, N_PT): the rigid points (the
+        tip, rollers; layout ``PT_*``); ``fric`` (nn, N_FRIC): the friction
+        springs (layout ``FR_*``); ``y_held`` (nn,) bool: the nodes the
+        stinger held laterally in the last Newton call.
+    The ends (:data:`pipelay_fast.kernels.types.Ends`)
+        ``f_node`` (nn ndn,) [N, N m]: nodal loads; ``tb`` (1,) [N]: the
+        bottom tension, an unknown when ``slide_dof`` >= 0 (the lower end's
+        z row it acts on; -1: none) and the top tension is given;
+        ``top_node`` and ``top_target`` [N]: the node whose effective
+        tension is held, and its value (0: none).
+    The state: ``u`` (nn ndn,): the nodal unknowns x, (y), z [m], r'
+        [-], lambda [N] node by node; ``tb``.
+    Settings of the next Newton call (:func:`.continuation.run_newton`)
+        ``fref`` [N], ``href`` [m]: the residual's reference force and
+        length; ``tolerance`` [-]: None for solver.tolerance (set by
+        :mod:`.solver` for a loose first mesh); ``in_balance``: the state
+        is a refined solution, the call does not hold the boundaries
+        (set by :mod:`.solver` and :meth:`start_step`, cleared by the call).
+    The path
+        ``stats``: the mesh's sizes (``h_min``, ``h_max``,
+        ``flexural_length``, ``boundary_layer`` [m]; ``cold_total`` [m], the
+        cold start's length of pipe; ``stinger_foci``); ``warm``: started
+        from a neighbour's answer; ``before_current``: the snapshot
+        (:func:`snapshot`) before the current's path; ``current_path``: its
+        converged steps (:meth:`path_state`); ``warm_path``: the
+        neighbour's, which each step of a warm start begins from
+        (:meth:`start_step`).
+    """
 
     nd: int
-    s: np.ndarray  # node arc lengths [m]
+    s: np.ndarray
     props: np.ndarray
     table: np.ndarray
-    u: np.ndarray  # nodal unknowns (global frame)
+    u: np.ndarray
     fix_mask: np.ndarray
     fix_val: np.ndarray
     phi_r: np.ndarray
@@ -37,7 +95,7 @@ class Problem:
     bed_active: np.ndarray
     stinger: np.ndarray
     st_active: np.ndarray
-    points: np.ndarray  # (n_points, N_PT) the rigid points: the stinger's tip (L.PT_*)
+    points: np.ndarray
     fric: np.ndarray
     f_node: np.ndarray
     slide_dof: int
@@ -47,36 +105,19 @@ class Problem:
     fref: float
     href: float
     stats: dict = field(default_factory=dict)
-    before_current: list | None = None  # state snapshot before the current (friction path)
-    # the friction path's converged steps, one dict each (:meth:`path_state`),
-    # and a warm start's: its neighbour's, each step's start (:meth:`start_step`)
+    before_current: list | None = None
     current_path: list = field(default_factory=list)
     warm_path: list | None = None
-    warm: bool = False  # started from a neighbour's answer (no load path: the cold start is)
-    tolerance: float | None = None  # Newton's tolerance when not solver.tolerance
-    # the state is a solution refined (to the tolerance, or onto a mesh graded
-    # anew): the next Newton call does not hold the boundaries (run_newton
-    # reads and clears it)
+    warm: bool = False
+    tolerance: float | None = None
     in_balance: bool = False
-    # the mesh follows the contact boundaries: node i at s_a[i] + sum_b
-    # s_b[b, i] s_bd[b], touchdown on node bnodes[0], lift-off from (or
-    # re-contact with) the stinger on bnodes[1], the material point over
-    # rigid point j (the stinger's tip: j = 0) on bnodes[2 + j] (-1: none;
-    # until the mesh is mapped, all -1)
     bnodes: np.ndarray | None = None
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
     s_bd: np.ndarray | None = None
-    # the map in zones (:meth:`follow`) of a mesh that follows its grading: the
-    # current's path moves the boundaries on it (``Problem.follow_rates``)
     zone_b: np.ndarray | None = None
-    # and its map with the grading's own rates: a warm start from this answer
-    # follows its boundaries with it (a mesh graded at its boundaries found)
     grade_b: np.ndarray | None = None
-    # the load path's factors (layout F_*): the current's, full unless the
-    # friction path raises it in steps, and friction, off until that path
     factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
-    # the nodes the stinger holds laterally (3D), as the last Newton call held them
     y_held: np.ndarray | None = None
 
     def __post_init__(self):
@@ -189,31 +230,20 @@ class Problem:
                 "on": self.bnodes >= 0, "tb": self.tb.copy(), "s_bd": self.s_bd.copy()}
 
     def start_step(self, level: float) -> bool:
-        """A step of the current's path to ``level``: a warm start's begins from
-        its own state plus the neighbour's increment over that step (its
-        answers at both ends of the step, at this mesh's material points;
-        the bottom tension's and the boundaries' moves too, the state carried
-        to the nodes those move: S125 3D from a + 2e-5, 14 -> 13 iterations,
-        at most 2 a step instead of 3), when the neighbour converged at both
-        ends with the same boundaries. The friction
-        springs' anchors are this path's: the step's answer is the cold
-        solve's (its slip path), only its start is nearer. That start is
-        near balance, so the step does not hold the boundaries
-        (``in_balance``). S67 and S125 3D at 4 m, a = -0.0021 to -0.0009,
-        each from its neighbour 2e-5 away: 21 to 26 iterations a solve with
-        5 to 6 a current step before, 13 to 16 with 2 to 3 now, the same
-        peak stress (held: 18 to 22, 4 to 5 a step; from the neighbour's
-        answer carried onto the changed stinger instead of its increment,
-        31 to 44, 7 to 10 a step: carried, the conforming pipe's axial
-        strain changed with the curve's length, a residual of 16 reference
-        forces).
+        """Move the state to a predicted start of the current's path step to
+        ``level`` [-], and return whether it did (then ``in_balance``: the
+        step does not hold the boundaries).
 
-        Otherwise, past the path's first step, the step begins from this
-        path's own last increment, scaled to the step (a secant predictor;
-        same conditions): the paper's 3D scenes at 1 to 16 m, cold, 1784 ->
-        1406 iterations, at most 5 a current step instead of 7, their answers
-        within 1.1e-9 in peak stress (``bench_contact.py --quick``). Returns
-        whether it did."""
+        The prediction is the neighbour's increment over the step (a warm
+        start's ``warm_path``, its states at both ends of the step at this
+        mesh's material points, matched from the top), else, past the
+        path's first step, this path's own last increment scaled to the step
+        (a secant predictor). Each moves the state, the bottom tension and
+        the boundaries (the mesh carried with them). No prediction when the
+        ends' contact boundaries differ from the present ones, or when the
+        moved boundaries would fold the mesh. The friction springs' anchors
+        stay this path's: only the step's start is nearer, its answer is the
+        cold solve's."""
         prev = self.current_path[-1]["level"] if self.current_path else 0.0
         scale = 1.0
         ends = [None, None]
