@@ -10,8 +10,13 @@
 
 Exit codes: 0 success (a sweep whose cases failed has still succeeded: the
 failures are rows of its summary), 1 the case did not converge (or a file could
-not be written), 2 bad input (usage, unreadable or invalid case or sweep file,
-unknown example, a results directory without a sweep).
+not be written, or a sweep could not run: its backend not installed, its
+results directory locked by another process), 2 bad input (usage, unreadable
+or invalid case or sweep file, unknown example, a results directory without a
+sweep; ``plot`` without matplotlib).
+
+The top layer: it parses the arguments, calls the api and study layers and
+turns their errors into messages on stderr and exit codes.
 """
 
 from __future__ import annotations

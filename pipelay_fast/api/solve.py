@@ -31,8 +31,9 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
     Returns
     -------
     Result
-        ``.summary`` (dict, the columns of ``results.SUMMARY_UNITS``) and ``.profile`` (DataFrame,
-        one row per node).
+        ``.summary`` (dict, the columns of
+        ``pipelay_fast.output.results.SUMMARY_UNITS``) and ``.profile``
+        (DataFrame, one row per node), SI units.
 
     Raises
     ------
@@ -42,13 +43,17 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
         warm and cold, has its own budget); the message names the case, the
         load step, the residual and the reason. Also when the answer is
         refused: non-finite, strained beyond solver.max_strain, or lifting
-        off below the stinger's tip (:func:`check_regime`). An answer whose
+        off below the stinger's tip
+        (:func:`pipelay_fast.engine.solver.check_regime`). An answer whose
         contact pulls is not refused: the contact boundaries' equations
-        leave none (none in the grids and random cases of
+        leave none (checked on the grids and random cases of
         ``benchmarks/bench_contact.py``).
     ValueError
         When the mesh would exceed solver.max_elements (checked before it is
-        built).
+        built), when ``warm`` is not a Result of :func:`solve` or is of
+        another dimension, lay method (stinger kind) or roller count, or when
+        the inputs give no first guess (a floating pipe, a tension too low
+        to hold it).
     """
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
@@ -62,8 +67,9 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
 
 
 def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
-    """Solve, build the result and refuse it if it is not finite or is
-    strained beyond solver.max_strain."""
+    """Solve from ``warm`` (a solved Problem) or cold, build the result and
+    refuse it (SolveError) if its regime is outside the model, it is not
+    finite or it is strained beyond solver.max_strain."""
     pb, react, stats, s_t, s_l = solve_problem(case, warm)
     check_regime(case, pb)
     columns = build_profile(case, pb, react)

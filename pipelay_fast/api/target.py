@@ -42,7 +42,9 @@ class _Met(Exception):
 
 
 def target_columns() -> tuple[str, ...]:
-    """The summary columns a target may name: the numeric ones with a unit."""
+    """The summary columns a target may name: the numeric ones with a unit,
+    but ``a``, ``water_depth``, ``current_speed``, ``current_heading_deg``
+    (inputs) and ``solve_seconds``."""
     return tuple(name for name, unit in SUMMARY_UNITS.items()
                  if unit and name not in ("a", "water_depth", "current_speed",
                                           "current_heading_deg", "solve_seconds"))
@@ -131,9 +133,8 @@ class _Trials:
     ``pf.solve`` gives that case, which the root is polished on: ungraded
     (``solver.grading = false``), a warm start keeps its neighbour's mesh,
     and the column with it differs from the cold answer by the
-    discretisation error (graded, it ends on the cold start's mesh: before
-    git 990c65a, which grades it with its own case's sizes and laid length,
-    1e-5 of layback on J125 at 4 m).
+    discretisation error (graded, it is regraded with its own case's sizes
+    and laid length and ends on the cold start's mesh).
     """
 
     def __init__(self, case: Case, vary: str, column: str, goal: float):
@@ -143,6 +144,9 @@ class _Trials:
         self.count = 0  # solves made
 
     def miss(self, value: float, start=False) -> float:
+        """``summary[column] - goal`` at ``vary`` = ``value``, solved warm
+        from ``start`` (a Result; None: cold; False, the default: the
+        nearest trial so far), once per value."""
         value = float(value)
         if value not in self.warm:
             if start is False:
@@ -152,6 +156,7 @@ class _Trials:
         return self._off(self.warm[value], value)
 
     def cold_miss(self, value: float) -> float:
+        """:meth:`miss` of the cold solve at ``value``."""
         value = float(value)
         if value not in self.cold:
             self._solve(value, None)
@@ -221,6 +226,7 @@ def unit_text(column: str) -> str:
 
 
 def _target(target) -> tuple[str, float]:
+    """(column, goal) of a one-entry target mapping; ValueError otherwise."""
     if not isinstance(target, Mapping) or len(target) != 1:
         raise ValueError(f"target = {target!r} must name one summary column and its goal, "
                          "e.g. {'tip_clearance': 0.3}")
@@ -234,6 +240,7 @@ def _target(target) -> tuple[str, float]:
 
 
 def _bounds(bounds, vary) -> tuple[float, float]:
+    """(lo, hi) as floats, finite and lo < hi; ValueError otherwise."""
     try:
         lo, hi = (float(b) for b in bounds)
     except (TypeError, ValueError):

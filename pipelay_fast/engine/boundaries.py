@@ -199,9 +199,8 @@ def regained_span(lam: float, past: float) -> float:
     stinger lam above the cable's tangent point (the same boundary layer),
     so lift-off at ``past`` beyond the tip puts that point lam + past below
     it and k = kappa_e (lam + past): g(l) = 1 + past / lam. g(0) = 1 is the
-    change of regime; g = 1 + l^2 / 4 + l^3 / 24 + O(l^4) for a short span
-    (S125 2D 1 m, a = -0.0016: 18.5 m found, Newton's step 4.5 m past the
-    tip).
+    change of regime; g = 1 + l^2 / 4 + l^3 / 24 + O(l^4) for a short span.
+    The root l is found by brentq above 1e-3 (the span is at least 1e-3 lam).
     """
     ratio = 1.0 + past / lam
     lo = 1e-3
@@ -222,12 +221,12 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     :func:`.guess.slay_liftoff`), else one flexural length above (a solve
     that lifted off but ended passing below the tip: :func:`passes_below_tip`).
 
-    Re-contact's boundary is put there, on the nearest node, the mesh
-    following it (:meth:`.Problem.move_boundary`, the state interpolated).
-    Started on the next node above, it was up to an element further off
-    (S125 2D at 8 m, a = -0.0012: a span of 45.0 m, 37.2 m estimated, 34.9
-    m found); full 2D grid of S67 and S125 at 1 to 8 m: solves above 10
-    iterations 96 -> 36, the most 14 -> 12."""
+    Re-contact's boundary is put on the node nearest there, which is then
+    moved onto the estimate, the mesh following it
+    (:meth:`.Problem.move_boundary`, the state interpolated), when that lies
+    more than HOLD_SPLIT h_min above the tip and below the top's element.
+    The nearest node rather than the next one above: measured by the cold
+    iterations on the grid, benchmarks/bench_contact.py part 1."""
     s = pb.s
     kt = pb.tip_node
     if kt < 0:  # lifting off there was none: lift-off's node, now at the tip
@@ -235,7 +234,7 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     span = pb.stats["flexural_length"]
     # Te at the tip, less EI kappa^2: the multiplier one flexural length below
     # lift-off (at lift-off's node, stopped past the tip out of balance, it
-    # swung from -9e6 to 1.1e7 N: S125 2D 1 m, a = -0.0016, Te 0.5 MN)
+    # can be far from the tension, of either sign)
     k_te = int(np.searchsorted(s, s[pb.lo_node] - span))
     te = pb.u[k_te * pb.ndn + 2 * pb.nd]
     if past is not None and past > 0.0 and te > 0.0:

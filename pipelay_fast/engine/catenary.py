@@ -1,4 +1,5 @@
-"""The natural catenary: the zero-stiffness estimate and the solver's first guess.
+"""The natural catenary: the zero-stiffness estimate and the solver's first guess
+(engine layer).
 
 A cable of effective weight ``w1`` per length below the water surface (height
 ``depth``) and ``w2`` above it touches the seabed tangentially at the touchdown
@@ -98,7 +99,10 @@ class Catenary:
 
 
 def from_top_tension(t_top, w1, w2, depth, x_top) -> Catenary:
-    """The catenary whose top effective tension is ``t_top`` [N]."""
+    """The catenary whose top effective tension is ``t_top`` [N], of weights
+    ``w1``, ``w2`` [N/m] below and above the surface at height ``depth`` [m],
+    its top at height ``x_top`` [m]. ValueError when ``t_top`` is not above
+    the weight of a vertical hang to ``x_top``."""
     h = t_top - w1 * min(x_top, depth) - w2 * max(x_top - depth, 0.0)
     if h <= 0.0:
         raise ValueError(

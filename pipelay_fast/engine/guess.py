@@ -1,4 +1,5 @@
-"""First guess of a lay: laid pipe, natural catenary, and the stinger for S-lay.
+"""First guess of a lay (engine layer): laid pipe, natural catenary, and the
+stinger for S-lay; and the quadratic guide a roller stinger's solve starts from.
 
 The catenary leaves the stinger where its tangent matches the stinger's: on a
 frictionless stinger the effective tension falls by the weight of the height
@@ -44,7 +45,7 @@ class Guess:
         S-lay where the pipe would leave below the stinger's tip: how far [m]
         along the stinger's curve continued below the tip it would lift off
         (the guess then leaves from the tip; the pipe bears on it,
-        :func:`.boundaries.bear_on_tip`). None otherwise.
+        :func:`pipelay_fast.engine.boundaries.bear_on_tip`). None otherwise.
     """
 
     cat: Catenary
@@ -56,7 +57,8 @@ class Guess:
 
 
 def weights(case: Case):
-    """Effective weight below and above the water surface [N/m]."""
+    """(w1, w2): effective weight below and above the water surface [N/m].
+    ValueError when the pipe floats (w1 <= 0)."""
     depth = case.environment.water_depth
     w1 = float(case.effective_weight(0.0))
     w2 = float(case.effective_weight(depth + 1.0))
@@ -74,7 +76,10 @@ def _rise(w1, w2, depth, x):
 
 
 def free_span(case: Case) -> Catenary:
-    """The J-lay catenary from the lay's tension keys."""
+    """The J-lay catenary from the lay's tension keys (top tension, bottom
+    tension, or pipe length with the lower end at the origin). ValueError
+    when the tension cannot hold the pipe or the length cannot reach the
+    top."""
     lay = case.lay
     depth = case.environment.water_depth
     x_top = lay.top[0]
@@ -99,18 +104,13 @@ def free_span(case: Case) -> Catenary:
 
 
 # The guess's lift-off is the cable's tangent point moved one flexural length
-# lam up the stinger, to first order in lam; near the change of regime the
-# answer still bears on the tip where the guess lifts off above it, by up to
-# 0.8 m in S67 (a = -0.00116, tip reaction 55 kN, lam = 23 m) and 1.9 m in
-# S125 (a = -0.00175, 54 kN, lam = 25 m). A guess that leaves below the tip
-# by less than this share of lam starts from the tip, lifting off, and
-# Newton's step past the tip sets the gap span: started bearing there, the
-# span guessed from a lift-off 0.02 to 0.5 m past the tip closed under
-# Newton and the solve switched regime twice more (S67 2D 1 m, a = -0.00114:
-# 13 iterations; S125 3D 4 m, a = -0.00167, failed). Full grid (2D, 1 to 8
-# m), bearing from the guess against from Newton's step past the tip: S67
-# 3822 -> 3681 iterations, S125 4507 -> 4329, the solves above 10 iterations
-# 11 -> 2 (at 0.1 lam: 4; at 0.08: 2).
+# lam up the stinger, to first order in lam: near the change of regime the
+# answer can still bear on the tip where the guess lifts off just above it.
+# A guess that leaves below the tip by less than this share of lam is within
+# that error: it starts from the tip, lifting off, and Newton's step past the
+# tip decides and sets the gap span (a gap span guessed from a lift-off just
+# past the tip can close under Newton and switch the regime again). The
+# share: cold iterations on the grid, benchmarks/bench_contact.py part 1.
 GUESS_LIFTOFF_ERROR = 0.05
 
 
@@ -127,7 +127,8 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     (:func:`.boundaries.bear_on_tip`). Within GUESS_LIFTOFF_ERROR flexural
     lengths of the tip it is None: the guess leaves from the tip, lifting
     off, and Newton's step past the tip tells how far above the tip a pipe
-    bearing on it regains the stinger.
+    bearing on it regains the stinger. ValueError when the tension left at
+    lift-off cannot hold the pipe hanging from it.
     """
     lay, st = case.lay, case.lay.stinger
     depth = case.environment.water_depth
@@ -208,7 +209,8 @@ def _slay_bottom_tension(case: Case) -> float:
 def first_guess(case: Case, laid_of) -> Guess:
     """The first shape; ``laid_of(cat)`` gives the laid length [m] behind the
     suspended span's natural catenary ``cat`` (not called when
-    ``lay.pipe_length`` sets it)."""
+    ``lay.pipe_length`` sets it). ValueError as :func:`free_span` and
+    :func:`slay_liftoff`."""
     lay = case.lay
     if lay.method == "J":
         cat = free_span(case)
@@ -229,7 +231,8 @@ def first_guess(case: Case, laid_of) -> Guess:
 
 
 def shape(case: Case, g: Guess, s):
-    """x, z [m], theta [rad], Te [N], curvature [1/m] of the guess at arc lengths s."""
+    """x, z [m], theta [rad], Te [N], curvature [1/m] of the guess ``g`` at
+    arc lengths ``s`` [m] from the lower end (arrays like ``s``)."""
     lay = case.lay
     cat = g.cat
     z_top = lay.top[1]
@@ -258,12 +261,11 @@ def shape(case: Case, g: Guess, s):
     return x, z, th, te, kappa
 
 
-# The guide's element lengths over the case's [-]: its answer is a start,
-# on a mesh the roller problem grades anew (the case's sizes; the guide's
-# longer laid pipe, 5 of its elements, kept). S67 on 23 rollers, measured
-# one after the other: 3.37 -> 3.12 ms (1.51 -> 1.39 times the quadratic),
-# the same iterations and peak stress to 1e-9; 24 cold roller cases 247 ->
-# 244 iterations, 40 random ones 489 -> 477, the same two failures.
+# The guide's element lengths over the case's [-]: its answer is only a
+# start, on a mesh the roller problem grades anew (the case's sizes; the
+# guide's longer laid pipe, 5 of its elements, kept), so a coarser guide
+# costs less without changing the answer (measured: cold roller solves and
+# random roller stingers, benchmarks/bench_rollers.py parts 1 and 3).
 GUIDE_COARSENING = 2.0
 
 
@@ -273,21 +275,19 @@ def guide_case(case: Case) -> Case:
     quadratic stinger x = x_U + m (z - z_U) + a (z - z_U)^2 from ``lay.top``
     (x_U, z_U), held at the top along the curve (its slope m that of
     ``lay.top_angle``), through the last roller (a <= 0, concave down;
-    pinned, m and a the least-squares fit of the rollers' heights). Its
-    answer is where a roller stinger's solve starts
-    (:func:`pipelay_fast.problem.roller_problem`): where that answer bears
-    on its tip, the pipe then bears on the last roller. Fitted to every
-    roller's height instead, its tip lay off the last roller, the start's
-    contact at the tip was the wrong one, and 4 of 40 random roller
-    stingers took 11 to 26 iterations in one Newton call (none now, at most
-    8; 622 -> 507 iterations in all; one more of them fails, bearing on its
-    last roller at 910 MPa, twice SMYS, where this quadratic does not solve
-    either, as for the one that failed before). Through the last roller
-    without the top angle (a least-squares a between the two ends), the pipe lay 8 m
-    above the last rollers of a 300 m radius turning it 26 deg, and that
-    solve failed. Its elements are GUIDE_COARSENING times the case's: it is
-    only a start, and the roller problem takes the case's own element sizes
-    (:func:`pipelay_fast.problem.roller_problem`)."""
+    pinned, m and a the least-squares fit of the rollers' heights), with
+    elements GUIDE_COARSENING times the case's. Its answer is where a
+    roller stinger's solve starts
+    (:func:`pipelay_fast.engine.problem.roller_problem`, which takes the
+    case's own element sizes): where that answer bears on its tip, the pipe
+    then bears on the last roller. The curve passes through the last roller
+    so that the start's contact at the tip is the roller's (a fit to every
+    roller's height can put the tip off the last roller), and is held to
+    the top angle so that it follows the rollers of a long radius (a
+    curve through the last roller that ignores the top angle can lie well
+    above them); both measured on random roller stingers,
+    benchmarks/bench_rollers.py part 3. Raises ValueError as
+    :meth:`pipelay_fast.input.case.Case.with_changes` does."""
     lay = case.lay
     pts = lay.roller_positions()
     x_u, z_u = lay.top

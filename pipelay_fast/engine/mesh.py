@@ -1,4 +1,5 @@
-"""Graded meshes in unstretched arc length.
+"""Graded meshes in unstretched arc length (engine layer; the arithmetic is
+:mod:`pipelay_fast.kernels.grading`'s).
 
 Element size grows linearly with the distance from the nearest focus point
 (touchdown, lift-off, a held top) from ``h_min`` at the focus to ``h_max``:
@@ -21,6 +22,7 @@ GROWTH = 1.2
 
 
 def _uniform_count(length, h_max):
+    """Elements of a uniform mesh of about ``h_max`` [m] on ``length`` [m], at least 2."""
     return max(2, int(np.ceil(length / h_max)))
 
 
@@ -47,6 +49,11 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=
         Arc lengths [m] kept as nodes without grading there (the material
         points over a roller stinger's rollers); ungraded, each stretch
         between them is uniform.
+
+    Returns
+    -------
+    numpy.ndarray
+        The node positions [m], ascending from 0 to ``length``.
     """
     if not grading:  # uniform between the plain nodes
         a, b, _t, _phi, _counts = _tables(length, (), nodes, h_max, h_max, growth)
@@ -65,7 +72,7 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=
 
 def _tables(length, foci, nodes, h_max, h_min, growth):
     """The mesh's stretches between its anchors, and their tables
-    (:func:`.kernels.grading.graded_tables`)."""
+    (:func:`pipelay_fast.kernels.grading.graded_tables`)."""
     return graded_tables(float(length), np.asarray(foci, dtype=float).reshape(-1),
                          np.asarray(nodes, dtype=float).reshape(-1), float(h_max), float(h_min),
                          float(growth))
@@ -74,7 +81,7 @@ def _tables(length, foci, nodes, h_max, h_min, growth):
 def _place(t, phi, b, counts):
     """Node positions [m]: ``counts[j]`` elements in stretch j (row j of the
     tables ``t``, ``phi`` and of its ends ``b``), at equal steps of phi
-    (:func:`.kernels.grading.place_nodes`)."""
+    (:func:`pipelay_fast.kernels.grading.place_nodes`)."""
     counts = np.asarray(counts, dtype=np.int64)
     nodes = np.empty(1 + int(counts.sum()))
     place_nodes(t, phi, np.ascontiguousarray(b, dtype=float), counts, nodes)
@@ -90,7 +97,9 @@ def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4, 
     moved mesh has the element counts of the mesh itself. ``nodes``: the plain nodes of
     :func:`graded_nodes`; an entry j of ``moving`` past the foci moves
     nodes[j - len(foci)] (its rates from the two stretches it ends where it
-    is an anchor of its own, :func:`.kernels.grading.plain_rates_of`)."""
+    is an anchor of its own, :func:`pipelay_fast.kernels.grading.plain_rates_of`).
+    Returns an array (len(moving), number of nodes). ValueError when a move
+    of ``step`` changes the mesh's stretches."""
     points = np.array([*foci, *nodes], dtype=float)
     moving = np.asarray(moving, dtype=np.int64).reshape(-1)
     kernel = plain_rates_of if (moving >= len(foci)).any() else grading_rates_of

@@ -1,4 +1,6 @@
-"""From a validated :class:`~pipelay_fast.case.Case` to the flat arrays of the kernels."""
+"""From a validated :class:`~pipelay_fast.input.case.Case` to the flat arrays of
+the kernels (engine layer): the dimension solved in, the ``props`` vector and the
+current table, and the tension jump at a pinned S-lay top."""
 
 from __future__ import annotations
 
@@ -18,7 +20,8 @@ _PROFILES = {
 
 
 def dimension_of(case: Case) -> int:
-    """Space dimension the case is solved in: 2 when every load is planar ("auto")."""
+    """Space dimension the case is solved in, 2 or 3: 2 when every load is
+    planar ("auto"). ValueError for "2d" with loads out of the plane."""
     if case.solver.dimension == "2d":
         if not case.is_planar:
             raise ValueError(
@@ -33,8 +36,10 @@ def dimension_of(case: Case) -> int:
 
 
 def build_props(case: Case):
-    """The ``props`` vector and the current table ``[[x, speed], ...]`` of a case
-    (its data only: the load path's factors are the solver's, layout ``F_*``)."""
+    """The ``props`` vector (``layout.N_PROPS`` floats, SI, one per slot of
+    :mod:`pipelay_fast.kernels.layout`) and the current table ``[[x, speed],
+    ...]`` ([m], [m/s]; one zero row without a table profile) of a case (its
+    data only: the load path's factors are the solver's, layout ``F_*``)."""
     pipe = case.pipe
     env = case.environment
     cur = env.current

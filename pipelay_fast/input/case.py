@@ -2,9 +2,10 @@
 
 A case is read by :func:`load_case` from a TOML file (or a dict with the same
 tables: ``pipe``, ``environment`` (+ ``current``), ``seabed``, ``lay``
-(+ ``stinger``), ``solver``, and optionally ``checks``, the code-check inputs of
-:class:`pipelay_fast.checks.Checks`). Every value is in SI units; coordinates follow the
-paper: ``x`` is the height above the seabed, ``y`` lateral, ``z`` along the lay.
+(+ ``stinger``), ``solver``, and optionally ``checks``, the code-check inputs
+of :class:`pipelay_fast.input.checks.Checks`). Every value is in SI units;
+coordinates follow the paper: ``x`` is the height above the seabed, ``y``
+lateral, ``z`` along the lay. Part of the input layer.
 
 Every dataclass checks itself on construction, so a case built in Python, loaded
 from a file or modified with :meth:`Case.with_changes` is always valid. A bad
@@ -13,7 +14,7 @@ nothing is clamped. A case outside the model is refused the same way: a
 stinger that is concave up, falls towards the vessel or overhangs
 (:class:`Stinger`), and inputs that alone imply a strain beyond
 ``solver.max_strain`` (the tension at a given end over EA, the bending strain on
-the stinger: :func:`pipelay_fast.limits.check_case`).
+the stinger: :func:`pipelay_fast.input.limits.check_case`).
 """
 
 from __future__ import annotations
@@ -78,9 +79,9 @@ class Solver:
     dimension : str
         "auto" (2D when the case is planar), "2d" or "3d".
     element_length : float
-        Target element length [m]; default 4.0 (on the speed-against-error
-        front of the paper's scenes at 0.1 % stress error or better:
-        benchmarks/speed_vs_error.md).
+        Target element length [m]; default 4.0 (chosen from the solve time
+        against the stress error of the paper's scenes, the error bound
+        0.1 %: benchmarks/speed_vs_error.py).
     min_element_length : float or None
         Finest graded element [m], <= element_length; None: the solver picks.
     grading : bool
@@ -97,25 +98,23 @@ class Solver:
     max_iterations_total : int
         Newton iterations of one solve in all [-], over load steps, current
         steps, remeshing passes and laid-length doublings (a warm start that
-        fails leaves the cold start a budget of its own); default 1000. The
-        paper's scenes take 5 to 65, the hardest solved case of the tests 163,
-        J125 held vertical at 200 kN on 1 m elements 474; a case that needs
-        more is following its load path in fragments. Past it a SolveError
-        names the key.
+        fails leaves the cold start a budget of its own); default 1000, well
+        above the iterations of the paper's scenes and the tests' hardest
+        cases (measured: benchmarks/bench_contact.py); a case that needs more
+        is following its load path in fragments. Past it a SolveError names
+        the key.
     max_elements : int
-        Largest mesh [-], counted before any array is built; default 20000.
-        The paper's scenes have about 120 elements at the default
-        element_length, 4000 to 4800 at 0.1 m and 8000 to 9500 at 0.05 m;
-        20000 is their mesh at about 0.02 m, and a 3D Newton iteration there
-        takes about a second. Past it a ValueError names solver.element_length,
-        the laid length (solver.laid_length or what set its default) and the
-        count.
+        Largest mesh [-], counted before any array is built; default 20000,
+        the paper's scenes on elements of about 0.02 m (the time of a Newton
+        iteration against the mesh size: benchmarks/bench_scaling.py). Past
+        it a ValueError names solver.element_length, the laid length
+        (solver.laid_length or what set its default) and the count.
     max_strain : float
         Largest extreme-fibre strain |Tw/EA| + (Do/2) kappa [-] the
         small-strain model is trusted to (bending alone for an inextensible
         pipe), in (0, 0.1]; default 0.02, where the strain measures the linear
         law could be written in give forces 1 % apart (the reasoning:
-        :mod:`pipelay_fast.limits`). Inputs that imply more are refused with a
+        :mod:`pipelay_fast.input.limits`). Inputs that imply more are refused with a
         ValueError naming their keys, answers with a SolveError naming the
         strain, where it is and the limit.
     """
@@ -300,6 +299,7 @@ class Case:
         coating_outer_diameter, lay.top follows lay.stinger.upper; pipe.smys
         and pipe.smts follow pipe.grade, and changing either of them without
         the grade drops the grade (the steel is then the given strengths).
+        Raises ValueError, naming the key, when the new case is invalid.
         """
         updates = {**(changes or {}), **dotted}
         old = self.to_dict()
@@ -389,7 +389,11 @@ def load_case(source: str | os.PathLike | Mapping) -> Case:
     ------
     ValueError
         For any bad value, naming the key by its dotted path (prefixed by the
-        file name when reading a file).
+        file name when reading a file), and for invalid TOML.
+    TypeError
+        When ``source`` is neither a path nor a mapping.
+    OSError
+        When the file cannot be read.
     """
     if isinstance(source, Mapping):
         return _case_from_tables(source, "case")
@@ -404,8 +408,9 @@ def with_tables(base: Case, tables: Mapping, changed) -> Case:
     tables named in ``changed`` replaced (no key a derived default follows).
     Those tables are validated anew, the others are ``base``'s (already
     valid), then the case as a whole: the case :func:`load_case` gives for
-    ``tables``, in less time (a sweep builds one per axis value: S67's
-    paper sweep 99 -> 40 us a case)."""
+    ``tables``, without building and checking the unchanged tables again (a
+    sweep builds one case per axis value). Raises ValueError as
+    :func:`load_case` does."""
     parts = {part: _build(cls, tables.get(part, {}), part) if part in changed
              else getattr(base, part) for part, cls in _TABLES.items()}
     for part, cls in _OPTIONAL_TABLES.items():
@@ -417,6 +422,7 @@ def with_tables(base: Case, tables: Mapping, changed) -> Case:
 
 
 def _case_from_tables(tables: Mapping, default_name: str) -> Case:
+    """The case of a dict of tables, named ``default_name`` unless it has a name."""
     reject_unknown(tables, ["name", *_TABLES, *_OPTIONAL_TABLES], "")
     parts = {part: _build(cls, tables.get(part, {}), part) for part, cls in _TABLES.items()}
     parts |= {part: _build(cls, tables[part], part)

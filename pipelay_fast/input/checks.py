@@ -292,7 +292,7 @@ class Checks:
 def check_inputs(pipe, checks: Checks | None) -> None:
     """Refuse a ``[checks]`` table the pipe cannot be checked with: no
     ``pipe.smts`` (SMYS given without it), or D/t outside the criterion's 15
-    to 45. (:class:`pipelay_fast.case.Pipe` refuses SMTS below SMYS.)"""
+    to 45. (:class:`pipelay_fast.input.pipe.Pipe` refuses SMTS below SMYS.)"""
     if checks is None:
         return
     if pipe.smts is None:

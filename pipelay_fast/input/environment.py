@@ -134,4 +134,5 @@ class Seabed:
 
     @property
     def is_rigid(self) -> bool:
+        """True for a rigid seabed (``stiffness`` None)."""
         return self.stiffness is None

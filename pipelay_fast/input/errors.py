@@ -1,4 +1,5 @@
-"""The error a solve raises when it has no answer to return."""
+"""The error a solve raises when it has no answer to return (input layer, so
+that every layer above can raise and catch it)."""
 
 from __future__ import annotations
 

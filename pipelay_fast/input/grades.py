@@ -27,7 +27,7 @@ with it). Higher grades (X90 and up) were not cross-checked and
 are not offered.
 
 The default is X65 (L450), the grade of the paper's scenes: their SMYS of
-448 MPa (DESIGN.md) is 65 ksi, X65's minimum yield in US customary units
+448 MPa (README, Use) is 65 ksi, X65's minimum yield in US customary units
 (api5lx.com/api5lx-grades: X65 65 ksi yield, 77 ksi tensile; pipenostics'
 API 5L 2004 table, de-rated in its documented example, gives 448.16 MPa);
 the PSL 2 table gives 450 MPa (65,300 psi) and 535 MPa (77,600 psi). The

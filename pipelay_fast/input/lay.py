@@ -46,7 +46,7 @@ class Stinger:
     at the tip minus that at the upper end): more, and the stinger overhangs,
     its tip pointing back under the pipe that comes from the vessel. The
     bending strain of a pipe conforming to it is checked with the pipe
-    (:func:`pipelay_fast.limits.check_case`).
+    (:func:`pipelay_fast.input.limits.check_case`).
     """
 
     a: float
@@ -308,7 +308,7 @@ class Lay:
         itself, and across that fall the effective tension rises by
         (EI kappa_U)^2 / (2 EI), the first integral Te + M^2/(2 EI) - W(x) =
         const of the rod. The engine solves it so, as the firing line with the
-        tension below the pin that much lower (:func:`pipelay_fast.model.pin_jump`);
+        tension below the pin that much lower (:func:`pipelay_fast.engine.model.pin_jump`);
         the profile's top node reports the pin's values (zero moment, the
         tension above the jump). Required with a roller stinger: degrees (the
         firing line; a radius path starts along it), or "pinned" with
@@ -434,6 +434,7 @@ class Lay:
 
     @property
     def has_rollers(self) -> bool:
+        """True when the stinger is a :class:`RollerStinger`."""
         return isinstance(self.stinger, RollerStinger)
 
     @property

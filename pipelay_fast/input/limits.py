@@ -1,8 +1,8 @@
 """Where the model ends and how much work a solve may take.
 
 **The strain line** (``solver.max_strain``, default 0.02). The rod model
-(DESIGN section 2) is linearly elastic in small strain: Tw = EA eps with
-r'.r' = (1 + eps)^2, M = EI kappa per unstretched length, sections plane and
+(README, Method in one paragraph) is linearly elastic in small strain: Tw =
+EA eps with r'.r' = (1 + eps)^2, M = EI kappa per unstretched length, sections plane and
 circular. Yield is not the line: steel stops being linear at SMYS/E (0.2 % for
 the paper's pipe), but an answer beyond it is what the code checks downstream
 exist to flag, and lay design puts static overbend strains at a few tenths of
@@ -144,6 +144,7 @@ class IterationBudget:
 
     @property
     def left(self) -> int:
+        """Iterations not yet spent [-]."""
         return self.limit - self.used
 
     def cap(self, maxit: int) -> int:

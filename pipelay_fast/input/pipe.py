@@ -36,7 +36,7 @@ class Pipe:
     grade : str or None
         Linepipe steel grade, API 5L ("B", "X42" ... "X80") or ISO 3183
         ("L245" ... "L555"): SMYS and SMTS from API 5L (2018) Table 7, PSL 2
-        (:mod:`pipelay_fast.grades`). Default "X65" (450 and 535 MPa) when
+        (:mod:`pipelay_fast.input.grades`). Default "X65" (450 and 535 MPa) when
         none of grade, smys and smts is given; None when smys (and smts) are.
     smys : float
         Specified minimum yield strength [Pa]; default the grade's. Given

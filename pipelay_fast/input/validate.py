@@ -1,4 +1,4 @@
-"""Validation helpers for :mod:`pipelay_fast.case`.
+"""Validation helpers for :mod:`pipelay_fast.input.case` and its tables.
 
 Each helper checks one value and raises :class:`ValueError` whose message names
 the key by its dotted path and shows the offending value; none clamps or guesses.

@@ -2,7 +2,7 @@
 
 Layback, tip clearance, departure angle and touchdown tension come from the
 profile; peak strains and utilisations from the profile and the code checks of
-:mod:`pipelay_fast.checks` (NaN without a ``[checks]`` table).
+:mod:`pipelay_fast.input.checks` (NaN without a ``[checks]`` table).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ DESIGN_UNITS = {
 }
 
 
-NEWTON_STEPS = 20  # for the foot of the normal; it converges in 3 to 5
+NEWTON_STEPS = 20  # a cap for the foot of the normal, which converges in a few from a sample
 SAMPLES = 33  # per element, where the foot of the normal is sought from
 
 
@@ -48,7 +48,10 @@ def tip_clearance(r, rp, s, tip, up) -> float:
     once: each sampled at 33 points, then refined from its nearest sample by
     Newton on the foot-of-normal condition (r - tip) . dr/dxi = 0 (xi kept
     in [0, 1]), so the distance is normal to the pipe; the nearest of the
-    refined points is the answer (:func:`.kernels.geometry.point_clearance`).
+    refined points is the answer
+    (:func:`pipelay_fast.kernels.geometry.point_clearance`). ``r`` [m],
+    ``rp`` [-]: nodal positions and slopes (nn, nd); ``s`` [m]: the nodes'
+    arc lengths; ``tip`` [m], ``up`` [-]: vectors of nd.
     """
     r, rp, s = (np.ascontiguousarray(v, dtype=float) for v in (r, rp, s))
     nd = r.shape[1]
@@ -81,11 +84,13 @@ def lcc_sections(case, cols: dict, functional: dict | None = None):
     ``cols``, with ``functional`` the profile columns of the case's
     functional load case (:meth:`pipelay_fast.input.checks.Checks.splits_current`:
     required when it splits the current off, ignored otherwise): the load-controlled criterion
-    (:func:`pipelay_fast.checks.lcc_utilisation`) of the design load effects
-    under the load effect factor combination giving the larger utilisation
-    there (:attr:`pipelay_fast.checks.Checks.load_combinations`), and that
-    combination's axial ratio (:func:`pipelay_fast.checks.lcc_axial_ratio`);
-    NaN without ``[checks]``."""
+    (:func:`pipelay_fast.input.checks.lcc_utilisation`) of the design load
+    effects under the load effect factor combination giving the larger
+    utilisation there (:attr:`pipelay_fast.input.checks.Checks.load_combinations`),
+    and that combination's axial ratio
+    (:func:`pipelay_fast.input.checks.lcc_axial_ratio`); NaN without
+    ``[checks]``. Raises ValueError when the check splits the current off
+    and ``functional`` is None."""
     checks = case.checks
     if checks is None:
         nan = np.full(cols["s"].size, math.nan)
@@ -124,7 +129,7 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
 
     ``cols``: the profile columns; ``r``, ``rp``: nodal position and slope in
     the solve's dimension [m, -]; ``overbend``, ``sagbend``: boolean masks of
-    the nodes of each region (``sagbend`` None: the J-lay span behind
+    the nodes of each region (``sagbend`` None: the J-lay span above
     touchdown, whose peak is its interior maximum); ``bearing``: the pipe
     bears on the stinger's tip; ``departure_angle``: the angle where the
     pipe leaves the stinger (S-lay) or the vessel (J-lay) [deg];

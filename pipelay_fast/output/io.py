@@ -78,7 +78,8 @@ def write_table(
 
 
 def read_units(path: str | os.PathLike) -> dict[str, str]:
-    """The ``{column: unit}`` map stored in a Parquet file by :func:`write_table`."""
+    """The ``{column: unit}`` map stored in a Parquet file by :func:`write_table`;
+    ValueError when the file has none."""
     metadata = pq.read_schema(path).metadata or {}
     if b"units" not in metadata:
         raise ValueError(f"{path}: no units in the Parquet schema metadata")

@@ -25,6 +25,9 @@ PANEL_SIZE = (6.4, 3.0)  # in, width and height of one panel
 
 
 def figure(rows: int, cols: int = 1):
+    """An empty matplotlib Figure of ``rows`` x ``cols`` panels, each
+    ``PANEL_SIZE`` [in] at ``DPI``, constrained layout. Raises ImportError
+    without matplotlib (the ``plot`` extra)."""
     try:
         from matplotlib.figure import Figure
     except ImportError as err:  # pragma: no cover - the plot extra is missing

@@ -125,20 +125,24 @@ class Result:
 
     @property
     def profile(self) -> pd.DataFrame:
+        """One row per node, the columns of ``PROFILE_UNITS`` (SI)."""
         if self._profile is None:
             self._profile = pd.DataFrame(self.columns)
         return self._profile
 
     @property
     def rollers(self) -> pd.DataFrame | None:
+        """One row per roller, the columns of ``ROLLER_UNITS`` (SI); None
+        without a roller stinger."""
         if self._rollers is None and self.roller_columns is not None:
             self._rollers = pd.DataFrame(self.roller_columns)
         return self._rollers
 
     def plot(self, path=None):
-        """The lay's figure (:func:`pipelay_fast.plot.plot_result`): elevation,
-        plan in 3D, moment, von Mises and utilisation along the pipe; written
-        to ``path`` (PNG, or SVG/PDF by the suffix) when given."""
+        """The lay's figure (:func:`pipelay_fast.output.plot.plot_result`):
+        elevation, plan in 3D, moment, von Mises and utilisation along the
+        pipe; written to ``path`` (PNG, or SVG/PDF by the suffix) when given.
+        Returns the matplotlib Figure."""
         from .plot import plot_result
 
         return plot_result(self, path)
@@ -150,12 +154,12 @@ class Result:
 
 
 def nodal_fields(nd, s, u, clamped=None):
-    """r and r' at the nodes [m, -] (nn, nd), and in (x, y, z) (the plane's
-    y = 0 embedded) the curvature vector (r' x r'')/|r'|^3 [1/m] and the unit
-    tangent (nn, 3): :func:`.kernels.geometry.centreline_fields`, which says
-    how r'' is taken at the nodes (averaged over the elements beside a node,
-    but the lateral y'' at a node of ``clamped`` (bool per node), where the
-    free side's is)."""
+    """(r [m], r' [-], each (nn, nd); the curvature vector (r' x r'')/|r'|^3
+    [1/m] and the unit tangent [-], each (nn, 3) in (x, y, z), the plane's
+    y = 0 embedded in 2D) at the nodes ``s`` [m] of the unknowns ``u`` in
+    dimension ``nd``. r'' at a node is averaged over the elements beside it,
+    but the lateral y'' at a node of ``clamped`` (bool per node) is the free
+    side's (:func:`pipelay_fast.kernels.geometry.centreline_fields`)."""
     nn = s.size
     r, rp, rpp = np.empty((nn, nd)), np.empty((nn, nd)), np.empty((nn, nd))
     kvec, t3 = np.empty((nn, 3)), np.empty((nn, 3))
@@ -192,12 +196,15 @@ def node_shares(s) -> np.ndarray:
 def foundation_force(s, x, k_bed) -> np.ndarray:
     """Nodal force [N] of an elastic seabed: k (-x) at a node below the
     surface over its share of the pipe (the NumPy reference of the normal
-    force W that :func:`.kernels.contact.friction_track` gives friction)."""
+    force W that :func:`pipelay_fast.kernels.contact.friction_track` gives
+    friction). ``s``, ``x`` [m] per node, ``k_bed`` [N/m per m of pipe]."""
     return k_bed * np.maximum(-x, 0.0) * node_shares(s)
 
 
 def constraint_forces(nd, pb, react):
-    """Force of every constraint on each node in (x, y, z) [N] (nodal frames undone).
+    """Force of every constraint on each node in (x, y, z) [N], shape (nn, 3)
+    (nodal frames undone; y = 0 in 2D), from the reactions ``react`` of the
+    problem ``pb`` in dimension ``nd``.
 
     Zero on free unknowns; at the top it is the load the vessel carries. Applied
     loads (the bottom tension of a sliding lower end) are not reactions.
@@ -217,8 +224,8 @@ def constraint_forces(nd, pb, react):
 def tip_force(pb):
     """The stinger tip's reaction: (the node over the tip, its normal reaction
     [N]), or None when the tip does not bear. Bearing, a node follows the
-    material point over the tip (:mod:`.boundaries`), and the reaction is the
-    multiplier of its contact."""
+    material point over the tip (:mod:`pipelay_fast.engine.boundaries`), and
+    the reaction is the multiplier of its contact."""
     if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
         return None
     return int(pb.tip_node), float(pb.tip[1])
@@ -265,7 +272,8 @@ def build_rollers(case: Case, pb, react) -> dict | None:
 
 
 def build_profile(case: Case, pb, react) -> dict:
-    """The columns of ``PROFILE_UNITS`` (numpy arrays, one value per node) of a solved problem."""
+    """The columns of ``PROFILE_UNITS`` (numpy arrays, one value per node, SI)
+    of the solved problem ``pb`` with its reactions ``react``."""
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
     pipe = case.pipe
     ei = pipe.bending_stiffness
@@ -346,15 +354,19 @@ def build_profile(case: Case, pb, react) -> dict:
 def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
                   s_liftoff: float | None = None, rollers: dict | None = None,
                   functional: dict | None = None) -> dict:
-    """The summary row of one solved case from its profile columns
-    (``functional``: the profile columns of its functional load case, for
-    the code check, :func:`pipelay_fast.output.design.lcc_sections`).
+    """The summary row (the columns of ``SUMMARY_UNITS``) of one solved case
+    from its profile columns ``cols``, the solver's counts and time ``stats``,
+    the arc lengths of touchdown ``s_tdp`` and lift-off ``s_liftoff`` [m]
+    (None: the top), the roller columns ``rollers`` (None without rollers)
+    and ``functional``, the profile columns of its functional load case, for
+    the code check (:func:`pipelay_fast.output.design.lcc_sections`).
 
     Overbend and sagbend are told apart by the sign of the in-plane bending
-    moment (moment_y): hogging over the stinger, sagging in the free span
-    behind touchdown. J-lay has no overbend (NaN). The lay design answers
+    moment (moment_y) above touchdown: the hogging nodes (moment_y < 0) are
+    the overbend, the others up to lift-off the sagbend. J-lay has no
+    overbend (NaN). The lay design answers
     (layback, tip clearance, strains, utilisations) are
-    :func:`pipelay_fast.design.design_columns`'.
+    :func:`pipelay_fast.output.design.design_columns`'.
     """
     cur = case.environment.current
     s = cols["s"]

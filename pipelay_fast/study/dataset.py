@@ -9,7 +9,7 @@ Layout of ``OUT/``::
     selection.parquet                    written by ``pipelay-fast select``
 
 Every file carries the unit of each column in its schema metadata, as
-:func:`pipelay_fast.io.write_table` writes it. A worker encodes each chunk (a
+:func:`pipelay_fast.output.io.write_table` writes it. A worker encodes each chunk (a
 task's cases) to Parquet bytes; the parent, the only writer, writes them
 atomically (temporary name, then rename), profiles and rollers first and
 summary last, under the same file name in every table: the summary file is
@@ -54,9 +54,13 @@ _BOOLEAN = ("warm_started",)
 
 
 class Dataset:
-    """A sweep's results directory, locked for writing while open.
+    """A sweep's results directory ``root``, locked for writing while open.
 
     Use as a context manager: ``with Dataset(out, sweep) as ds: ...``.
+    Entering creates the directory, takes its ``.lock`` (RuntimeError while
+    another live process holds it), removes an interrupted run's leftovers
+    and stores ``sweep``'s scenes in ``sweep.json`` (ValueError for a scene
+    name that already holds another base case); leaving releases the lock.
     """
 
     def __init__(self, root: str | os.PathLike, sweep: Sweep | None = None):
@@ -102,6 +106,8 @@ class Dataset:
         raise RuntimeError(f"cannot lock {self.root}")
 
     def _clean(self):
+        """Remove temporary files, and profile and roller chunks without
+        their summary chunk (an interrupted run's)."""
         for tmp in self.root.glob("*/scene=*/.*.tmp"):
             tmp.unlink(missing_ok=True)
         for table in ("profiles", "rollers"):
@@ -205,8 +211,10 @@ def encode_arrays(columns: dict, units: dict, metadata: dict) -> bytes:
 
 def repeated_text(values: list[str], counts) -> pa.Array:
     """A text column of the dataset's type: ``values[i]`` ``counts[i]``
-    times, in order (a chunk's case ids, one per profile node: from a NumPy
-    array of text, 1 ms a chunk of 120 cases; this way 0.04 ms)."""
+    times, in order (a chunk's case ids, one per profile node): the distinct
+    values converted once and taken by index, cheaper than converting a
+    NumPy array of repeated text (the encoding is part of the sweep layer's
+    overhead, benchmarks/bench_sweep.py)."""
     index = np.repeat(np.arange(len(values), dtype=np.int64), np.asarray(counts, dtype=np.int64))
     return pa.array(values, type=_pandas_string_type()).take(pa.array(index))
 
@@ -220,7 +228,7 @@ def _pandas_string_type() -> pa.DataType:
 
 def _encode(table: pa.Table, units: dict, metadata: dict) -> bytes:
     """``table`` as the bytes of a Parquet file carrying the unit of every
-    column, laid out as :func:`pipelay_fast.io.write_table` does (field
+    column, laid out as :func:`pipelay_fast.output.io.write_table` does (field
     metadata ``unit``, schema metadata ``units``); dictionary encoding for
     strings only."""
     fields = [f.with_metadata({b"unit": units[f.name].encode()}) for f in table.schema]
@@ -318,11 +326,12 @@ def read_profiles(root: str | os.PathLike, filters=None) -> pd.DataFrame:
 def read_rollers(root: str | os.PathLike, filters=None) -> pd.DataFrame:
     """The rollers table of a results directory (``scene`` a column): one row
     per roller per case of a roller stinger, columns ``case_id`` and those of
-    ``pipelay_fast.results.ROLLER_UNITS``."""
+    ``pipelay_fast.output.results.ROLLER_UNITS``."""
     return _read(Path(root) / "rollers", filters)
 
 
 def _read(folder: Path, filters) -> pd.DataFrame:
+    """The hive-partitioned table under ``folder`` (empty when it has no chunk)."""
     if not any(folder.glob("scene=*/*.parquet")):
         return pd.DataFrame()
     frame = pd.read_parquet(folder, filters=filters)
@@ -331,6 +340,7 @@ def _read(folder: Path, filters) -> pd.DataFrame:
 
 
 def _alive(pid: int) -> bool:
+    """Whether process ``pid`` exists and is not a zombie."""
     try:
         os.kill(pid, 0)
     except OSError as err:

@@ -37,7 +37,8 @@ _KEYS = ("scene", "method", "dimension")
 def lay_table(root: str | os.PathLike) -> pd.DataFrame:
     """The lay table of the results directory ``root`` (SI units): scene,
     method, dimension, the columns of ``LAY_TABLE_COLUMNS``, status, target
-    and message; S-lay first, then J-lay, each by depth then top tension."""
+    and message; S-lay first, then J-lay, each by depth then top tension.
+    Raises ValueError when ``root`` has no summary table."""
     summary = read_summary(root)
     if summary.empty:
         raise ValueError(f"{root}: no summary table (run a sweep into it first)")

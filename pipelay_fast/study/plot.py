@@ -35,11 +35,12 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     """The figure of a sweep's results directory ``root``; written to ``path``
     when given. Returns the matplotlib Figure.
 
-    One panel per S-lay scene, dimension and current whose cases span
-    several values of a stinger design axis (``a``, or a roller stinger's
-    ``stinger_radius`` or ``roller_shift``): overbend and sagbend peak von
-    Mises stress against it, with ``select``'s equal-peaks and least-stress values (when
-    ``selection.parquet`` holds it) as a vertical line; then, for each
+    One panel per S-lay scene, dimension, current and given tension whose
+    cases span several values of a stinger design axis (``a``, or a roller
+    stinger's ``stinger_radius`` or ``roller_shift``): overbend and sagbend
+    peak von Mises stress against it, with ``select``'s equal-peaks and
+    least-stress values (when ``selection.parquet`` holds them) as vertical
+    lines; then, for each
     method solved at several water depths with one case per depth (a lay
     table), top tension and max utilisation against depth.
 
@@ -116,6 +117,7 @@ def _given(name: str, value: float) -> str:
 
 
 def _selection(root: Path):
+    """``root/selection.parquet`` as a DataFrame; None when absent."""
     file = root / "selection.parquet"
     return pd.read_parquet(file) if file.is_file() else None
 

@@ -2,9 +2,10 @@
 
 Each chain (cases that differ only in the chain axis) is solved in order, each
 case warm-started from the previous solution of its chain; a chain's first case
-(and a case after a change of dimension or method) starts cold. Results do not
-depend on the number of workers or on how chains are packed into tasks: a
-chain never crosses a task, and nothing else carries over between cases.
+(and a case after a change of dimension, method or roller count) starts cold.
+Results do not depend on the number of workers or on how chains are packed
+into tasks: a chain never crosses a task, and nothing else carries over
+between cases.
 
 Workers are the backend's processes (loky by default; dask.distributed or Ray
 through joblib). A worker keeps its compiled kernels for all the tasks it runs,
@@ -40,12 +41,15 @@ CASE_ERRORS = (SolveError, NotImplementedError, ValueError)
 
 @dataclass
 class SweepReport:
-    """What a run did. Times in seconds: ``seconds`` wall time of the run (case
-    expansion included), ``solve_seconds`` the time spent in ``pf.solve`` summed
-    over the workers, ``write_seconds`` the time the parent spent writing the
-    chunks the workers encoded to Parquet; ``cpu_seconds`` the processor time
-    of the workers' tasks and of the parent, ``solve_cpu_seconds`` the part of
-    it in ``pf.solve``."""
+    """What a run did: ``total`` cases, of which ``skipped`` (already
+    written), ``solved`` (rows written, ``failed`` among them) in ``chunks``
+    chunks by ``workers`` workers (``worker_pids``). Times in seconds:
+    ``seconds`` wall time of the run (case expansion included),
+    ``solve_seconds`` the time spent in ``pf.solve`` summed over the workers,
+    ``write_seconds`` the time the parent spent writing the chunks the
+    workers encoded to Parquet; ``cpu_seconds`` the processor time of the
+    workers' tasks and of the parent, ``solve_cpu_seconds`` the part of it in
+    ``pf.solve``."""
 
     total: int = 0
     skipped: int = 0
@@ -90,12 +94,19 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
 
     Parameters
     ----------
+    sweep : Sweep
+    out : path-like
+        The results directory (:class:`pipelay_fast.study.dataset.Dataset`),
+        created if missing; cases whose id it already holds are skipped.
     workers : int
         Worker processes (1: in this process).
     backend : str
         "loky" (default), "dask" (a running ``distributed.Client`` is used, else
         the ``scheduler`` address, else a LocalCluster of ``workers`` processes)
         or "ray".
+    scheduler : str, optional
+        The dask scheduler or Ray cluster address to join (default: start
+        one of ``workers`` processes).
     chunk_size : int, optional
         Cases per task and per Parquet chunk, rounded up to whole chains;
         default an eighth of each worker's share, at most 256.
@@ -106,6 +117,21 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
     warm_start : bool
         Start each case from the previous solution of its chain (default); False
         solves every case cold (for comparison).
+
+    Returns
+    -------
+    SweepReport
+        The counts and times of the run.
+
+    Raises
+    ------
+    ValueError
+        For a bad ``backend``, ``workers`` or ``chunk_size``, or a results
+        directory holding another case under a scene's name.
+    RuntimeError
+        When another live process holds the directory's lock.
+    ImportError
+        When the dask or ray backend is asked for and not installed.
     """
     if backend not in BACKENDS:
         raise ValueError(f"backend = {backend!r} must be one of {', '.join(BACKENDS)}")
@@ -174,7 +200,7 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
                warm_start: bool = True):
     """Solve the chains of one task and encode them as a chunk (runs in a worker).
 
-    Returns (the :class:`~pipelay_fast.dataset.Chunk`, times in seconds: "solve"
+    Returns (the :class:`~pipelay_fast.study.dataset.Chunk`, times in seconds: "solve"
     and "solve_cpu" in ``pf.solve``, "task_cpu" of the whole task; the pid).
     """
     start_cpu = time.process_time()
@@ -210,10 +236,10 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
     ``pf.solve``) along one chain.
 
     Each case is warm-started from the last successful solution of the chain
-    when it has the same lay method and dimension (``warm_started`` in its
-    row); a case that fails (invalid inputs, SolveError, a gated case, a
-    target out of reach) becomes a row with status "failed" and the reason in
-    ``message``. A scene with a target solves each case for it
+    when it has the same lay method, dimension and roller count
+    (``warm_started`` in its row); a case that fails (invalid inputs,
+    SolveError, a gated case, a target out of reach) becomes a row with
+    status "failed" and the reason in ``message``. A scene with a target solves each case for it
     (:func:`pipelay_fast.solve_for`, its first trial warm from the chain).
     """
     previous = None
@@ -241,7 +267,7 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
 
 def solve_case(case, warm=None, target=None):
     """``pf.solve`` of ``case`` started from the Result ``warm`` (None: cold);
-    with ``target`` (a scene's, see :class:`pipelay_fast.sweep.Scene`) the
+    with ``target`` (a scene's, see :class:`pipelay_fast.study.sweep.Scene`) the
     target solve :func:`pipelay_fast.solve_for`.
 
     The solver itself falls back to its own first guess when the warm start
@@ -254,6 +280,8 @@ def solve_case(case, warm=None, target=None):
 
 
 def _compatible(previous, sc: SweepCase) -> bool:
+    """Whether the Result ``previous`` can warm-start ``sc``: same lay
+    method, dimension and roller count."""
     return (previous is not None and previous.case.lay.method == sc.case.lay.method
             and previous.summary["dimension"] == sc.case.resolved_dimension
             and previous.case.lay.roller_count == sc.case.lay.roller_count)
@@ -264,6 +292,8 @@ def _given(sc: SweepCase) -> dict:
 
 
 def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:
+    """The summary row of a case that failed: its inputs, NaN answers,
+    status "failed" and ``message``."""
     row = {name: math.nan for name, unit in SUMMARY_UNITS.items() if unit}
     row.update(sc.inputs)
     row.update(base)

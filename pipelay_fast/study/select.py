@@ -67,9 +67,14 @@ FLAT_SHARE = 0.005  # grid points this close to the minimum stress make it "flat
 
 
 def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) -> pd.DataFrame:
-    """The selection table of the results directory ``root`` (one row per group).
+    """The selection table of the results directory ``root`` (one row per
+    S-lay group: scene and the other inputs; the columns of
+    ``SELECTION_UNITS``, SI).
 
-    Written to ``root/selection.parquet`` (units in the schema) when ``write``.
+    ``refine``: refine the grid's choices with further solves (needs
+    ``root/sweep.json``); False: grid values only. Written to
+    ``root/selection.parquet`` (units in the schema) when ``write``.
+    Raises ValueError when ``root`` has no summary table.
     """
     root = Path(root)
     summary = read_summary(root)
@@ -111,6 +116,7 @@ def design_variable(scene: Scene | None, group: pd.DataFrame) -> str:
 
 def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None,
                   variable: str) -> dict:
+    """The selection row of one group's solved cases (sorted by ``variable``)."""
     a = group[variable].to_numpy()
     vm = group["max_von_mises"].to_numpy()
     gap = (group["overbend_max_von_mises"] - group["sagbend_max_von_mises"]).to_numpy()
@@ -179,6 +185,7 @@ def _answers(summary) -> dict:
 
 
 def _gap(summary: dict) -> float:
+    """Overbend less sagbend peak von Mises stress [Pa] of a summary row."""
     return summary["overbend_max_von_mises"] - summary["sagbend_max_von_mises"]
 
 

@@ -108,10 +108,11 @@ class Scene:
         return self._case_and_id(values)[0]
 
     def _case_and_id(self, values: Mapping[str, float]) -> tuple[Case, str]:
-        """:meth:`case_for` and its :func:`.results.case_id`, both from the
-        base case's tables with the axis values put in (only the tables
-        they change validated anew, :func:`.case.with_tables`; the id hashes
-        those tables, which are the case's ``to_dict()``: tested)."""
+        """:meth:`case_for` and its :func:`pipelay_fast.output.results.case_id`,
+        both from the base case's tables with the axis values put in (only
+        the tables they change validated anew,
+        :func:`pipelay_fast.input.case.with_tables`; the id hashes those
+        tables, which are the case's ``to_dict()``)."""
         tables, changes = self._tables_for(values)
         case = with_tables(self.case, tables, {key.split(".")[0] for key in changes})
         cid = tables_id(tables)
@@ -173,9 +174,11 @@ class SweepCase:
 
     @property
     def scene(self) -> str:
+        """The name of the case's scene."""
         return self.source.name
 
     def _build(self) -> tuple:
+        """(case or None, validation error or "", case id), built once."""
         if self._built is None:
             try:
                 case, cid = self.source._case_and_id(self.values)
@@ -187,24 +190,42 @@ class SweepCase:
 
     @property
     def case(self) -> Case | None:
+        """The validated case; None when the axis values make it invalid."""
         return self._build()[0]
 
     @property
     def error(self) -> str:
+        """The validation message of an invalid case; "" for a valid one."""
         return self._build()[1]
 
     @property
     def case_id(self) -> str:
+        """16 hex digits: the case's inputs (those requested, for an invalid
+        case), and its target when the scene has one."""
         return self._build()[2]
 
     @property
     def inputs(self) -> dict:
+        """The summary's input columns (SI): method, dimension, the stinger's,
+        water depth, current, the given tension, and the axis values as
+        requested."""
         return _inputs(self.source, self.case, self.values)
 
 
 @dataclass(frozen=True)
 class Sweep:
-    """A parsed sweep file: its name and scenes."""
+    """A parsed sweep file.
+
+    Attributes
+    ----------
+    name : str
+        The sweep's name (the results directory's default).
+    scenes : tuple of Scene
+    description : str
+        Free text of the file.
+    source : str
+        The file's path ("" for a dict or a stored spec).
+    """
 
     name: str
     scenes: tuple[Scene, ...]
@@ -213,6 +234,7 @@ class Sweep:
     _cases: list = field(default_factory=list, compare=False, repr=False)
 
     def scene(self, name: str) -> Scene:
+        """The scene called ``name``; KeyError if none is."""
         for scene in self.scenes:
             if scene.name == name:
                 return scene
@@ -238,6 +260,8 @@ class Sweep:
         return table
 
     def to_spec(self) -> dict:
+        """JSON-able description (name, description, scenes), read back by
+        :meth:`from_spec`."""
         return {"name": self.name, "description": self.description,
                 "scenes": [scene.to_spec() for scene in self.scenes]}
 
@@ -257,6 +281,7 @@ class Sweep:
 
 
 def _spec_target(spec) -> dict | None:
+    """A scene's target from its JSON spec (bounds back to a tuple)."""
     return None if spec is None else {**spec, "bounds": tuple(spec["bounds"])}
 
 
@@ -269,6 +294,8 @@ def _with_target(identity: str, scene: Scene) -> str:
 
 
 def _changes(values: Mapping[str, float]) -> dict:
+    """The dotted case keys axis values set (a tension axis clears the other
+    tension keys)."""
     changes = {}
     for name, value in values.items():
         if name in TENSION_AXES:
@@ -309,6 +336,8 @@ def _raw_id(scene: Scene, values: Mapping[str, float]) -> str:
 
 
 def _expand(scene: Scene) -> list[SweepCase]:
+    """The scene's cases: every combination of its other axes, each a chain
+    over the chain axis cut into pieces of at most MAX_CHAIN_LENGTH."""
     chain_axis = scene.chain_axis
     others = [n for n in AXES if n in scene.axes and n != chain_axis]
     inner = scene.axes[chain_axis] if chain_axis else (None,)

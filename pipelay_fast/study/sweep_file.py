@@ -30,8 +30,9 @@ scenes only, J-lay scenes ignore it), a roller stinger's ``stinger_radius``
 ``bottom_tension`` (``given_top_tension``, ``given_bottom_tension``, N) and
 ``pipe_length`` (``given_pipe_length``, m); a tension axis replaces whichever
 tension the base case gives. Scene keys: ``case``, ``method`` ("S" or "J"),
-``water_depth``, ``stinger_lower``, ``stinger_upper``, ``top`` (J-lay hang-off
-(x, z), m), ``top_angle`` (deg), ``reference_a``, ``set`` and ``vary``.
+``water_depth``, ``stinger_lower``, ``stinger_upper``, ``top`` ((x, z), m: the
+J-lay hang-off, or where the vessel holds the pipe above a roller stinger),
+``top_angle`` (deg), ``reference_a``, ``set``, ``vary`` and ``target``.
 
 A structural mistake (unknown key, a value of the wrong type, a bad range, a
 scene whose base case is invalid) refuses the whole file with a ValueError
@@ -99,6 +100,7 @@ def load_sweep(source: str | os.PathLike | Mapping, *, base_dir=None) -> Sweep:
 
 
 def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -> Sweep:
+    """The sweep of a file's tables; relative case paths from ``folder``."""
     reject_unknown(tables, _FILE_KEYS, "")
     name = tables.get("name", default_name)
     _check_name("name", name)
@@ -131,6 +133,10 @@ def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -
 
 
 def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
+    """The scene of the table at ``path``: its base case with the file's
+    ``set`` (``common``), its geometry and its own ``set`` applied; the
+    file's axes (``axes``) with its own; the file's ``target`` unless it
+    gives one. ValueError naming the key for any mistake."""
     if not isinstance(table, Mapping):
         fail(path, table, "must be a table")
     reject_unknown(table, _SCENE_KEYS, f"{path}.")
@@ -244,6 +250,8 @@ def _check_target(path, target, case, axes):
 
 
 def _base_case(path, source, folder) -> Case:
+    """The case ``source`` names: a bundled example (a bare name), else a
+    file relative to ``folder``."""
     if not isinstance(source, str) or not source:
         fail(path, source, "must be a bundled example name or a case file path")
     examples = files("pipelay_fast").joinpath("examples")
@@ -280,6 +288,7 @@ def _dotted(path, table) -> dict:
 
 
 def _axes(path, table) -> dict:
+    """Axis name -> tuple of values [SI] of a ``vary`` table."""
     if not isinstance(table, Mapping):
         fail(path, table, "must be a table of axes")
     reject_unknown(table, list(AXES), f"{path}.")
@@ -328,6 +337,3 @@ def _number(path, value) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
         fail(path, value, "must be a finite number")
     return float(value)
-
-
-# --------------------------------------------------------------------------- expansion
