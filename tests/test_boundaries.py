@@ -463,8 +463,8 @@ def test_a_cable_leaving_below_the_tip_starts_bearing_with_the_span_found(exampl
     assert start.tip_node >= 0 and start.tip[0] == 1.0  # bearing from the start
     pb = solve_problem(case)[0]
     assert pb.tip_node >= 0 and pb.tip[0] == 1.0
-    found = pb.s_bd[B_LO] - pb.s_bd[B_PT]
-    assert start.s_bd[B_LO] - start.s_bd[B_PT] == pytest.approx(found, rel=0.05)
+    found = pb.mesh.s_bd[B_LO] - pb.mesh.s_bd[B_PT]
+    assert start.mesh.s_bd[B_LO] - start.mesh.s_bd[B_PT] == pytest.approx(found, rel=0.05)
 
 
 def test_moving_a_boundary_carries_the_state_along_the_pipe():

@@ -131,7 +131,7 @@ def test_current_steps_are_counted_as_newton_ran_them(monkeypatch):
 
     def counted(pb, *args):
         status, react, info = run(pb, *args)
-        if pb.factors[L.F_CURRENT] > 0.0:
+        if pb.settings.factors[L.F_CURRENT] > 0.0:
             calls.append(int(info[I_ITER]))
         return status, react, info
 

@@ -229,7 +229,7 @@ def test_a_warm_start_from_a_path_that_switched_regime_at_the_tip():
     base = pf.load_case(EXAMPLES / "s67_3d.toml").with_changes(
         {"solver.element_length": 4.0, "environment.current.speed": 2.0})
     neighbour = pf.solve(base.with_changes({"lay.stinger.a": -0.00114}))
-    before = dict(zip(STATE + MAP, neighbour.state.before_current, strict=True))
+    before = dict(zip(STATE + MAP, neighbour.state.path.before_current, strict=True))
     assert not np.array_equal(before["bnodes"], neighbour.state.bnodes)  # (it switched)
     case = base.with_changes({"lay.stinger.a": -0.00116})
     warm = _checked_solve(case, neighbour.state)  # (solve would fall back to the cold start)

@@ -11,7 +11,7 @@ import pytest
 import pipelay_fast as pf
 from pipelay_fast.engine.continuation import run_newton
 from pipelay_fast.engine.model import build_props
-from pipelay_fast.engine.state import Problem
+from pipelay_fast.engine.state import EndConditions, make_problem
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.banded import (
     band_factor,
@@ -20,7 +20,6 @@ from pipelay_fast.kernels.banded import (
     dense_to_band,
 )
 from pipelay_fast.kernels.contact import (
-    N_STINGER,
     friction_forces,
     friction_step,
     friction_track,
@@ -94,13 +93,9 @@ def laid_pipe(case, nd, n_el=40, length=50.0, tension=2e5, lift=0.3):
     on_bed = np.ones(s.size, dtype=np.int8)  # every node on the seabed, the held end aside
     on_bed[0] = 0
     props, table = build_props(case)
-    return Problem(nd, s, props, table, u, fix, np.zeros_like(u), np.zeros(s.size),
-                   np.zeros(s.size), on_bed, np.zeros(N_STINGER),
-                   np.zeros(s.size, dtype=np.int8), np.zeros((0, L.N_PT)),
-                   np.zeros((s.size, L.N_FRIC)),
-                   f_node,
-                   -1, np.zeros(1), s.size - 1, 0.0,
-                   tension, 1.0)
+    ends = EndConditions(fix, np.zeros_like(u), f_node, -1, s.size - 1, 0.0)
+    return make_problem(nd=nd, s=s, props=props, table=table, u=u, ends=ends, fref=tension,
+                        href=1.0, bed_active=on_bed)
 
 
 @pytest.mark.parametrize("nd", [2, 3])
@@ -111,7 +106,7 @@ def test_pipe_laid_on_seabed_under_its_weight(j125, nd):
     ndn = pb.ndn
     w = float(j125.effective_weight(0.0))
     h = np.diff(pb.s)[0]
-    assert pb.bed_active[1:].all()  # every node but the pinned end is a contact
+    assert pb.contacts.bed_active[1:].all()  # every node but the pinned end is a contact
     r = react[0::ndn]
     np.testing.assert_allclose(r[1:-1], w * h, rtol=1e-6)
     np.testing.assert_allclose(r[[0, -1]], 0.5 * w * h, rtol=1e-6)
@@ -132,7 +127,7 @@ def test_a_residual_at_its_round_off_floor_is_converged(j125, nd):
     contact carries the weight of its share of the pipe."""
     pb = laid_pipe(j125, nd, n_el=400)
     pb.u[nd - 1::pb.ndn] += 1e4
-    pb.fix_val[nd - 1] = pb.u[nd - 1]
+    pb.ends.fix_val[nd - 1] = pb.u[nd - 1]
     status, react, info = run_newton(pb, np.zeros_like(pb.u), 1e-15, 60)
     assert status == L.OK
     assert info[I_RES] > 1e-7  # converged on the floor, not on the tolerance
@@ -156,7 +151,7 @@ def test_newton_converges_quadratically(j125):
     state = pf.solve(case).state  # no weight jump, so the tangent is exact
     ndn = state.ndn
     free = np.ones(state.nn, dtype=bool)
-    free[state.bed_active.astype(bool)] = False
+    free[state.contacts.bed_active.astype(bool)] = False
     free[[0, -1]] = False
     bump = np.abs(np.sin(np.linspace(0.0, 3.0 * np.pi, state.nn))) * free
     before, after = [], []
@@ -221,14 +216,14 @@ def test_lateral_friction_on_laid_pipe(j125, ratio):
                               "pipe.extensible": False})
     pb = laid_pipe(case, 3, n_el=200, length=length, tension=tension)
     ndn = pb.ndn
-    pb.fix_mask[(pb.nn - 1) * ndn + 1] = 1  # far end held laterally too
-    pb.factors[L.F_CURRENT] = 0.0  # gravity first ...
+    pb.ends.fix_mask[(pb.nn - 1) * ndn + 1] = 1  # far end held laterally too
+    pb.settings.factors[L.F_CURRENT] = 0.0  # gravity first ...
     status, react, _ = run_newton(pb, np.zeros_like(pb.u), 1e-10, 60)
     assert status == L.OK
-    pb.fric[:, L.FR_W] = np.where(pb.bed_active != 0, react[0::ndn], 0.0)
-    pb.factors[L.F_FRICTION] = 1.0  # ... then the current, against friction
+    pb.contacts.fric[:, L.FR_W] = np.where(pb.contacts.bed_active != 0, react[0::ndn], 0.0)
+    pb.settings.factors[L.F_FRICTION] = 1.0  # ... then the current, against friction
     for factor in (0.25, 0.5, 0.75, 1.0):
-        pb.factors[L.F_CURRENT] = factor
+        pb.settings.factors[L.F_CURRENT] = factor
         status, react, _ = run_newton(pb, np.zeros_like(pb.u), 1e-10, 80)
         assert status == L.OK
     y = pb.u[1::ndn]
@@ -242,14 +237,15 @@ def test_lateral_friction_on_laid_pipe(j125, ratio):
     # lateral equilibrium to 1e-8
     assert drag + friction + held == pytest.approx(0.0, abs=1e-8 * q * length)
     if ratio < 1.0:
-        assert (pb.fric[inner, L.FR_DIR] == 0.0).all()
+        assert (pb.contacts.fric[inner, L.FR_DIR] == 0.0).all()
         far = inner[30:-30]  # 60 m from the pinned ends and their boundary layers
         np.testing.assert_allclose(-react[1::ndn][far], q * h, rtol=1e-6)
         np.testing.assert_allclose(y[far], d_slip * q / (mu * w), rtol=1e-6)
         return
-    assert (pb.fric[inner, L.FR_DIR] == -1.0).all()  # friction along -y, against the drag
-    np.testing.assert_allclose(pb.fric[inner, L.FR_W], w * h, rtol=1e-6)
-    np.testing.assert_allclose(-react[1::ndn][inner], mu * pb.fric[inner, L.FR_W], rtol=1e-9)
+    assert (pb.contacts.fric[inner, L.FR_DIR] == -1.0).all()  # friction along -y, against the drag
+    np.testing.assert_allclose(pb.contacts.fric[inner, L.FR_W], w * h, rtol=1e-6)
+    np.testing.assert_allclose(-react[1::ndn][inner], mu * pb.contacts.fric[inner, L.FR_W],
+                               rtol=1e-9)
     assert drag == pytest.approx(q * length, rel=1e-2)  # less where the pipe turns
     # deflection: tensioned beam, pinned ends, load p = q - mu w
     p, ei = q - mu * w, j125.pipe.bending_stiffness
@@ -401,7 +397,7 @@ def test_friction_tangent_is_the_derivative_of_its_forces():
     case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes(
         {"seabed.axial_friction": 0.3, "environment.current.profile": "linear"})
     pb = pf.solve(case).state
-    pb.factors[:] = load_factors(1.0, True)  # the answer's load: full current, friction on
+    pb.settings.factors[:] = load_factors(1.0, True)  # the answer's load: full current, friction on
     nd, ndn, n = pb.nd, pb.ndn, pb.u.size
     kl = 2 * ndn - 1
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
@@ -413,11 +409,11 @@ def test_friction_tangent_is_the_derivative_of_its_forces():
         g = np.zeros(n)
         ab = np.zeros((3 * kl + 1, n)) if tangent else np.zeros((1, 1))
         _system(nd, pb.s_el, u, pb.model(), torques, ab, kl, kl, g,
-                pb.ends(np.zeros(n)), tangent, np.zeros((nb, pb.nn)),
+                pb.kernel_ends(np.zeros(n)), tangent, np.zeros((nb, pb.nn)),
                 np.full(nb, -1, dtype=np.int64), np.zeros((nb, n)))
         if friction:
             friction_forces(nd, u, g, ab, 2 * kl if tangent else 0, pb.model(),
-                            pb.bed_active, pb.fric, np.zeros(n), s)
+                            pb.contacts.bed_active, pb.contacts.fric, np.zeros(n), s)
         return g, ab
 
     def dense(ab):
@@ -430,15 +426,15 @@ def test_friction_tangent_is_the_derivative_of_its_forces():
     def friction_only(u):
         return residual(u, False)[0] - residual(u, False, False)[0]
 
-    on_bed = np.flatnonzero(pb.bed_active)[-8:]  # up to touchdown
+    on_bed = np.flatnonzero(pb.contacts.bed_active)[-8:]  # up to touchdown
     assert np.all(np.abs(pb.u[on_bed * ndn]) < 1e-9)  # on the seabed
     # springs sticking and sliding, each off its kink (the answer's slipping
     # springs sit on it, d_slip from their anchors)
     slip = pb.props[L.FRICTION_SLIP]
     stretch = np.resize([0.5, 1.5, -0.4, -1.3], on_bed.size) * slip
-    pb.fric[on_bed, L.FR_Y] = pb.u[on_bed * ndn + 1] - stretch
-    pb.fric[on_bed, L.FR_Z] = pb.u[on_bed * ndn + nd - 1] + stretch[::-1]
-    pb.fric[on_bed, L.FR_S] = pb.s[on_bed]
+    pb.contacts.fric[on_bed, L.FR_Y] = pb.u[on_bed * ndn + 1] - stretch
+    pb.contacts.fric[on_bed, L.FR_Z] = pb.u[on_bed * ndn + nd - 1] + stretch[::-1]
+    pb.contacts.fric[on_bed, L.FR_S] = pb.s[on_bed]
     rows = np.concatenate([on_bed * ndn + 1, on_bed * ndn + nd - 1])
     # W is the contact's reaction at the present state: the x row of the
     # elements' residual, here 0.75 to 32 kN
@@ -480,17 +476,17 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
     stops at its anchor."""
     case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes({"seabed.axial_friction": 0.3})
     pb = pf.solve(case).state
-    pb.factors[:] = load_factors(1.0, True)
+    pb.settings.factors[:] = load_factors(1.0, True)
     nd, ndn = pb.nd, pb.ndn
     slip = pb.props[L.FRICTION_SLIP]
     s = np.zeros(pb.nn)
     node_arcs(pb.s_el, s)
-    on_bed = np.flatnonzero(pb.bed_active)
+    on_bed = np.flatnonzero(pb.contacts.bed_active)
     stretch = np.resize([1.5, -0.4, -1.5, 0.4, 2.0], on_bed.size) * slip
     rows = {1: L.FR_Y, nd - 1: L.FR_Z}
     for slot, col in rows.items():
-        pb.fric[on_bed, col] = pb.u[on_bed * ndn + slot] - stretch
-    pb.fric[on_bed, L.FR_S] = s[on_bed]
+        pb.contacts.fric[on_bed, col] = pb.u[on_bed * ndn + slot] - stretch
+    pb.contacts.fric[on_bed, L.FR_S] = s[on_bed]
     rng = np.random.default_rng(4)
     du = np.zeros_like(pb.u)
     for slot in rows:
@@ -500,7 +496,7 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
         cut = alpha
         for slot, col in rows.items():
             for node in on_bed:
-                rel = pb.u[node * ndn + slot] - pb.fric[node, col]
+                rel = pb.u[node * ndn + slot] - pb.contacts.fric[node, col]
                 if abs(rel) < slip:
                     continue
                 edge = -np.sign(rel) * slip
@@ -510,12 +506,13 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
         return cut
 
     stop = np.zeros(pb.nn)
-    alpha = friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, stop, 1.0)
+    bed, fric = pb.contacts.bed_active, pb.contacts.fric
+    alpha = friction_step(nd, pb.u, du, s, pb.model(), bed, fric, stop, 1.0)
     assert alpha == pytest.approx(reference(1.0), rel=1e-12)
     assert 0.0 < alpha < 1.0
     gaps = []
     for slot, col in rows.items():
-        rel = pb.u[on_bed * ndn + slot] - pb.fric[on_bed, col]
+        rel = pb.u[on_bed * ndn + slot] - pb.contacts.fric[on_bed, col]
         new = rel + alpha * du[on_bed * ndn + slot]
         sliding = np.abs(rel) >= slip
         beyond = np.sign(new) != np.sign(rel)
@@ -528,25 +525,24 @@ def test_a_step_takes_no_sliding_spring_through_its_stick_zone():
     node = int(np.flatnonzero(flags)[0])
     slot = 1 if flags[node] == 1.0 else nd - 1
     dof = node * ndn + slot
-    edge = pb.u[dof] + alpha * du[dof] - pb.fric[node, rows[slot]]
+    edge = pb.u[dof] + alpha * du[dof] - pb.contacts.fric[node, rows[slot]]
     assert abs(edge) == pytest.approx(slip, rel=1e-9)
     # next iteration: it lies a hair beyond that edge (as the tracking of its
     # anchor leaves it) and a step carries it back, three times its stretch
     # the other way: it stops at its anchor (1.002 / 3 of the step), not at
     # the other edge (2.002 / 3), where it would again have no stiffness
-    pb.u[dof] = pb.fric[node, rows[slot]] + 1.002 * edge
+    pb.u[dof] = pb.contacts.fric[node, rows[slot]] + 1.002 * edge
     back = np.zeros_like(pb.u)
     back[dof] = -3.0 * edge
     model = pb.model()
-    alpha = friction_step(nd, pb.u, back, s, model, pb.bed_active, pb.fric, stop, 1.0)
+    alpha = friction_step(nd, pb.u, back, s, model, bed, fric, stop, 1.0)
     assert alpha == pytest.approx(1.002 / 3.0, rel=1e-12)
     assert not stop.any()  # stopped inside its stick zone: no mark
-    alpha = friction_step(nd, pb.u, back, s, model, pb.bed_active, pb.fric, stop, 1.0)
+    alpha = friction_step(nd, pb.u, back, s, model, bed, fric, stop, 1.0)
     assert alpha == pytest.approx(2.002 / 3.0, rel=1e-12)  # unmarked: the far edge
     # friction off (gravity's path): no cut
-    pb.factors[:] = load_factors(1.0, False)
-    assert friction_step(nd, pb.u, du, s, pb.model(), pb.bed_active, pb.fric, stop,
-                         1.0) == 1.0
+    pb.settings.factors[:] = load_factors(1.0, False)
+    assert friction_step(nd, pb.u, du, s, pb.model(), bed, fric, stop, 1.0) == 1.0
 
 
 def test_an_anchor_interpolated_towards_a_free_neighbour_moves_with_it():

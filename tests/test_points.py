@@ -23,9 +23,8 @@ import pytest
 from scipy.integrate import cumulative_trapezoid
 
 from pipelay_fast.engine.continuation import run_newton
-from pipelay_fast.engine.state import Problem
+from pipelay_fast.engine.state import EndConditions, make_problem
 from pipelay_fast.kernels import layout as L
-from pipelay_fast.kernels.contact import N_STINGER
 from pipelay_fast.kernels.newton import B_PT
 from pipelay_fast.kernels.types import load_factors
 
@@ -60,14 +59,12 @@ def beam_on_points(drop=(0.0, 0.0, 0.0), h=0.5, nd=2):
     pts[:, L.PT_X] = X0 - np.asarray(drop)
     pts[:, L.PT_Z] = POINTS
     pts[:, L.PT_BEAR] = 1.0
-    pb = Problem(nd, s, props, np.zeros((1, 2)), u, fix, np.zeros(nn * ndn), np.zeros(nn),
-                 np.zeros(nn), np.zeros(nn, dtype=np.int8), np.zeros(N_STINGER),
-                 np.zeros(nn, dtype=np.int8), pts, np.zeros((nn, L.N_FRIC)),
-                 np.zeros(nn * ndn), -1, np.zeros(1), nn - 1, 0.0, Q * 10.0, h,
-                 factors=load_factors(0.0, False))
+    ends = EndConditions(fix, np.zeros(nn * ndn), np.zeros(nn * ndn), -1, nn - 1, 0.0)
+    pb = make_problem(nd=nd, s=s, props=props, table=np.zeros((1, 2)), u=u, ends=ends,
+                      fref=Q * 10.0, href=h, points=pts, factors=load_factors(0.0, False))
     # no touchdown, no lift-off; a node on each point, its zone 4 m each side
     nodes = [-1, -1] + [int(np.argmin(np.abs(s - z))) for z in POINTS]
-    pb.follow(nodes, [(0.0, 0.0)] * 2 + [(4.0, 4.0)] * len(POINTS))
+    pb.mesh.follow(nodes, [(0.0, 0.0)] * 2 + [(4.0, 4.0)] * len(POINTS))
     return pb
 
 
@@ -135,10 +132,10 @@ def test_three_points_carry_the_continuous_beam(nd):
     n_it = solve(pb)
     full = np.concatenate([-np.array(POINTS[::-1]), POINTS])
     ref = three_moment(full, (END - POINTS[-1],) * 2)[len(POINTS):]
-    np.testing.assert_allclose(pb.points[:, L.PT_R], ref, rtol=1e-9)  # measured 1e-10
-    assert np.all(pb.points[:, L.PT_BEAR] == 1.0)
+    np.testing.assert_allclose(pb.contacts.points[:, L.PT_R], ref, rtol=1e-9)  # measured 1e-10
+    assert np.all(pb.contacts.points[:, L.PT_BEAR] == 1.0)
     # the weight (measured 2e-11: the reactions are Newton's last linearised ones)
-    assert pb.points[:, L.PT_R].sum() == pytest.approx(Q * END, rel=1e-10)
+    assert pb.contacts.points[:, L.PT_R].sum() == pytest.approx(Q * END, rel=1e-10)
     for j, zp in enumerate(POINTS):  # each node over its point, on it
         x, z = node_over(pb, j)
         assert z == pytest.approx(zp, abs=1e-9)
@@ -157,8 +154,9 @@ def test_a_point_below_the_beam_carries_nothing_and_reports_its_clearance(h):
     solve(pb)
     outer = (-POINTS[2], -POINTS[0], POINTS[0], POINTS[2])
     r = three_moment(outer, (END - POINTS[-1],) * 2)
-    assert pb.points[1, L.PT_BEAR] == 0.0 and pb.points[1, L.PT_R] == 0.0
-    np.testing.assert_allclose(pb.points[[0, 2], L.PT_R], r[2:], rtol=1e-7)  # measured 2e-8
+    assert pb.contacts.points[1, L.PT_BEAR] == 0.0 and pb.contacts.points[1, L.PT_R] == 0.0
+    np.testing.assert_allclose(pb.contacts.points[[0, 2], L.PT_R], r[2:],
+                               rtol=1e-7)  # measured 2e-8
     sag = sag_between(outer, r, END - POINTS[-1], POINTS[0], POINTS[2], POINTS[1])
     assert 1e-3 < -sag < drop / 2.0  # the beam sags there, by less than the drop
     # the node over the point: on the pipe's normal through it (the pipe's
@@ -167,7 +165,7 @@ def test_a_point_below_the_beam_carries_nothing_and_reports_its_clearance(h):
     k = int(pb.bnodes[B_PT + 1])
     x, z, xp, zp = pb.u[5 * k:5 * k + 4]
     t = np.array([xp, zp]) / np.hypot(xp, zp)
-    d = np.array([x - pb.points[1, L.PT_X], z - POINTS[1]])
+    d = np.array([x - pb.contacts.points[1, L.PT_X], z - POINTS[1]])
     assert abs(t @ d) < 1e-12
     assert abs(z - POINTS[1]) < 1e-6
     gap = t[1] * d[0] - t[0] * d[1]

@@ -523,7 +523,7 @@ def test_the_mesh_follows_touchdown_and_the_rollers_as_its_grading_does(example)
 
     case = pf.load_case(EXAMPLES / f"{example}.toml")
     pb, _ = _from_guide(case, IterationBudget(case.solver.max_iterations_total))
-    nodes, rates = pb.bnodes, pb.grade_b
+    nodes, rates = pb.bnodes, pb.mesh.grade_b
     assert nodes[0] >= 0 and (nodes[B_PT:] >= 0).all()
     total, s_t, over = float(pb.s[-1]), touchdown_position(pb), pb.s[nodes[B_PT:]]
 

@@ -170,7 +170,7 @@ def test_a_warm_start_with_friction_follows_the_cold_slip_path():
     neighbour = pf.solve(base.with_changes({"lay.stinger.a": -0.00152}))
     cold = pf.solve(case)
     warm = pf.solve(case, warm=neighbour)
-    assert warm.state.warm_path is neighbour.state.current_path
+    assert warm.state.path.warm_path is neighbour.state.path.current_path
     assert cold.profile["slipping"].sum() > 5
     np.testing.assert_array_equal(warm.profile["slipping"], cold.profile["slipping"])
     assert warm.summary["max_von_mises"] == pytest.approx(cold.summary["max_von_mises"],
@@ -246,11 +246,11 @@ def test_a_warm_step_starts_from_the_neighbours_increment():
         return u
 
     on = pb.bnodes >= 0
-    pb.warm_path = [{"level": lev, "s": s_nb, "u": state(s_nb, c), "on": on,
-                     "tb": np.array([1e5 * c]), "s_bd": pb.s_bd.copy()}
+    pb.path.warm_path = [{"level": lev, "s": s_nb, "u": state(s_nb, c), "on": on,
+                     "tb": np.array([1e5 * c]), "s_bd": pb.mesh.s_bd.copy()}
                     for lev, c in ((0.0, 1.0), (0.25, 1.5))]
-    pb.current_path = [pb.path_state(0.0)]
-    u0, tb0, s0, bd0 = pb.u.copy(), pb.tb.copy(), pb.s.copy(), pb.s_bd.copy()
+    pb.path.current_path = [pb.path_state(0.0)]
+    u0, tb0, s0, bd0 = pb.u.copy(), pb.tb.copy(), pb.s.copy(), pb.mesh.s_bd.copy()
     assert not pb.start_step(0.5)  # the neighbour has no step ending there
     np.testing.assert_array_equal(pb.u, u0)
     assert pb.start_step(0.25)
@@ -260,15 +260,15 @@ def test_a_warm_step_starts_from_the_neighbours_increment():
     # as much, and the state is carried to the nodes it moves (a cubic
     # state: its interpolation is exact), the increment added there
     pb.u[:], pb.tb[:] = state(s0, 1.0), tb0
-    pb.warm_path[1]["s_bd"] = bd0 + np.where(np.arange(bd0.size) == 0, 0.3, 0.0)
+    pb.path.warm_path[1]["s_bd"] = bd0 + np.where(np.arange(bd0.size) == 0, 0.3, 0.0)
     assert on[0] and pb.start_step(0.25)
-    assert pb.s_bd[0] == pytest.approx(bd0[0] + 0.3)
+    assert pb.mesh.s_bd[0] == pytest.approx(bd0[0] + 0.3)
     assert np.abs(pb.s - s0).max() == pytest.approx(0.3)
     np.testing.assert_allclose(pb.u, state(pb.s, 1.5), rtol=1e-9, atol=1e-9)
-    pb.s_bd[:] = bd0
-    pb.update_nodes()
+    pb.mesh.s_bd[:] = bd0
+    pb.mesh.update_nodes()
     pb.u[:] = u0
-    pb.warm_path[1]["on"] = ~on
+    pb.path.warm_path[1]["on"] = ~on
     assert not pb.start_step(0.25)
     np.testing.assert_array_equal(pb.u, u0)
 

@@ -35,11 +35,11 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
     seabed: an elastic one is a foundation, with no contact boundary) and, in
     S-lay, onto lift-off and the material point over the stinger's tip."""
     s = pb.s
-    pb.bed_active[:] = 0
+    pb.contacts.bed_active[:] = 0
     k = -1
     if case.seabed.is_rigid:
         k = int(np.argmin(np.abs(s[1:-1] - s_focus))) + 1
-        pb.bed_active[1:k + 1] = 1
+        pb.contacts.bed_active[1:k + 1] = 1
     lift = pb.stats.get("stinger_foci") or []
     if case.lay.stinger is None:
         follow_nodes(case, pb, (k, -1))
@@ -48,8 +48,8 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
     # step past the tip finds the gap span, :func:`bear_on_tip`)
     k0 = max(k, 0)
     kl = int(np.argmin(np.abs(s[k0 + 4:-1] - lift[0]))) + k0 + 4
-    pb.st_active[:] = 0
-    pb.st_active[kl:-1] = 1
+    pb.contacts.st_active[:] = 0
+    pb.contacts.st_active[kl:-1] = 1
     follow_nodes(case, pb, (k, kl, -1))
 
 
@@ -59,7 +59,7 @@ def follow_nodes(case: Case, pb: Problem, nodes):
     of three flexural lengths."""
     zone = 3.0 * pb.stats["flexural_length"]
     zones = [(zone, zone), (zone, min(zone, 0.9 * (pb.s[-1] - pb.s[nodes[1]])))]
-    pb.follow(nodes, zones + [(zone, zone)] * (len(nodes) - 2))
+    pb.mesh.follow(nodes, zones + [(zone, zone)] * (len(nodes) - 2))
 
 
 ON_FOCUS = 0.02  # a mesh is graded at its foci when no node is further than this share of h_min
@@ -160,7 +160,7 @@ def passes_below_tip(pb: Problem) -> bool:
     if pb.lo_node < 0 or pb.tip_node >= 0:
         return False
     found, gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger)
-    return bool(found and s_tip < pb.s[pb.lo_node] and gap < -1e-9 * pb.href)
+    return bool(found and s_tip < pb.s[pb.lo_node] and gap < -1e-9 * pb.settings.href)
 
 
 def tip_released(pb: Problem) -> bool:
@@ -242,8 +242,8 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     target = s[pb.lo_node] + span
     k = int(np.argmin(np.abs(s - target)))
     k = min(max(k, pb.lo_node + 1, kt + 1), pb.nn - 2)
-    pb.st_active[:] = 0
-    pb.st_active[k:-1] = 1
+    pb.contacts.st_active[:] = 0
+    pb.contacts.st_active[k:-1] = 1
     pb.tip[0], pb.tip[1] = 1.0, 0.0
     follow_nodes(case, pb, (pb.td_node, k, kt))
     if s[kt] + HOLD_SPLIT * pb.stats["h_min"] < target < s[pb.nn - 2]:
@@ -276,7 +276,7 @@ def last_roller_in_contact(pb) -> int:
     """The index of the last roller (from the vessel down) the pipe bears
     on; -1 when it bears on none or there are no rollers."""
     nodes = pb.roller_nodes
-    bearing = np.flatnonzero((pb.points[:nodes.size, L.PT_BEAR] != 0.0) & (nodes >= 0))
+    bearing = np.flatnonzero((pb.contacts.points[:nodes.size, L.PT_BEAR] != 0.0) & (nodes >= 0))
     return int(bearing[-1]) if bearing.size else -1
 
 
@@ -288,5 +288,5 @@ def roller_gaps(pb) -> np.ndarray:
     negative: below it."""
     nodes = np.ascontiguousarray(pb.roller_nodes, dtype=np.int64)
     gaps = np.empty(nodes.size)
-    point_gaps(pb.nd, pb.u, pb.points, nodes, gaps)
+    point_gaps(pb.nd, pb.u, pb.contacts.points, nodes, gaps)
     return gaps

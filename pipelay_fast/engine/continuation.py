@@ -72,7 +72,7 @@ def boundary_step(pb: Problem) -> float:
     """The largest move [m] of a contact boundary per Newton step (see
     MAX_BOUNDARY_STEP; a problem built with no boundary layer recorded, as
     the kernels' tests build them, has elements alone)."""
-    return max(MAX_BOUNDARY_STEP * pb.href,
+    return max(MAX_BOUNDARY_STEP * pb.settings.href,
                BOUNDARY_STEP_LAYER * pb.stats.get("boundary_layer", 0.0))
 
 
@@ -81,21 +81,22 @@ def run_newton(pb: Problem, g_off, tol, maxit):
     boundaries, node arc lengths), with residual offset ``g_off`` (ndof,),
     tolerance ``tol`` [-] and at most ``maxit`` iterations. The iterations may
     hold the contact boundaries while the pipe is out of balance, unless
-    ``pb.in_balance`` (which the call clears: it holds for its start only).
+    ``pb.settings.in_balance`` (which the call clears: it holds for its start only).
     Returns (status, reactions (ndof,) [N, N m], info (N_INFO,))."""
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
-    if pb.s_a is not None:
-        s_a, s_b = pb.s_a, pb.s_b
+    if pb.mesh.s_a is not None:
+        s_a, s_b = pb.mesh.s_a, pb.mesh.s_b
     else:
         s_a, s_b = np.zeros(pb.nn), np.zeros((pb.bnodes.size, pb.nn))
-    mesh = Mesh(pb.s_el, s_a, s_b, pb.s_bd, pb.bnodes)
-    settings = Settings(float(tol), float(pb.fref), float(pb.href), int(maxit),
-                        not pb.in_balance, boundary_step(pb))
-    pb.in_balance = False
+    mesh = Mesh(pb.s_el, s_a, s_b, pb.mesh.s_bd, pb.bnodes)
+    settings = Settings(float(tol), float(pb.settings.fref), float(pb.settings.href), int(maxit),
+                        not pb.settings.in_balance, boundary_step(pb))
+    pb.settings.in_balance = False
     kernel = newton_2d if pb.nd == 2 else newton_3d
-    status = kernel(pb.u, mesh, pb.model(), pb.supports(), pb.ends(g_off), settings, react, info)
-    pb.update_nodes()
+    status = kernel(pb.u, mesh, pb.model(), pb.kernel_supports(), pb.kernel_ends(g_off),
+                    settings, react, info)
+    pb.mesh.update_nodes()
     return status, react, info
 
 
@@ -105,19 +106,19 @@ def _residual(pb: Problem):
     torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
     no_band = np.zeros((2, 2)).T  # (column-major alone, as the Newton kernel's band: one compile)
     system = system_2d if pb.nd == 2 else system_3d
-    system(pb.s_el, pb.u, pb.model(), torques, no_band, g, pb.ends(np.zeros_like(pb.u)), False,
-           np.zeros((pb.bnodes.size, pb.nn)), np.full(pb.bnodes.size, -1, dtype=np.int64),
+    system(pb.s_el, pb.u, pb.model(), torques, no_band, g, pb.kernel_ends(np.zeros_like(pb.u)),
+           False, np.zeros((pb.bnodes.size, pb.nn)), np.full(pb.bnodes.size, -1, dtype=np.int64),
            np.zeros((pb.bnodes.size, 1)))
-    friction_forces(pb.nd, pb.u, g, no_band, 0, pb.model(), pb.bed_active, pb.fric,
-                    np.zeros_like(pb.u), pb.s)
-    g[pb.fix_mask != 0] = 0.0
-    g[0::pb.ndn][pb.bed_active != 0] = 0.0
+    friction_forces(pb.nd, pb.u, g, no_band, 0, pb.model(), pb.contacts.bed_active,
+                    pb.contacts.fric, np.zeros_like(pb.u), pb.s)
+    g[pb.ends.fix_mask != 0] = 0.0
+    g[0::pb.ndn][pb.contacts.bed_active != 0] = 0.0
     # and the rows of the points the pipe bears on: their normal (along the
     # pipe's normal, the kernel's frame there) and, a V roller's in 3D, y
     nd, ndn = pb.nd, pb.ndn
     for b in range(B_PT, pb.bnodes.size):
         k = int(pb.bnodes[b])
-        point = pb.points[b - B_PT]
+        point = pb.contacts.points[b - B_PT]
         if k < 0 or point[L.PT_BEAR] == 0.0:
             continue
         base = k * ndn
@@ -153,7 +154,7 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     ``maxit``: the call's iterations at most (None: solver.max_iterations)."""
     if budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
-    status, react, info = run_newton(pb, g_off, pb.tolerance or case.solver.tolerance,
+    status, react, info = run_newton(pb, g_off, pb.settings.tolerance or case.solver.tolerance,
                                       budget.cap(maxit or case.solver.max_iterations))
     budget.charge(info[I_ITER])
     if status == L.SHORT_LAID:
@@ -305,7 +306,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
         case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
-    if pb.warm:
+    if pb.path.warm:
         # a warm start is Newton from the neighbour's answer; where that does
         # not converge the neighbour is too far, and the cold start (with its
         # load path) is cheaper than a load path from the neighbour's state
@@ -326,7 +327,7 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
     this path; :func:`continuation`: steps of at most 0.25, cut to 1e-3 at
     most). ``budget``: the solve's Newton iterations left (None: a fresh one).
 
-    The converged steps are recorded (``pb.current_path``, from the state
+    The converged steps are recorded (``pb.path.current_path``, from the state
     before the current); a warm start begins each step from its neighbour's
     increment over it, and past the first step a step without one from this
     path's last increment (:meth:`.Problem.start_step`).
@@ -339,16 +340,16 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
     zero = np.zeros_like(pb.u)
 
     def load(factor, predict):
-        pb.factors[L.F_CURRENT] = factor
+        pb.settings.factors[L.F_CURRENT] = factor
         # a predicted start: plus the neighbour's increment over the step,
         # or this path's last one (Problem.start_step)
         return zero, predict and pb.start_step(factor)
 
-    pb.current_path = [pb.path_state(0.0)]
+    pb.path.current_path = [pb.path_state(0.0)]
     react, stats = continuation(case, pb, budget, load, first=0.25, largest=0.25,
                                 smallest=1e-3, max_steps=4 * case.solver.max_load_steps,
                                 name="current factor",
-                                converged=lambda level: pb.current_path.append(
+                                converged=lambda level: pb.path.current_path.append(
                                     pb.path_state(level)))
-    pb.factors[L.F_CURRENT] = 1.0
+    pb.settings.factors[L.F_CURRENT] = 1.0
     return react, stats

@@ -30,7 +30,7 @@ from .friction import anchor_friction, friction_laid_length
 from .guess import first_guess, shape
 from .mesh import graded_nodes, grading_rates
 from .model import build_props, dimension_of, pin_jump
-from .state import Problem, interpolate_state
+from .state import EndConditions, Problem, interpolate_state, make_problem
 
 
 def _mesh_sizes(case: Case, lam: float):
@@ -152,17 +152,17 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     s = graded_nodes(total, [s_t, total], h_max, h_min, grading=case.solver.grading,
                      check=lambda n: check_mesh_size(case, n, total, s_t, source), nodes=s_r)
     u = interpolate_state(guide.s, guide.u, nd, s)
-    pb = _problem(case, nd, s, u, guide.tb[0], guide.fref, stats)
-    pb.fix_val[:ndn] = guide.fix_val[:ndn]
+    pb = _problem(case, nd, s, u, guide.tb[0], guide.settings.fref, stats)
+    pb.ends.fix_val[:ndn] = guide.ends.fix_val[:ndn]
     k_td = int(np.argmin(np.abs(s - s_t)))
-    pb.bed_active[1:k_td + 1] = 1
+    pb.contacts.bed_active[1:k_td + 1] = 1
     over = np.searchsorted(s, s_r)  # (each a node: graded_nodes keeps them)
     over -= (over > 0) & (np.abs(s[np.maximum(over - 1, 0)] - s_r) < np.abs(s[over] - s_r))
     nodes = (k_td, -1, *over.tolist())
     follow_nodes(case, pb, nodes)
     if case.solver.grading:  # graded at touchdown, the grading moving with it
         _follow_grading(pb, nodes, total, [s_t, total], s_r)
-    pb.points[:, L.PT_BEAR] = (roller_gaps(pb) <= ROLLER_ON * h_min).astype(float)
+    pb.contacts.points[:, L.PT_BEAR] = (roller_gaps(pb) <= ROLLER_ON * h_min).astype(float)
     return pb
 
 
@@ -193,8 +193,8 @@ def _follow_grading(pb: Problem, nodes, total: float, foci, over):
     if rows:
         rates[rows] = grading_rates(total, foci, moving, pb.stats["h_max"], pb.stats["h_min"],
                                     nodes=over)
-    pb.zone_b, pb.grade_b = pb.s_b, rates
-    pb.follow_rates(nodes, rates)
+    pb.mesh.zone_b, pb.mesh.grade_b = pb.mesh.s_b, rates
+    pb.mesh.follow_rates(nodes, rates)
 
 
 ROLLER_PROJECTIONS = 2  # the points over the rollers: 2 projections from the nearest node
@@ -268,16 +268,13 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
         tb = lay.bottom_tension
     if not case.seabed.is_rigid:  # a foundation: the lower end's x free
         fix_mask[0] = 0
-    bed_active = np.zeros(nn, dtype=np.int8)
-    st_active = np.zeros(nn, dtype=np.int8)
     props, table = build_props(case)
     fric = np.zeros((nn, L.N_FRIC))
     anchor_friction(fric, u, nd, s)
-    return Problem(nd, s, props, table, u, fix_mask, fix_val, phi_r, phi_rp, bed_active,
-                   stinger, st_active, _points(case, stinger), fric, np.zeros(nn * ndn),
-                   slide_dof,
-                   np.array([float(tb)]), top,
-                   top_target, fref, stats["h_max"], stats=stats)
+    ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target)
+    return make_problem(nd=nd, s=s, props=props, table=table, u=u, ends=ends, fref=fref,
+                        href=stats["h_max"], points=_points(case, stinger), stinger=stinger,
+                        tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats)
 
 
 def _points(case: Case, stinger: np.ndarray) -> np.ndarray:
@@ -344,25 +341,26 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
             u[1::ndn][first] = pb.u[1]
             u[nd + 1::ndn][first] = 0.0
     stats = dict(pb.stats)
-    new = _problem(case, nd, s, u, pb.tb[0], pb.fref, stats)
+    new = _problem(case, nd, s, u, pb.tb[0], pb.settings.fref, stats)
     # the lower end stays held where the case holds it (with a given pipe
     # length, at z = 0: cut or lengthened there, the pipe's state was held
     # where the neighbour's laid pipe put that material point, 2 m off,
     # and its top tension came out 59 % off; Newton moves it back)
-    new.fix_val[:ndn] = pb.fix_val[:ndn]
-    new.warm, new.tolerance, new.warm_path = pb.warm, pb.tolerance, pb.warm_path
+    new.ends.fix_val[:ndn] = pb.ends.fix_val[:ndn]
+    new.path.warm, new.path.warm_path = pb.path.warm, pb.path.warm_path
+    new.settings.tolerance = pb.settings.tolerance
     # the new mesh follows the same boundaries, each on the node graded onto it
     def at(k):
         return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))
-    new.bed_active[:] = 0
-    new.bed_active[1:at(pb.td_node) + 1] = 1
+    new.contacts.bed_active[:] = 0
+    new.contacts.bed_active[1:at(pb.td_node) + 1] = 1
     if pb.lo_node >= 0:
-        new.st_active[:] = 0
-        new.st_active[at(pb.lo_node):-1] = 1
+        new.contacts.st_active[:] = 0
+        new.contacts.st_active[at(pb.lo_node):-1] = 1
     nodes = [at(int(k)) for k in pb.bnodes]
     follow_nodes(case, new, nodes)
     if grading:
         _follow_grading(new, nodes, total, foci, over)
     # a bearing point keeps bearing (the node over it moves with the pipe)
-    new.points[:, L.PT_BEAR:L.PT_R + 1] = pb.points[:, L.PT_BEAR:L.PT_R + 1]
+    new.contacts.points[:, L.PT_BEAR:L.PT_R + 1] = pb.contacts.points[:, L.PT_BEAR:L.PT_R + 1]
     return new

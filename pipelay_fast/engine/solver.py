@@ -100,9 +100,9 @@ def _lower_end_holds(pb: Problem, react) -> bool:
     """True when the lower end, held laterally, carries more than LOWER_END_SHARE
     of the lateral force on the laid pipe: the slipping (or elastically held)
     zone then reaches it, and more laid pipe is needed."""
-    if pb.nd != 3 or pb.factors[L.F_FRICTION] == 0.0:
+    if pb.nd != 3 or pb.settings.factors[L.F_FRICTION] == 0.0:
         return False
-    on_bed = np.flatnonzero(pb.fric[:, L.FR_W] > 0.0)
+    on_bed = np.flatnonzero(pb.contacts.fric[:, L.FR_W] > 0.0)
     total = np.abs(react[on_bed * pb.ndn + 1]).sum() + abs(react[1])
     return abs(react[1]) > LOWER_END_SHARE * total
 
@@ -132,7 +132,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         pb.on_gravity_path()
     # graded, the first mesh only to LOOSE_TOLERANCE: it is to find where
     # the boundaries are, and is graded anew there unless it already is
-    pb.tolerance = (max(case.solver.tolerance, LOOSE_TOLERANCE)
+    pb.settings.tolerance = (max(case.solver.tolerance, LOOSE_TOLERANCE)
                     if case.solver.grading and not guided else None)
     pb, react, stats = _solve_gravity(case, pb, budget)
     stats["iterations"] += guide_iterations
@@ -155,9 +155,9 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         cold_length = total is None or abs(total - pb.s[-1]) <= 1e-9 * total
         if (one_mesh or passes >= MAX_MESH_PASSES
                 or (graded_on_boundaries(case, pb) and not short_laid and cold_length)):
-            if pb.tolerance is not None:  # on to the tolerance, this mesh
-                pb.tolerance = None
-                pb.in_balance = True  # the loose pass's solution, refined
+            if pb.settings.tolerance is not None:  # on to the tolerance, this mesh
+                pb.settings.tolerance = None
+                pb.settings.in_balance = True  # the loose pass's solution, refined
                 pb, react, more = _solve_gravity(case, pb, budget)
                 stats = {key: stats[key] + more[key] for key in stats}
                 s_t = touchdown_position(pb)
@@ -166,14 +166,14 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         pb = remesh(case, pb, s_t, foci, grading=True, total=total)
         if total is not None and abs(pb.s[-1] - total) > 1e-9 * total:
             pb.stats.pop("cold_total")  # laid pipe added (short), as the cold start would
-        pb.tolerance = None  # graded at the boundaries: to the tolerance
+        pb.settings.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
             pb.on_gravity_path()
         # interpolated, the state is near balance, bearing on the tip too
         # (held there, the first iteration cost 2 more a solve: full grid,
         # S67 2D 4742 -> 4480 iterations, S125 2D 5770 -> 5131, none more;
         # it once kept re-contact from a start one flexural length off)
-        pb.in_balance = True
+        pb.settings.in_balance = True
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
@@ -181,13 +181,13 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         # along the current's path the boundaries move far: the mesh follows
         # them in zones, not with its whole grading (which would stretch the
         # laid pipe, and its friction springs, all the way to the lower end)
-        if pb.zone_b is not None:
-            pb.follow_rates(pb.bnodes, pb.zone_b)
-        pb.before_current = snapshot(pb)
+        if pb.mesh.zone_b is not None:
+            pb.mesh.follow_rates(pb.bnodes, pb.mesh.zone_b)
+        pb.path.before_current = snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
-        anchor_friction(pb.fric, pb.u, pb.nd, pb.s)
-        friction_track(pb.nd, pb.u, react, pb.props, pb.bed_active, pb.fric, pb.s)
-        pb.factors[L.F_FRICTION] = 1.0
+        anchor_friction(pb.contacts.fric, pb.u, pb.nd, pb.s)
+        friction_track(pb.nd, pb.u, react, pb.props, pb.contacts.bed_active, pb.contacts.fric, pb.s)
+        pb.settings.factors[L.F_FRICTION] = 1.0
         try:
             react, more = apply_current(case, pb, budget)
             short = False
@@ -202,7 +202,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
             s_t = touchdown_position(pb)
             break
         # more laid pipe, from the pipe under gravity alone, and the path again
-        restore(pb, pb.before_current)
+        restore(pb, pb.path.before_current)
         pb = _with_more_laid(case, pb)
         pb.on_gravity_path()
         pb, react, more = _solve_gravity(case, pb, budget)
@@ -230,7 +230,7 @@ def _from_guide(case: Case, budget: IterationBudget, laid: float | None = None):
     pb = build_problem(guide, laid)
     if friction_path(guide):
         pb.on_gravity_path()
-    pb.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
+    pb.settings.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
     try:
         pb, _react, stats = _solve_gravity(guide, pb, budget)
     except SolveError as err:

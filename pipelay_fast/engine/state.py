@@ -1,10 +1,17 @@
 """The state of a solve: :class:`Problem`, what the Newton kernel reads and
-writes for one mesh (the case's data as arrays, the mesh and its map onto
-the contact boundaries, the supports, the ends, the unknowns), and the
-interpolation of a state onto other nodes.
+writes for one mesh, in named parts: the mesh and its map onto the contact
+boundaries (:class:`MeshMap`), the contacts (:class:`Contacts`), the
+prescribed unknowns and the ends (:class:`EndConditions`), the settings of
+the next Newton call (:class:`Settings`) and the load path's record
+(:class:`Path`); with snapshots of a state and its interpolation onto other
+nodes.
 
-The functions that build a Problem are :mod:`.problem`'s; the boundaries'
-placement is :mod:`.boundaries`'.
+Units: SI; nn nodes, nd = 2 or 3 dimensions, ndn = 2 nd + 1 unknowns a node
+(:mod:`pipelay_fast.kernels.layout`). The functions that build a Problem are
+:mod:`.problem`'s and :mod:`.warm`'s; the boundaries' placement and the
+regime at the stinger's tip are :mod:`.boundaries`'; the Newton kernel
+updates the state, the contacts and the boundaries through
+:func:`.continuation.run_newton`.
 """
 
 from __future__ import annotations
@@ -14,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kernels import layout as L
-from ..kernels.contact import ST_ON
+from ..kernels.contact import N_STINGER, ST_ON
 from ..kernels.geometry import hermite_state
 from ..kernels.grading import boundary_map
 from ..kernels.newton import B_PT
@@ -22,155 +29,28 @@ from ..kernels.types import Ends, Model, Supports, load_factors
 
 
 @dataclass
-class Problem:
-    """Everything a Newton solve needs, as arrays: one mesh, one set of
-    constraints, the unknowns. nn nodes, nd = 2 or 3, ndn = 2 nd + 1
-    unknowns a node (:mod:`pipelay_fast.kernels.layout`).
+class MeshMap:
+    """The mesh and its map onto the contact boundaries: node i at
+    ``s_a[i] + sum_b s_b[b, i] s_bd[b]`` [m]. Written by its own methods
+    (:meth:`follow`, :meth:`follow_rates`, :meth:`update_nodes`) and by the
+    Newton kernel (``s_bd``, the boundaries' unknowns).
 
-    Built by :mod:`.problem` (cold start, remesh, roller stinger) or
-    :mod:`.warm` (from a neighbour); the Newton kernel updates the state
-    (``u``, ``tb``, the contact sets, ``y_held``, the boundaries ``s_bd``)
-    through :func:`.continuation.run_newton`.
-
-    The case's data
-        ``nd``; ``props`` (N_PROPS,): the case's scalars, indexed by
-        ``layout`` (SI units); ``table`` (n, 2): the current table
-        [[x m, speed m/s], ...]; ``factors`` (N_FACTORS,): the load path's
-        factors on the current and friction (layout ``F_*``, set by
-        :mod:`.solver` and :mod:`.continuation`).
-    The mesh and its map onto the contact boundaries (:meth:`follow`,
-    :meth:`follow_rates`, :meth:`update_nodes`)
-        ``s`` (nn,) [m]: node arc lengths from the lower end, unstretched;
-        node i at ``s_a[i] + sum_b s_b[b, i] s_bd[b]`` [m]; ``bnodes`` (nb,)
-        the node on each boundary (touchdown, lift-off or re-contact on the
-        stinger, then one per rigid point, the stinger's tip first; -1:
-        none); ``s_bd`` (nb,) [m] the boundaries' arc lengths; ``zone_b``,
-        ``grade_b`` (nb, nn) [-]: the map's rates in zones, and with the
-        grading's own rates (a warm start from this answer follows them).
-    The constraints (:data:`pipelay_fast.kernels.types.Supports`)
-        ``fix_mask`` (nn ndn,) int8, 1 where an unknown is prescribed, to
-        ``fix_val`` [m, -, N]; ``phi_r``, ``phi_rp`` (nn,) [rad]: the nodal
-        frames' rotations of r and r' (the stinger's tangent at a node on
-        it); ``bed_active``, ``st_active`` (nn,) int8: the seabed and
-        stinger contact sets; ``stinger`` (N_STINGER,): the quadratic
-        stinger's coefficients and ends (contact ``ST_*``; ``ST_ON`` 0
-        without one); ``points`` (n_points, N_PT): the rigid points (the
-        tip, rollers; layout ``PT_*``); ``fric`` (nn, N_FRIC): the friction
-        springs (layout ``FR_*``); ``y_held`` (nn,) bool: the nodes the
-        stinger held laterally in the last Newton call.
-    The ends (:data:`pipelay_fast.kernels.types.Ends`)
-        ``f_node`` (nn ndn,) [N, N m]: nodal loads; ``tb`` (1,) [N]: the
-        bottom tension, an unknown when ``slide_dof`` >= 0 (the lower end's
-        z row it acts on; -1: none) and the top tension is given;
-        ``top_node`` and ``top_target`` [N]: the node whose effective
-        tension is held, and its value (0: none).
-    The state: ``u`` (nn ndn,): the nodal unknowns x, (y), z [m], r'
-        [-], lambda [N] node by node; ``tb``.
-    Settings of the next Newton call (:func:`.continuation.run_newton`)
-        ``fref`` [N], ``href`` [m]: the residual's reference force and
-        length; ``tolerance`` [-]: None for solver.tolerance (set by
-        :mod:`.solver` for a loose first mesh); ``in_balance``: the state
-        is a refined solution, the call does not hold the boundaries
-        (set by :mod:`.solver` and :meth:`start_step`, cleared by the call).
-    The path
-        ``stats``: the mesh's sizes (``h_min``, ``h_max``,
-        ``flexural_length``, ``boundary_layer`` [m]; ``cold_total`` [m], the
-        cold start's length of pipe; ``stinger_foci``); ``warm``: started
-        from a neighbour's answer; ``before_current``: the snapshot
-        (:func:`snapshot`) before the current's path; ``current_path``: its
-        converged steps (:meth:`path_state`); ``warm_path``: the
-        neighbour's, which each step of a warm start begins from
-        (:meth:`start_step`).
+    ``s`` (nn,) [m]: node arc lengths from the lower end, unstretched;
+    ``bnodes`` (nb,): the node on each boundary (touchdown, lift-off or
+    re-contact on the stinger, then one per rigid point, the stinger's tip
+    first; -1: none); ``s_bd`` (nb,) [m]: the boundaries' arc lengths;
+    ``s_a`` (nn,) [m], ``s_b`` (nb, nn) [-]: the map (None until mapped);
+    ``zone_b``, ``grade_b`` (nb, nn) [-]: its rates in zones, and with the
+    mesh's grading (a warm start from this answer follows them).
     """
 
-    nd: int
     s: np.ndarray
-    props: np.ndarray
-    table: np.ndarray
-    u: np.ndarray
-    fix_mask: np.ndarray
-    fix_val: np.ndarray
-    phi_r: np.ndarray
-    phi_rp: np.ndarray
-    bed_active: np.ndarray
-    stinger: np.ndarray
-    st_active: np.ndarray
-    points: np.ndarray
-    fric: np.ndarray
-    f_node: np.ndarray
-    slide_dof: int
-    tb: np.ndarray
-    top_node: int
-    top_target: float
-    fref: float
-    href: float
-    stats: dict = field(default_factory=dict)
-    before_current: list | None = None
-    current_path: list = field(default_factory=list)
-    warm_path: list | None = None
-    warm: bool = False
-    tolerance: float | None = None
-    in_balance: bool = False
-    bnodes: np.ndarray | None = None
+    bnodes: np.ndarray
+    s_bd: np.ndarray
     s_a: np.ndarray | None = None
     s_b: np.ndarray | None = None
-    s_bd: np.ndarray | None = None
     zone_b: np.ndarray | None = None
     grade_b: np.ndarray | None = None
-    factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
-    y_held: np.ndarray | None = None
-
-    def __post_init__(self):
-        if self.y_held is None:
-            self.y_held = np.zeros(self.s.size, dtype=np.bool_)
-        if self.bnodes is None:
-            self.bnodes = np.full(B_PT + len(self.points), -1, dtype=np.int64)
-            self.s_bd = np.zeros(self.bnodes.size)
-
-    def model(self) -> Model:
-        """What the element kernels read: the case's data and the load path's factors."""
-        return Model(self.props, self.table, self.factors)
-
-    def supports(self) -> Supports:
-        return Supports(self.fix_mask, self.fix_val, self.phi_r, self.phi_rp, self.bed_active,
-                        self.stinger, self.st_active, self.points, self.fric, self.y_held)
-
-    def ends(self, g_off) -> Ends:
-        return Ends(self.f_node, g_off, self.tb, self.slide_dof, self.top_node,
-                    float(self.top_target))
-
-    def on_gravity_path(self):
-        """No current and no friction: the friction path's first stage."""
-        self.factors[:] = load_factors(0.0, False)
-
-    @property
-    def td_node(self) -> int:
-        return int(self.bnodes[0])
-
-    @property
-    def lo_node(self) -> int:
-        return int(self.bnodes[1])
-
-    @property
-    def tip_node(self) -> int:
-        """The node over the quadratic stinger's tip, the first rigid point
-        (-1: none; a roller stinger has no curve, and no tip of one)."""
-        if self.stinger[ST_ON] == 0.0 or self.bnodes.size <= B_PT:
-            return -1
-        return int(self.bnodes[B_PT])
-
-    @property
-    def roller_nodes(self) -> np.ndarray:
-        """The nodes over a roller stinger's rollers, one per roller (-1:
-        none); empty without rollers."""
-        if self.stinger[ST_ON] != 0.0:
-            return self.bnodes[:0]
-        return self.bnodes[B_PT:]
-
-    @property
-    def tip(self) -> np.ndarray:
-        """The stinger tip's contact state, a view: [bears (0/1), normal reaction [N]]."""
-        return self.points[0, L.PT_BEAR:L.PT_R + 1]
 
     def follow(self, nodes, zones):
         """Map the mesh onto the contact boundaries at ``nodes`` (touchdown,
@@ -185,7 +65,8 @@ class Problem:
         """
         if len(nodes) != self.bnodes.size:
             raise ValueError(f"follow: {len(nodes)} boundary nodes for {self.bnodes.size} "
-                             f"boundaries (touchdown, lift-off, {len(self.points)} points)")
+                             f"boundaries (touchdown, lift-off, {self.bnodes.size - B_PT} "
+                             "points)")
         nodes = np.asarray(nodes, dtype=np.int64)
         zones = np.asarray(zones, dtype=float).reshape(-1, 2)
         nn = self.s.size
@@ -214,20 +95,201 @@ class Problem:
         self.s_a = self.s - self.s_bd @ s_b
         self.s_b = s_b
 
+    def update_nodes(self):
+        """Node arc lengths from the boundary unknowns (after a solve)."""
+        if self.s_a is not None:
+            self.s[:] = self.s_a + self.s_bd @ self.s_b
+
+
+@dataclass
+class Contacts:
+    """The contact sets and the states of the contacts, which the Newton
+    kernel updates (and :mod:`.boundaries` at a switch of regime at the
+    stinger's tip).
+
+    ``bed_active``, ``st_active`` (nn,) int8: the seabed and stinger
+    contact sets; ``points`` (n_points, N_PT): the rigid points (the tip,
+    rollers; layout ``PT_*``: position [m], bearing, reaction [N], lateral
+    hold); ``fric`` (nn, N_FRIC): the friction springs (layout ``FR_*``);
+    ``phi_r``, ``phi_rp`` (nn,) [rad]: the nodal frames' rotations of r and
+    r' (a node on the stinger: its tangent); ``y_held`` (nn,) bool: the
+    nodes the stinger held laterally in the last Newton call.
+    """
+
+    bed_active: np.ndarray
+    st_active: np.ndarray
+    points: np.ndarray
+    fric: np.ndarray
+    phi_r: np.ndarray
+    phi_rp: np.ndarray
+    y_held: np.ndarray
+
+
+@dataclass
+class EndConditions:
+    """The prescribed unknowns and the loads at the ends, fixed for a
+    problem (:mod:`.problem` builds them).
+
+    ``fix_mask`` (nn ndn,) int8: 1 where an unknown is prescribed, to
+    ``fix_val`` [m, -, N]; ``f_node`` (nn ndn,) [N, N m]: nodal loads;
+    ``slide_dof``: the lower end's z row the bottom tension acts on, an
+    unknown when the top tension is given (-1: none); ``top_node`` and
+    ``top_target`` [N]: the node whose effective tension is held, and its
+    value (0: none).
+    """
+
+    fix_mask: np.ndarray
+    fix_val: np.ndarray
+    f_node: np.ndarray
+    slide_dof: int
+    top_node: int
+    top_target: float
+
+
+@dataclass
+class Settings:
+    """How the next Newton call runs (:func:`.continuation.run_newton`).
+
+    ``fref`` [N], ``href`` [m]: the residual's reference force and length;
+    ``tolerance`` [-]: None for solver.tolerance (a loose first mesh sets
+    it, :mod:`.solver`); ``in_balance``: the state is a refined solution, so
+    the call does not hold the boundaries (set by :mod:`.solver` and
+    :meth:`Problem.start_step`, cleared by the call); ``factors``
+    (N_FACTORS,): the load path's factors on the current and friction
+    (layout ``F_*``).
+    """
+
+    fref: float
+    href: float
+    tolerance: float | None = None
+    in_balance: bool = False
+    factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
+
+
+@dataclass
+class Path:
+    """The load path's record.
+
+    ``stats``: the mesh's sizes (``h_min``, ``h_max``, ``flexural_length``,
+    ``boundary_layer`` [m]; ``cold_total`` [m], the cold start's length of
+    pipe; ``stinger_foci`` [m]); ``warm``: started from a neighbour's answer;
+    ``before_current``: the :func:`snapshot` before the current's path;
+    ``current_path``: its converged steps (:meth:`Problem.path_state`);
+    ``warm_path``: the neighbour's, which each step of a warm start begins
+    from (:meth:`Problem.start_step`).
+    """
+
+    stats: dict = field(default_factory=dict)
+    warm: bool = False
+    before_current: list | None = None
+    current_path: list = field(default_factory=list)
+    warm_path: list | None = None
+
+
+@dataclass
+class Problem:
+    """Everything a Newton solve needs: the case's data as arrays, and the
+    parts above.
+
+    ``nd``: 2 or 3; ``props`` (N_PROPS,): the case's scalars, indexed by
+    ``layout`` (SI units); ``table`` (n, 2): the current table [[x m, speed
+    m/s], ...]; ``stinger`` (N_STINGER,): the quadratic stinger's
+    coefficients and ends (contact ``ST_*``; ``ST_ON`` 0 without one); the
+    unknowns ``u`` (nn ndn,): x, (y), z [m], r' [-], lambda [N] node by
+    node, and ``tb`` (1,) [N]: the bottom tension.
+    """
+
+    nd: int
+    props: np.ndarray
+    table: np.ndarray
+    stinger: np.ndarray
+    u: np.ndarray
+    tb: np.ndarray
+    mesh: MeshMap
+    contacts: Contacts
+    ends: EndConditions
+    settings: Settings
+    path: Path = field(default_factory=Path)
+
+    def model(self) -> Model:
+        """What the element kernels read: the case's data and the load path's factors."""
+        return Model(self.props, self.table, self.settings.factors)
+
+    def kernel_supports(self) -> Supports:
+        """The Newton kernel's constraints and contacts (arrays shared, not copied)."""
+        c, e = self.contacts, self.ends
+        return Supports(e.fix_mask, e.fix_val, c.phi_r, c.phi_rp, c.bed_active,
+                        self.stinger, c.st_active, c.points, c.fric, c.y_held)
+
+    def kernel_ends(self, g_off) -> Ends:
+        """The Newton kernel's ends, with the residual's offset ``g_off`` (nn ndn,) [N]."""
+        e = self.ends
+        return Ends(e.f_node, g_off, self.tb, e.slide_dof, e.top_node, float(e.top_target))
+
+    def on_gravity_path(self):
+        """No current and no friction: the friction path's first stage."""
+        self.settings.factors[:] = load_factors(0.0, False)
+
+    @property
+    def s(self) -> np.ndarray:
+        """Node arc lengths [m] (the mesh's)."""
+        return self.mesh.s
+
+    @property
+    def bnodes(self) -> np.ndarray:
+        """The boundaries' nodes (the mesh's map, :class:`MeshMap`)."""
+        return self.mesh.bnodes
+
+    @property
+    def stats(self) -> dict:
+        """The mesh's sizes and the path's record (:class:`Path`)."""
+        return self.path.stats
+
+    @property
+    def td_node(self) -> int:
+        return int(self.mesh.bnodes[0])
+
+    @property
+    def lo_node(self) -> int:
+        return int(self.mesh.bnodes[1])
+
+    @property
+    def tip_node(self) -> int:
+        """The node over the quadratic stinger's tip, the first rigid point
+        (-1: none; a roller stinger has no curve, and no tip of one)."""
+        if self.stinger[ST_ON] == 0.0 or self.mesh.bnodes.size <= B_PT:
+            return -1
+        return int(self.mesh.bnodes[B_PT])
+
+    @property
+    def roller_nodes(self) -> np.ndarray:
+        """The nodes over a roller stinger's rollers, one per roller (-1:
+        none); empty without rollers."""
+        if self.stinger[ST_ON] != 0.0:
+            return self.mesh.bnodes[:0]
+        return self.mesh.bnodes[B_PT:]
+
+    @property
+    def tip(self) -> np.ndarray:
+        """The stinger tip's contact state, a view: [bears (0/1), normal reaction [N]]."""
+        return self.contacts.points[0, L.PT_BEAR:L.PT_R + 1]
+
     def move_boundary(self, b: int, s_new: float):
         """Boundary ``b`` to arc length ``s_new`` [m], the mesh following it
         (its map) and the state interpolated onto the moved nodes."""
-        s_old = self.s.copy()
-        self.s_bd[b] = s_new
-        self.update_nodes()
-        self.u[:] = interpolate_state(s_old, self.u, self.nd, self.s)
+        m = self.mesh
+        s_old = m.s.copy()
+        m.s_bd[b] = s_new
+        m.update_nodes()
+        self.u[:] = interpolate_state(s_old, self.u, self.nd, m.s)
 
     def path_state(self, level: float) -> dict:
         """The converged state at ``level`` of the current's path: what a
         neighbour's warm start, or this path's next step, begins a step from
         (:meth:`start_step`)."""
-        return {"level": level, "s": self.s.copy(), "u": self.u.copy(),
-                "on": self.bnodes >= 0, "tb": self.tb.copy(), "s_bd": self.s_bd.copy()}
+        m = self.mesh
+        return {"level": level, "s": m.s.copy(), "u": self.u.copy(),
+                "on": m.bnodes >= 0, "tb": self.tb.copy(), "s_bd": m.s_bd.copy()}
 
     def start_step(self, level: float) -> bool:
         """Move the state to a predicted start of the current's path step to
@@ -244,21 +306,21 @@ class Problem:
         moved boundaries would fold the mesh. The friction springs' anchors
         stay this path's: only the step's start is nearer, its answer is the
         cold solve's."""
-        prev = self.current_path[-1]["level"] if self.current_path else 0.0
+        prev = self.path.current_path[-1]["level"] if self.path.current_path else 0.0
         scale = 1.0
         ends = [None, None]
-        for state in self.warm_path or ():
+        for state in self.path.warm_path or ():
             for k, lev in enumerate((prev, level)):
                 if abs(state["level"] - lev) <= 1e-12:
                     ends[k] = state
         if ends[0] is None or ends[1] is None:
-            if len(self.current_path) < 2:
+            if len(self.path.current_path) < 2:
                 return False
             # this path's own last step, extrapolated (secant predictor)
-            ends = self.current_path[-2:]
+            ends = self.path.current_path[-2:]
             scale = (level - prev) / (prev - ends[0]["level"])
         for end in ends:  # the same boundaries
-            if not np.array_equal(end["on"], self.bnodes >= 0):
+            if not np.array_equal(end["on"], self.mesh.bnodes >= 0):
                 return False
         # material points matched from the top (the pipes may differ in the
         # laid length modelled, each the length of its own cold start); the
@@ -266,27 +328,22 @@ class Problem:
         # nodes they move
         # (the neighbour's pipe is one length along its path: its moves are
         # the same from the top as from the lower end)
-        moved = self.s_bd + scale * np.where(self.bnodes >= 0, ends[1]["s_bd"] - ends[0]["s_bd"],
-                                             0.0)
-        s_old, bd_old = self.s.copy(), self.s_bd.copy()
-        self.s_bd[:] = moved
-        self.update_nodes()
-        if not (np.diff(self.s) > 0.0).all():  # a move beyond this mesh's map
-            self.s_bd[:] = bd_old
-            self.update_nodes()
+        moved = self.mesh.s_bd + scale * np.where(self.mesh.bnodes >= 0,
+                                                  ends[1]["s_bd"] - ends[0]["s_bd"], 0.0)
+        s_old, bd_old = self.mesh.s.copy(), self.mesh.s_bd.copy()
+        self.mesh.s_bd[:] = moved
+        self.mesh.update_nodes()
+        if not (np.diff(self.mesh.s) > 0.0).all():  # a move beyond this mesh's map
+            self.mesh.s_bd[:] = bd_old
+            self.mesh.update_nodes()
             return False
         du = sum(sign * interpolate_state(end["s"], end["u"], self.nd,
-                                          self.s - self.s[-1] + end["s"][-1])
+                                          self.mesh.s - self.mesh.s[-1] + end["s"][-1])
                  for sign, end in ((1.0, ends[1]), (-1.0, ends[0])))
-        self.u[:] = interpolate_state(s_old, self.u, self.nd, self.s) + scale * du
+        self.u[:] = interpolate_state(s_old, self.u, self.nd, self.mesh.s) + scale * du
         self.tb += scale * (ends[1]["tb"] - ends[0]["tb"])
-        self.in_balance = True
+        self.settings.in_balance = True
         return True
-
-    def update_nodes(self):
-        """Node arc lengths from the boundary unknowns (after a solve)."""
-        if self.s_a is not None:
-            self.s[:] = self.s_a + self.s_bd @ self.s_b
 
     @property
     def ndn(self) -> int:
@@ -294,33 +351,71 @@ class Problem:
 
     @property
     def nn(self) -> int:
-        return self.s.size
+        return self.mesh.s.size
 
     @property
     def s_el(self) -> np.ndarray:
-        return np.diff(self.s)
+        """Element lengths [m], unstretched."""
+        return np.diff(self.mesh.s)
 
 
+def make_problem(*, nd: int, s, props, table, u, ends: EndConditions, fref: float,
+                 href: float, points=None, stinger=None, tb: float = 0.0, bed_active=None,
+                 st_active=None, fric=None, phi_r=None, phi_rp=None, stats: dict | None = None,
+                 factors=None) -> Problem:
+    """A :class:`Problem` on nodes ``s`` [m] with unknowns ``u``, its mesh not
+    yet mapped onto boundaries (every boundary node -1); the parts' arrays
+    not given are empty: no rigid points, no stinger (``ST_ON`` 0), no
+    contacts, no nodal frames, the friction springs unanchored, the load
+    factors full current without friction."""
+    nn = s.size
+    if points is None:
+        points = np.zeros((0, L.N_PT))
+    nb = B_PT + len(points)
+
+    def zeros(value, dtype=float):
+        return np.zeros(nn, dtype=dtype) if value is None else value
+
+    contacts = Contacts(zeros(bed_active, np.int8), zeros(st_active, np.int8), points,
+                        np.zeros((nn, L.N_FRIC)) if fric is None else fric, zeros(phi_r),
+                        zeros(phi_rp), np.zeros(nn, dtype=np.bool_))
+    settings = Settings(fref, href)
+    if factors is not None:
+        settings.factors = factors
+    return Problem(nd, props, table, np.zeros(N_STINGER) if stinger is None else stinger, u,
+                   np.array([float(tb)]), MeshMap(s, np.full(nb, -1, dtype=np.int64),
+                                                  np.zeros(nb)),
+                   contacts, ends, settings, Path({} if stats is None else stats))
+
+
+# what a snapshot copies: the unknowns, the contacts' arrays, the mesh's
+# nodes and boundaries; and the map, whose arrays are replaced, never written
+# in place (a switch of regime at the tip replaces it), so kept as they are
 STATE = ("u", "tb", "bed_active", "st_active", "points", "fric", "phi_r", "phi_rp", "s",
          "s_bd")
-# the mesh's map onto its boundaries (a switch of regime at the tip replaces it)
 MAP = ("bnodes", "s_a", "s_b", "zone_b", "grade_b")
+_STATE_PARTS = ("problem", "problem", "contacts", "contacts", "contacts", "contacts",
+                "contacts", "contacts", "mesh", "mesh")
+
+
+def _owner(pb: Problem, part: str):
+    return pb if part == "problem" else getattr(pb, part)
 
 
 def snapshot(pb: Problem):
     """The state (``STATE``, copied) and the mesh's map onto its boundaries
-    (``MAP``: its arrays are replaced, never written in place, so they are
-    kept as they are)."""
-    return ([getattr(pb, name).copy() for name in STATE]
-            + [getattr(pb, name) for name in MAP])
+    (``MAP``, as it is)."""
+    return ([getattr(_owner(pb, part), name).copy() for part, name in zip(_STATE_PARTS, STATE,
+                                                                          strict=True)]
+            + [getattr(pb.mesh, name) for name in MAP])
 
 
 def restore(pb: Problem, snap):
     """Back to a :func:`snapshot`: the state and the map it had."""
-    for name, arr in zip(STATE, snap[:len(STATE)], strict=True):
-        getattr(pb, name)[:] = arr
+    for part, name, arr in zip(_STATE_PARTS, STATE, snap[:len(STATE)], strict=True):
+        getattr(_owner(pb, part), name)[:] = arr
     for name, value in zip(MAP, snap[len(STATE):], strict=True):
-        setattr(pb, name, value)
+        setattr(pb.mesh, name, value)
 
 
 def interpolate_state(s_old, u_old, nd, s_new):

@@ -29,18 +29,18 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     if (old.stinger[ST_ON] != 0.0) != (case.lay.curve is not None):
         raise ValueError(f"warm: lay.method {case.lay.method!r} or its stinger differs from the "
                          "warm case's")
-    if old.stinger[ST_ON] == 0.0 and len(old.points) != case.lay.roller_count:
+    if old.stinger[ST_ON] == 0.0 and len(old.contacts.points) != case.lay.roller_count:
         raise ValueError(f"warm: the case has {case.lay.roller_count} rollers, the warm case "
-                         f"{len(old.points)}")
+                         f"{len(old.contacts.points)}")
     # (the map with it: where the neighbour's tip switched regime along the
     # path, its map after the switch did not fit the state before the
     # current, and the warm start diverged: S67 and S125 3D at 4 m under a
     # 2 m/s current, a = -0.00114 and -0.00166)
-    state = dict(zip(STATE + MAP, old.before_current or snapshot(old), strict=True))
+    state = dict(zip(STATE + MAP, old.path.before_current or snapshot(old), strict=True))
     g = _guess(guide_case(case) if case.lay.has_rollers else case)
     new = _problem(case, nd, state["s"].copy(), state["u"].copy(), state["tb"][0],
                    _reference_force(case, g), dict(old.stats))
-    new.warm = True
+    new.path.warm = True
     # the mesh sizes and length of pipe of the cold start (its guess's): the
     # mesh is graded anew with them (the neighbour's, sized for its own lay,
     # gave another h_min, lower end and element counts: J125 warm from 1.02
@@ -48,14 +48,14 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     # a + 1.5e-4, 2.0e-6)
     new.stats.update(_mesh_stats(case, g))
     for name in ("bed_active", "st_active", "fric"):
-        getattr(new, name)[:] = state[name]
+        getattr(new.contacts, name)[:] = state[name]
     # the points' contact states (their positions are the new case's)
-    new.points[:, L.PT_BEAR:L.PT_R + 1] = state["points"][:, L.PT_BEAR:L.PT_R + 1]
+    new.contacts.points[:, L.PT_BEAR:L.PT_R + 1] = state["points"][:, L.PT_BEAR:L.PT_R + 1]
     if state["s_a"] is not None:
-        new.bnodes, new.s_a, new.s_b = (state["bnodes"].copy(), state["s_a"].copy(),
-                                        state["s_b"].copy())
-        new.s_bd = state["s_bd"].copy()
-        new.s[:] = state["s"]
+        new.mesh.bnodes, new.mesh.s_a, new.mesh.s_b = (
+            state["bnodes"].copy(), state["s_a"].copy(), state["s_b"].copy())
+        new.mesh.s_bd = state["s_bd"].copy()
+        new.mesh.s[:] = state["s"]
         if state["grade_b"] is not None:
             # as the neighbour's grading moves (touchdown, and each rigid
             # point's node, which moves only as the pipe slides over it: in
@@ -66,12 +66,12 @@ def warm_problem(case: Case, old: Problem) -> Problem:
             # a + 1.5e-4 and 3D at 4 m from a - 3e-4 did not converge in 100
             # iterations; 5 of 44 warm S-lays at 1 and 4 m, a 1.5e-4 and
             # 3e-4 away, failed so)
-            new.grade_b, new.zone_b = state["grade_b"], state["zone_b"]
-            rates = new.grade_b.copy()
-            rates[B_LO] = new.zone_b[B_LO]
-            new.follow_rates(new.bnodes, rates)
+            new.mesh.grade_b, new.mesh.zone_b = state["grade_b"], state["zone_b"]
+            rates = new.mesh.grade_b.copy()
+            rates[B_LO] = new.mesh.zone_b[B_LO]
+            new.mesh.follow_rates(new.bnodes, rates)
     _onto_stinger(new, old.stinger)
-    new.warm_path = old.current_path
+    new.path.warm_path = old.path.current_path
     return new
 
 
@@ -121,7 +121,7 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
     rp[:, 0] += slope * zp[over]
     rp *= (stretch / np.linalg.norm(rp, axis=1))[:, None]
     pb.u[(idx + nd)[:, None] + np.arange(nd)] = rp
-    if pb.slide_dof >= 0:
+    if pb.ends.slide_dof >= 0:
         _slide_to_length(pb, r_old)
 
 

@@ -211,7 +211,7 @@ def constraint_forces(nd, pb, react):
     """
     ndn = 2 * nd + 1
     f = np.stack([react[i::ndn] for i in range(nd)], axis=1)
-    c, sn = np.cos(pb.phi_r), np.sin(pb.phi_r)
+    c, sn = np.cos(pb.contacts.phi_r), np.sin(pb.contacts.phi_r)
     a, b = f[:, 0].copy(), f[:, nd - 1].copy()
     # the nodal frame is (x, z) -> (c x - s z, s x + c z); invert it
     f[:, 0] = c * a + sn * b
@@ -256,7 +256,7 @@ def build_rollers(case: Case, pb, react) -> dict | None:
         raise RuntimeError(f"rollers {np.flatnonzero(nodes < 0).tolist()} have no node")
     nd = pb.nd
     base = nodes * pb.ndn
-    pts = pb.points
+    pts = pb.contacts.points
     clearance = roller_gaps(pb)
     bearing = pts[:, L.PT_BEAR] != 0.0
     lateral = np.zeros(nodes.size)
@@ -277,7 +277,7 @@ def build_profile(case: Case, pb, react) -> dict:
     nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
     pipe = case.pipe
     ei = pipe.bending_stiffness
-    r, rp, kvec, t3 = nodal_fields(nd, s, u, pb.y_held)
+    r, rp, kvec, t3 = nodal_fields(nd, s, u, pb.contacts.y_held)
     jump = pin_jump(case)
     if jump:  # a pinned S-lay top: the pin's own values, past the moment's fall
         kvec[-1] = 0.0
@@ -309,8 +309,9 @@ def build_profile(case: Case, pb, react) -> dict:
         sa = tw / pipe.steel_area + sign * bend
         vm = np.maximum(vm, np.sqrt(sa * sa + sig_h * sig_h - sa * sig_h + 3.0 * tau * tau))
     contact = np.full(s.size, "free", dtype="<U7")  # (the longest: "stinger")
+    fric = pb.contacts.fric
     if case.seabed.is_rigid:
-        act = pb.bed_active.astype(bool)  # the contacts, the held lower end apart
+        act = pb.contacts.bed_active.astype(bool)  # the contacts, the held lower end apart
         seabed = np.where(act, react[0::ndn], 0.0)
         seabed[0] = react[0]
         contact[0] = "seabed"
@@ -322,7 +323,7 @@ def build_profile(case: Case, pb, react) -> dict:
     if nd == 3:  # friction (the held lower end's lateral reaction is not)
         seabed_y[act] = react[1::ndn][act]
     stinger = np.zeros(s.size)
-    on_st = pb.st_active.astype(bool)
+    on_st = pb.contacts.st_active.astype(bool)
     stinger[on_st] = react[0::ndn][on_st]
     contact[on_st] = "stinger"
     contact[-1] = "fixed"
@@ -334,9 +335,9 @@ def build_profile(case: Case, pb, react) -> dict:
         if contact[k] == "free":
             contact[k] = "tip"
     if case.lay.has_rollers:  # the nodes over the rollers the pipe bears on
-        on = pb.points[:, L.PT_BEAR] != 0.0
+        on = pb.contacts.points[:, L.PT_BEAR] != 0.0
         nodes = pb.roller_nodes[on]
-        stinger[nodes] += pb.points[on, L.PT_R]
+        stinger[nodes] += pb.contacts.points[on, L.PT_R]
         contact[nodes] = "roller"
     return {
         "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,
@@ -346,7 +347,7 @@ def build_profile(case: Case, pb, react) -> dict:
         "von_mises": vm, "seabed_reaction": seabed, "seabed_reaction_y": seabed_y,
         "stinger_reaction": stinger,
         "reaction_x": reaction[:, 0], "reaction_y": reaction[:, 1], "reaction_z": reaction[:, 2],
-        "slipping": act & ((pb.fric[:, L.FR_DIR] != 0.0) | (pb.fric[:, L.FR_DIRZ] != 0.0)),
+        "slipping": act & ((fric[:, L.FR_DIR] != 0.0) | (fric[:, L.FR_DIRZ] != 0.0)),
         "contact": contact,
     }
 
@@ -420,7 +421,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "status": "ok",
         "message": "",
         "top_tension": float(te[-1]),
-        "bottom_tension": float(pb.tb[0]) if pb.slide_dof >= 0 else float(te[0]),
+        "bottom_tension": float(pb.tb[0]) if pb.ends.slide_dof >= 0 else float(te[0]),
         "tdp_z": z_tdp,
         "liftoff_z": liftoff_z,
         "liftoff_angle_deg": liftoff_angle,
