@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ..engine.solver import check_regime, solve_problem
+from ..engine.solver import solve_problem
 from ..engine.state import Problem
 from ..input.case import Case
 from ..input.errors import SolveError
@@ -44,7 +44,7 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
         load step, the residual and the reason. Also when the answer is
         refused: non-finite, strained beyond solver.max_strain, or lifting
         off below the stinger's tip
-        (:func:`pipelay_fast.engine.solver.check_regime`). An answer whose
+        (:func:`pipelay_fast.engine.solver.solve_problem`). An answer whose
         contact pulls is not refused: the contact boundaries' equations
         leave none (checked on the grids and random cases of
         ``benchmarks/bench_contact.py``).
@@ -70,12 +70,11 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     """Solve from ``warm`` (a solved Problem) or cold, build the result and
     refuse it (SolveError) if its regime is outside the model, it is not
     finite or it is strained beyond solver.max_strain."""
-    pb, react, stats, s_t, s_l = solve_problem(case, warm)
-    check_regime(case, pb)
-    columns = build_profile(case, pb, react)
-    rollers = build_rollers(case, pb, react)
+    pb, sol = solve_problem(case, warm)
+    columns = build_profile(case, sol)
+    rollers = build_rollers(case, sol)
     functional = _functional_case(case)
-    summary = build_summary(case, pb, columns, stats, s_t, s_l, rollers, functional)
+    summary = build_summary(case, sol, columns, rollers, functional)
     bad = [key for key, val in summary.items() if isinstance(val, float) and math.isinf(val)]
     bad += [key for key, col in columns.items()
             if col.dtype.kind == "f" and not np.isfinite(col).all()]

@@ -32,12 +32,14 @@ from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import IterationBudget
 from ..kernels import layout as L
-from ..kernels.contact import ST_ZL, friction_track
+from ..kernels.contact import ST_ON, ST_ZL, friction_track
 from .boundaries import (
     MAX_TIP_SWITCHES,
     graded_on_boundaries,
+    last_roller_in_contact,
     lateral_hold_start,
     liftoff_position,
+    roller_gaps,
     stinger_foci,
     touchdown_position,
 )
@@ -45,7 +47,7 @@ from .continuation import ShortLaid, apply_current, newton_with_fallback
 from .friction import anchor_friction, friction_path
 from .guess import guide_case
 from .problem import build_problem, remesh, roller_problem
-from .state import Problem, restore, snapshot
+from .state import Problem, Solution, restore, snapshot
 from .warm import warm_problem
 
 MAX_MESH_PASSES = 4
@@ -68,7 +70,14 @@ def solve_problem(case: Case, warm: Problem | None = None):
     ``warm``: the solved problem of a neighbouring case to start from. All
     the passes share one budget of solver.max_iterations_total iterations.
 
-    Returns (problem, reactions, stats, touchdown and lift-off arc lengths [m]).
+    Returns (the solved problem, for a neighbour's warm start; its
+    :class:`.state.Solution`).
+
+    Raises
+    ------
+    SolveError
+        When no equilibrium is found within the budget, or the answer lifts
+        off below the stinger's tip (:func:`_check_regime`).
     """
     t0 = time.perf_counter()
     laid = None  # the case's
@@ -82,7 +91,8 @@ def solve_problem(case: Case, warm: Problem | None = None):
             # the passes with the laid length doubled count too
             stats["iterations"], stats["meshes"] = budget.used, meshes
             stats["seconds"] = time.perf_counter() - t0
-            return pb, react, stats, s_t, s_l
+            _check_regime(case, pb)
+            return pb, _solution(pb, react, stats, s_t, s_l)
         # twice what this mesh modelled behind touchdown
         laid = 2.0 * (s_t + pb.stats["flexural_length"])
     raise SolveError(
@@ -276,7 +286,7 @@ def _with_more_laid(case: Case, pb: Problem) -> Problem:
     return remesh(case, pb, s_t, stinger_foci(case, pb), laid=max(2.0 * lam, 2.0 * s_t))
 
 
-def check_regime(case: Case, pb: Problem):
+def _check_regime(case: Case, pb: Problem):
     """Refuse a lift-off that the boundaries unknowns put below the stinger's
     tip, on the curve continued past it: there the pipe bears on the tip,
     but the solve ended lifting off (it switches between the two regimes at
@@ -293,4 +303,24 @@ def check_regime(case: Case, pb: Problem):
             f"at most {MAX_TIP_SWITCHES} times)")
 
 
-__all__ = ["Problem", "SolveError", "check_regime", "solve_problem"]
+def _solution(pb: Problem, react, stats: dict, s_t: float, s_l: float | None) -> Solution:
+    """The :class:`.state.Solution` of the solved problem ``pb`` with its
+    reactions ``react``, counts ``stats`` and touchdown and lift-off arc
+    lengths [m]."""
+    c = pb.contacts
+    tip = None
+    if pb.stinger[ST_ON] != 0.0 and pb.tip[0] != 0.0:  # bearing: a node follows the tip
+        tip = (int(pb.tip_node), float(pb.tip[1]))
+    rollers = pb.stinger[ST_ON] == 0.0 and len(c.points) > 0
+    return Solution(
+        nd=pb.nd, s=pb.s, u=pb.u,
+        bottom_tension=float(pb.tb[0]) if pb.ends.slide_dof >= 0 else None,
+        react=react, phi_r=c.phi_r, bed_active=c.bed_active, st_active=c.st_active,
+        fric=c.fric, points=c.points, y_held=c.y_held,
+        torque=float(pb.props[L.TORQUE]) if pb.nd == 3 else 0.0,
+        lo_node=pb.lo_node, tip=tip, roller_nodes=pb.roller_nodes,
+        roller_gaps=roller_gaps(pb), last_roller=last_roller_in_contact(pb) if rollers else None,
+        s_tdp=s_t, s_liftoff=s_l, stats=stats)
+
+
+__all__ = ["Problem", "SolveError", "Solution", "solve_problem"]

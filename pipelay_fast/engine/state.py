@@ -359,6 +359,53 @@ class Problem:
         return np.diff(self.mesh.s)
 
 
+@dataclass(frozen=True)
+class Solution:
+    """A solved problem as the output layer reads it: the engine's answer,
+    nothing of its working state (:func:`pipelay_fast.engine.solver.solve_problem`).
+
+    ``nd``; ``s`` (nn,) [m]: node arc lengths; ``u`` (nn ndn,): the nodal
+    unknowns (:class:`Problem`); ``bottom_tension`` [N]: the lower end's
+    applied tension (None when the lower end is held: then the profile's);
+    ``react`` (nn ndn,) [N, N m]: the constraints' reactions, in the nodal
+    frames ``phi_r`` (nn,) [rad]; ``bed_active``, ``st_active`` (nn,) int8,
+    ``fric`` (nn, N_FRIC), ``points`` (n_points, N_PT), ``y_held`` (nn,)
+    bool: the contacts (:class:`Contacts`); ``torque`` [N m]: the top's;
+    ``lo_node``: lift-off's node (-1: none); ``tip``: (the node over the
+    stinger's tip, its normal reaction [N]) while the pipe bears on the tip,
+    else None; ``roller_nodes`` (n_rollers,): the nodes over the rollers;
+    ``roller_gaps`` (n_rollers,) [m]: the pipe's clearance over each;
+    ``last_roller``: the last roller it bears on (-1: none; None without
+    rollers); ``s_tdp``, ``s_liftoff`` [m]: touchdown and lift-off (None:
+    the top); ``stats``: the solve's counts and time.
+    """
+
+    nd: int
+    s: np.ndarray
+    u: np.ndarray
+    bottom_tension: float | None
+    react: np.ndarray
+    phi_r: np.ndarray
+    bed_active: np.ndarray
+    st_active: np.ndarray
+    fric: np.ndarray
+    points: np.ndarray
+    y_held: np.ndarray
+    torque: float
+    lo_node: int
+    tip: tuple | None
+    roller_nodes: np.ndarray
+    roller_gaps: np.ndarray
+    last_roller: int | None
+    s_tdp: float
+    s_liftoff: float | None
+    stats: dict
+
+    @property
+    def ndn(self) -> int:
+        return 2 * self.nd + 1
+
+
 def make_problem(*, nd: int, s, props, table, u, ends: EndConditions, fref: float,
                  href: float, points=None, stinger=None, tb: float = 0.0, bed_active=None,
                  st_active=None, fric=None, phi_r=None, phi_rp=None, stats: dict | None = None,

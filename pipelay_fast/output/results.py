@@ -14,11 +14,10 @@ import math
 import numpy as np
 import pandas as pd
 
-from ..engine.boundaries import last_roller_in_contact, roller_gaps
 from ..engine.model import pin_jump
+from ..engine.state import Solution
 from ..input.case import Case
 from ..kernels import layout as L
-from ..kernels.contact import ST_ON
 from ..kernels.geometry import centreline_fields
 from .design import DESIGN_UNITS, design_columns, interior_peak
 
@@ -201,17 +200,17 @@ def foundation_force(s, x, k_bed) -> np.ndarray:
     return k_bed * np.maximum(-x, 0.0) * node_shares(s)
 
 
-def constraint_forces(nd, pb, react):
+def constraint_forces(nd, phi_r, react):
     """Force of every constraint on each node in (x, y, z) [N], shape (nn, 3)
-    (nodal frames undone; y = 0 in 2D), from the reactions ``react`` of the
-    problem ``pb`` in dimension ``nd``.
+    (nodal frames undone; y = 0 in 2D), from the reactions ``react`` in the
+    nodal frames ``phi_r`` (nn,) [rad], in dimension ``nd``.
 
     Zero on free unknowns; at the top it is the load the vessel carries. Applied
     loads (the bottom tension of a sliding lower end) are not reactions.
     """
     ndn = 2 * nd + 1
     f = np.stack([react[i::ndn] for i in range(nd)], axis=1)
-    c, sn = np.cos(pb.contacts.phi_r), np.sin(pb.contacts.phi_r)
+    c, sn = np.cos(phi_r), np.sin(phi_r)
     a, b = f[:, 0].copy(), f[:, nd - 1].copy()
     # the nodal frame is (x, z) -> (c x - s z, s x + c z); invert it
     f[:, 0] = c * a + sn * b
@@ -219,16 +218,6 @@ def constraint_forces(nd, pb, react):
     if nd == 2:
         f = np.stack([f[:, 0], np.zeros(len(f)), f[:, 1]], axis=1)
     return f
-
-
-def tip_force(pb):
-    """The stinger tip's reaction: (the node over the tip, its normal reaction
-    [N]), or None when the tip does not bear. Bearing, a node follows the
-    material point over the tip (:mod:`pipelay_fast.engine.boundaries`), and
-    the reaction is the multiplier of its contact."""
-    if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0:
-        return None
-    return int(pb.tip_node), float(pb.tip[1])
 
 
 def stinger_columns(lay) -> dict:
@@ -242,22 +231,22 @@ def stinger_columns(lay) -> dict:
             "roller_shift": float(getattr(st, "height_shift", math.nan))}
 
 
-def build_rollers(case: Case, pb, react) -> dict | None:
+def build_rollers(case: Case, sol: Solution) -> dict | None:
     """The columns of ``ROLLER_UNITS`` (one value per roller, from the vessel
-    down) of a solved problem with a roller stinger; None without one. The
+    down) of a solution with a roller stinger; None without one. The
     clearance is the pipe's axis above the roller along the pipe's normal
     at the node over it (0 to round-off where it bears), the reactions the
     multipliers of its contact (normal) and of its lateral hold (a V roller
     bearing, 3D)."""
     if not case.lay.has_rollers:
         return None
-    nodes = pb.roller_nodes
+    nodes = sol.roller_nodes
     if (nodes < 0).any():  # (every roller has its node once the mesh follows them)
         raise RuntimeError(f"rollers {np.flatnonzero(nodes < 0).tolist()} have no node")
-    nd = pb.nd
-    base = nodes * pb.ndn
-    pts = pb.contacts.points
-    clearance = roller_gaps(pb)
+    nd, react = sol.nd, sol.react
+    base = nodes * sol.ndn
+    pts = sol.points
+    clearance = sol.roller_gaps
     bearing = pts[:, L.PT_BEAR] != 0.0
     lateral = np.zeros(nodes.size)
     if nd == 3:
@@ -265,23 +254,23 @@ def build_rollers(case: Case, pb, react) -> dict | None:
         lateral[held] = react[base[held] + 1]
     return {
         "roller": np.arange(nodes.size), "x": pts[:, L.PT_X].copy(),
-        "z": pts[:, L.PT_Z].copy(), "s": pb.s[nodes].copy(),
+        "z": pts[:, L.PT_Z].copy(), "s": sol.s[nodes].copy(),
         "reaction": np.where(bearing, pts[:, L.PT_R], 0.0), "lateral_reaction": lateral,
         "clearance": np.where(bearing, 0.0, clearance), "in_contact": bearing,
     }
 
 
-def build_profile(case: Case, pb, react) -> dict:
+def build_profile(case: Case, sol: Solution) -> dict:
     """The columns of ``PROFILE_UNITS`` (numpy arrays, one value per node, SI)
-    of the solved problem ``pb`` with its reactions ``react``."""
-    nd, ndn, s, u = pb.nd, pb.ndn, pb.s, pb.u
+    of the solution ``sol``."""
+    nd, ndn, s, u, react = sol.nd, sol.ndn, sol.s, sol.u, sol.react
     pipe = case.pipe
     ei = pipe.bending_stiffness
-    r, rp, kvec, t3 = nodal_fields(nd, s, u, pb.contacts.y_held)
+    r, rp, kvec, t3 = nodal_fields(nd, s, u, sol.y_held)
     jump = pin_jump(case)
     if jump:  # a pinned S-lay top: the pin's own values, past the moment's fall
         kvec[-1] = 0.0
-    torque = float(pb.props[L.TORQUE]) if nd == 3 else 0.0
+    torque = sol.torque
     mom = ei * kvec + torque * t3
     curvature = np.linalg.norm(kvec, axis=1)
     x = r[:, 0]
@@ -309,35 +298,35 @@ def build_profile(case: Case, pb, react) -> dict:
         sa = tw / pipe.steel_area + sign * bend
         vm = np.maximum(vm, np.sqrt(sa * sa + sig_h * sig_h - sa * sig_h + 3.0 * tau * tau))
     contact = np.full(s.size, "free", dtype="<U7")  # (the longest: "stinger")
-    fric = pb.contacts.fric
+    fric = sol.fric
     if case.seabed.is_rigid:
-        act = pb.contacts.bed_active.astype(bool)  # the contacts, the held lower end apart
+        act = sol.bed_active.astype(bool)  # the contacts, the held lower end apart
         seabed = np.where(act, react[0::ndn], 0.0)
         seabed[0] = react[0]
         contact[0] = "seabed"
     else:  # the foundation's force, lumped at the nodes below the surface
-        act = pb.u[0::ndn] < 0.0
-        seabed = foundation_force(s, pb.u[0::ndn], case.seabed.stiffness)
+        act = u[0::ndn] < 0.0
+        seabed = foundation_force(s, u[0::ndn], case.seabed.stiffness)
     contact[act] = "seabed"
     seabed_y = np.zeros(s.size)
     if nd == 3:  # friction (the held lower end's lateral reaction is not)
         seabed_y[act] = react[1::ndn][act]
     stinger = np.zeros(s.size)
-    on_st = pb.contacts.st_active.astype(bool)
+    on_st = sol.st_active.astype(bool)
     stinger[on_st] = react[0::ndn][on_st]
     contact[on_st] = "stinger"
     contact[-1] = "fixed"
-    reaction = constraint_forces(nd, pb, react)
-    tip = tip_force(pb)
+    reaction = constraint_forces(nd, sol.phi_r, react)
+    tip = sol.tip
     if tip is not None:  # the node over the tip (its force is among the constraint forces)
         k, normal = tip
         stinger[k] += normal
         if contact[k] == "free":
             contact[k] = "tip"
     if case.lay.has_rollers:  # the nodes over the rollers the pipe bears on
-        on = pb.contacts.points[:, L.PT_BEAR] != 0.0
-        nodes = pb.roller_nodes[on]
-        stinger[nodes] += pb.contacts.points[on, L.PT_R]
+        on = sol.points[:, L.PT_BEAR] != 0.0
+        nodes = sol.roller_nodes[on]
+        stinger[nodes] += sol.points[on, L.PT_R]
         contact[nodes] = "roller"
     return {
         "s": s, "x": x, "y": y, "z": z, "angle_deg": angle,
@@ -352,14 +341,12 @@ def build_profile(case: Case, pb, react) -> dict:
     }
 
 
-def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
-                  s_liftoff: float | None = None, rollers: dict | None = None,
+def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = None,
                   functional: dict | None = None) -> dict:
     """The summary row (the columns of ``SUMMARY_UNITS``) of one solved case
-    from its profile columns ``cols``, the solver's counts and time ``stats``,
-    the arc lengths of touchdown ``s_tdp`` and lift-off ``s_liftoff`` [m]
-    (None: the top), the roller columns ``rollers`` (None without rollers)
-    and ``functional``, the profile columns of its functional load case, for
+    from its solution ``sol`` (the solver's counts and time, touchdown and
+    lift-off), its profile columns ``cols``, the roller columns ``rollers``
+    (None without rollers) and ``functional``, the profile columns of its functional load case, for
     the code check (:func:`pipelay_fast.output.design.lcc_sections`).
 
     Overbend and sagbend are told apart by the sign of the in-plane bending
@@ -370,6 +357,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
     :func:`pipelay_fast.output.design.design_columns`'.
     """
     cur = case.environment.current
+    stats, s_tdp, s_liftoff = sol.stats, sol.s_tdp, sol.s_liftoff
     s = cols["s"]
     z_tdp = float(np.interp(s_tdp, s, cols["z"]))
     beyond = s >= s_tdp
@@ -395,17 +383,17 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         sag_vm = interior_peak(vm[beyond])
         sag_m = interior_peak(mom[beyond])
         suspended = float(s[-1] - s_tdp)
-    bearing = tip_force(pb)
+    bearing = sol.tip
     tip = 0.0 if bearing is None else bearing[1]
-    ndn = 2 * pb.nd + 1
-    nodal = pb.u.reshape(-1, ndn)
-    r, rp = np.ascontiguousarray(nodal[:, :pb.nd]), np.ascontiguousarray(nodal[:, pb.nd:2 * pb.nd])
+    nd = sol.nd
+    nodal = sol.u.reshape(-1, sol.ndn)
+    r, rp = np.ascontiguousarray(nodal[:, :nd]), np.ascontiguousarray(nodal[:, nd:2 * nd])
     departure = liftoff_angle if stinger is not None else float(cols["angle_deg"][-1])
     last_roller = None  # (no roller stinger)
     max_roller = nan
     last_clearance = None
     if rollers is not None:  # the tip's clearance is the last roller's
-        last_roller = last_roller_in_contact(pb)
+        last_roller = sol.last_roller
         max_roller = float(rollers["reaction"].max())
         last_clearance = float(rollers["clearance"][-1])
     design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure,
@@ -413,7 +401,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
     return {
         "case_id": case_id(case),
         "method": case.lay.method,
-        "dimension": f"{pb.nd}d",
+        "dimension": f"{nd}d",
         **stinger_columns(case.lay),
         "water_depth": case.environment.water_depth,
         "current_speed": cur.speed,
@@ -421,7 +409,8 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "status": "ok",
         "message": "",
         "top_tension": float(te[-1]),
-        "bottom_tension": float(pb.tb[0]) if pb.ends.slide_dof >= 0 else float(te[0]),
+        "bottom_tension": (sol.bottom_tension if sol.bottom_tension is not None
+                           else float(te[0])),
         "tdp_z": z_tdp,
         "liftoff_z": liftoff_z,
         "liftoff_angle_deg": liftoff_angle,
@@ -435,7 +424,7 @@ def build_summary(case: Case, pb, cols: dict, stats: dict, s_tdp: float,
         "max_strain": float(fibre.max()),
         "max_lateral_deflection": float(np.abs(cols["y"]).max()),
         "tip_reaction": tip,
-        "liftoff_reaction": liftoff_reaction(s, cols["stinger_reaction"], pb.lo_node),
+        "liftoff_reaction": liftoff_reaction(s, cols["stinger_reaction"], sol.lo_node),
         "max_roller_reaction": max_roller,
         "last_roller_in_contact": last_roller,
         **design,
