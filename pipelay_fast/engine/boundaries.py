@@ -6,10 +6,12 @@ above it) and the material point over the tip are unknowns of Newton
 (:mod:`.kernels.newton`). This module maps a mesh onto them
 (:func:`follow_boundaries`), reads where a solve put them
 (:func:`touchdown_position`, :func:`liftoff_position`, ...), says whether the
-mesh is graded there (:func:`graded_on_boundaries`), and makes the switch
-between lifting off and bearing on the tip that the kernel's complementarity
-asks for when it stops at the change of regime (:func:`bear_on_tip`,
-:func:`lift_off_above_tip`).
+mesh is graded there (:func:`graded_on_boundaries`), and decides the
+regime at the stinger's tip, the one place that does: from the Newton
+kernel's status and its answer (:func:`tip_regime`), the switch between
+lifting off and bearing on the tip (:func:`bear_on_tip`,
+:func:`lift_off_above_tip`), and the refusal of an answer in the wrong one
+(:func:`check_final_regime`).
 """
 
 from __future__ import annotations
@@ -20,8 +22,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.optimize import brentq
 
+from ..input.errors import SolveError
 from ..kernels import layout as L
-from ..kernels.contact import ST_ON, tip_geometry
+from ..kernels.contact import ST_ON, ST_ZL, tip_geometry
 from ..kernels.newton import B_LO, point_gaps
 from .mesh import graded_nodes
 
@@ -169,6 +172,45 @@ def tip_released(pb: Problem) -> bool:
     then lifts off above the tip, and the node over the tip is not a
     boundary of the answer (:func:`lift_off_above_tip`)."""
     return pb.tip_node >= 0 and pb.tip[0] == 0.0
+
+
+def tip_regime(pb: Problem, status: int, can_switch: bool) -> int:
+    """The regime at the stinger's tip after a Newton call that ended with the
+    kernel's ``status``: PAST_TIP (the pipe is to bear on the tip), SPAN_CLOSED
+    (to lift off above it) or ``status`` itself (stay). The kernel stops with
+    PAST_TIP or SPAN_CLOSED at a change of regime it meets while it iterates;
+    at its answer, a pipe lifting off that passes below the tip
+    (:func:`passes_below_tip`) is to bear on it, and a node over the tip that
+    its complementarity released (:func:`tip_released`), or a tip whose branch
+    cycles (TIP_CYCLE), lifts off above it. ``can_switch``: the solve may
+    still switch (it lifts off somewhere, and has switched fewer than
+    MAX_TIP_SWITCHES times); if not, ``status`` stands."""
+    if not can_switch:
+        return status
+    if status == L.OK and passes_below_tip(pb):
+        return L.PAST_TIP
+    if status == L.OK and tip_released(pb):
+        return L.SPAN_CLOSED
+    if status == L.TIP_CYCLE and pb.tip_node >= 0:
+        return L.SPAN_CLOSED
+    return status
+
+
+def check_final_regime(case: Case, pb: Problem):
+    """Refuse an answer whose lift-off the boundaries' unknowns put below the
+    stinger's tip, on the curve continued past it: there the pipe bears on
+    the tip, but the solve ended lifting off after its MAX_TIP_SWITCHES
+    switches. SolveError."""
+    if pb.lo_node < 0:
+        return
+    z_lo = float(pb.u[pb.lo_node * pb.ndn + pb.nd - 1])
+    z_tip = float(pb.stinger[ST_ZL])
+    if z_lo < z_tip:
+        raise SolveError(
+            f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "
+            f"z = {z_lo:.3f} m, would lie below the tip, z = {z_tip:.3f} m), but the solve "
+            f"ended lifting off (it switches between bearing on the tip and lifting off "
+            f"at most {MAX_TIP_SWITCHES} times)")
 
 
 def _gap_closure(ell: float) -> float:

@@ -37,8 +37,7 @@ from .boundaries import (
     MAX_TIP_SWITCHES,
     bear_on_tip,
     lift_off_above_tip,
-    passes_below_tip,
-    tip_released,
+    tip_regime,
 )
 from .state import Problem, restore, snapshot
 
@@ -190,12 +189,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
         can_switch = pb.lo_node >= 0 and switches < MAX_TIP_SWITCHES
         status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
                                               switch=can_switch or predicted, maxit=maxit)
-        if status == L.OK and can_switch and passes_below_tip(pb):
-            status = L.PAST_TIP  # lifting off, the pipe would pass under the tip
-        elif status == L.OK and can_switch and tip_released(pb):
-            status = L.SPAN_CLOSED  # the tip carries nothing: lifting off above it
-        elif status == L.TIP_CYCLE and can_switch and pb.tip_node >= 0:
-            status = L.SPAN_CLOSED  # the tip cannot decide to bear: lifting off above it
+        status = tip_regime(pb, status, can_switch)
         if status not in (L.PAST_TIP, L.SPAN_CLOSED) or predicted:
             break
         spent += int(info[I_ITER])

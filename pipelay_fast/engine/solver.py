@@ -32,9 +32,9 @@ from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import IterationBudget
 from ..kernels import layout as L
-from ..kernels.contact import ST_ON, ST_ZL, friction_track
+from ..kernels.contact import ST_ON, friction_track
 from .boundaries import (
-    MAX_TIP_SWITCHES,
+    check_final_regime,
     graded_on_boundaries,
     last_roller_in_contact,
     lateral_hold_start,
@@ -77,7 +77,7 @@ def solve_problem(case: Case, warm: Problem | None = None):
     ------
     SolveError
         When no equilibrium is found within the budget, or the answer lifts
-        off below the stinger's tip (:func:`_check_regime`).
+        off below the stinger's tip (:func:`.boundaries.check_final_regime`).
     """
     t0 = time.perf_counter()
     laid = None  # the case's
@@ -91,7 +91,7 @@ def solve_problem(case: Case, warm: Problem | None = None):
             # the passes with the laid length doubled count too
             stats["iterations"], stats["meshes"] = budget.used, meshes
             stats["seconds"] = time.perf_counter() - t0
-            _check_regime(case, pb)
+            check_final_regime(case, pb)
             return pb, _solution(pb, react, stats, s_t, s_l)
         # twice what this mesh modelled behind touchdown
         laid = 2.0 * (s_t + pb.stats["flexural_length"])
@@ -284,23 +284,6 @@ def _with_more_laid(case: Case, pb: Problem) -> Problem:
     lam = pb.stats["flexural_length"]
     pb.stats.pop("cold_total", None)  # a warm start's too: laid pipe added, as the cold start would
     return remesh(case, pb, s_t, stinger_foci(case, pb), laid=max(2.0 * lam, 2.0 * s_t))
-
-
-def _check_regime(case: Case, pb: Problem):
-    """Refuse a lift-off that the boundaries unknowns put below the stinger's
-    tip, on the curve continued past it: there the pipe bears on the tip,
-    but the solve ended lifting off (it switches between the two regimes at
-    most MAX_TIP_SWITCHES times)."""
-    if pb.lo_node < 0:
-        return
-    z_lo = float(pb.u[pb.lo_node * pb.ndn + pb.nd - 1])
-    z_tip = float(pb.stinger[ST_ZL])
-    if z_lo < z_tip:
-        raise SolveError(
-            f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "
-            f"z = {z_lo:.3f} m, would lie below the tip, z = {z_tip:.3f} m), but the solve "
-            f"ended lifting off (it switches between bearing on the tip and lifting off "
-            f"at most {MAX_TIP_SWITCHES} times)")
 
 
 def _solution(pb: Problem, react, stats: dict, s_t: float, s_l: float | None) -> Solution:
