@@ -490,12 +490,12 @@ def test_the_answer_does_not_depend_on_the_guide_s_mesh(monkeypatch):
     roller solve starts: solved on the case's own elements instead of twice
     as long ones, the rollers' answer (mesh graded anew at the case's sizes)
     is the same to the solver's tolerance, bearing on the same rollers."""
-    from pipelay_fast.engine import guess
+    from pipelay_fast.engine import guess, tuning
 
     case = pf.load_case("pipelay_fast/examples/s67_rollers.toml")
     coarse = pf.solve(case)
     guess.guide_case.cache_clear()
-    monkeypatch.setattr(guess, "GUIDE_COARSENING", 1.0)
+    monkeypatch.setattr(tuning, "GUIDE_COARSENING", 1.0)
     fine = pf.solve(case)
     guess.guide_case.cache_clear()
     assert coarse.summary["n_elements"] > fine.summary["n_elements"]  # (the longer laid pipe)
@@ -555,8 +555,9 @@ def test_a_warm_start_s_mesh_moves_with_its_neighbour_s_grading():
     the zones of three flexural lengths, as warm starts were before, it was
     3.75 cm off (h_min 0.5 m) and was graded anew: half an iteration more a
     case in a sweep of the rollers' heights."""
-    from pipelay_fast.engine.boundaries import ON_FOCUS, graded_on_boundaries
+    from pipelay_fast.engine.boundaries import graded_on_boundaries
     from pipelay_fast.engine.solver import _solve_gravity
+    from pipelay_fast.engine.tuning import ON_FOCUS
     from pipelay_fast.engine.warm import warm_problem
     from pipelay_fast.input.limits import IterationBudget
 

@@ -26,6 +26,7 @@ from ..input.errors import SolveError
 from ..kernels import layout as L
 from ..kernels.contact import ST_ON, ST_ZL, tip_geometry
 from ..kernels.newton import B_LO, point_gaps
+from . import tuning as T
 from .mesh import graded_nodes
 
 if TYPE_CHECKING:
@@ -60,13 +61,9 @@ def follow_nodes(case: Case, pb: Problem, nodes):
     """The mesh follows the boundaries on ``nodes`` (touchdown, lift-off, then
     one per rigid point, the stinger's tip first; -1: none), each with a zone
     of three flexural lengths."""
-    zone = 3.0 * pb.stats["flexural_length"]
+    zone = T.DECAY_LENGTHS * pb.stats["flexural_length"]
     zones = [(zone, zone), (zone, min(zone, 0.9 * (pb.s[-1] - pb.s[nodes[1]])))]
     pb.mesh.follow(nodes, zones + [(zone, zone)] * (len(nodes) - 2))
-
-
-ON_FOCUS = 0.02  # a mesh is graded at its foci when no node is further than this share of h_min
-HOLD_SPLIT = 0.1  # the shortest element [h_min] between lift-off and the tip's point
 
 
 def graded_on_boundaries(case: Case, pb: Problem) -> bool:
@@ -81,7 +78,7 @@ def graded_on_boundaries(case: Case, pb: Problem) -> bool:
     graded = graded_nodes(total, [touchdown_position(pb), total, *stinger_foci(case, pb)],
                           pb.stats["h_max"], pb.stats["h_min"], nodes=over_rollers(pb))
     return (graded.size == pb.s.size
-            and float(np.abs(graded - pb.s).max()) <= ON_FOCUS * pb.stats["h_min"])
+            and float(np.abs(graded - pb.s).max()) <= T.ON_FOCUS * pb.stats["h_min"])
 
 
 def lateral_hold_start(case: Case, pb: Problem):
@@ -95,7 +92,7 @@ def lateral_hold_start(case: Case, pb: Problem):
     if pb.nd != 3 or case.is_planar or pb.lo_node < 0 or pb.tip_node >= 0:
         return None
     found, _gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger)
-    if not found or s_tip > pb.s[pb.lo_node] - HOLD_SPLIT * pb.stats["h_min"]:
+    if not found or s_tip > pb.s[pb.lo_node] - T.HOLD_SPLIT * pb.stats["h_min"]:
         return None
     return float(s_tip)
 
@@ -154,16 +151,13 @@ def stinger_foci(case: Case, pb: Problem):
     return foci if s_hold is None else [*foci, s_hold]
 
 
-MAX_TIP_SWITCHES = 2  # switches between bearing on the tip and lifting off, per solve
-
-
 def passes_below_tip(pb: Problem) -> bool:
     """True when, lifting off with no node over the tip, the pipe passes below
     the stinger's tip (the complementarity at the tip then asks it to bear)."""
     if pb.lo_node < 0 or pb.tip_node >= 0:
         return False
     found, gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger)
-    return bool(found and s_tip < pb.s[pb.lo_node] and gap < -1e-9 * pb.settings.href)
+    return bool(found and s_tip < pb.s[pb.lo_node] and gap < -T.REL_ROUNDOFF * pb.settings.href)
 
 
 def tip_released(pb: Problem) -> bool:
@@ -184,7 +178,7 @@ def tip_regime(pb: Problem, status: int, can_switch: bool) -> int:
     its complementarity released (:func:`tip_released`), or a tip whose branch
     cycles (TIP_CYCLE), lifts off above it. ``can_switch``: the solve may
     still switch (it lifts off somewhere, and has switched fewer than
-    MAX_TIP_SWITCHES times); if not, ``status`` stands."""
+    MAX_TIP_SWITCHES times, :mod:`.tuning`); if not, ``status`` stands."""
     if not can_switch:
         return status
     if status == L.OK and passes_below_tip(pb):
@@ -210,7 +204,7 @@ def check_final_regime(case: Case, pb: Problem):
             f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "
             f"z = {z_lo:.3f} m, would lie below the tip, z = {z_tip:.3f} m), but the solve "
             f"ended lifting off (it switches between bearing on the tip and lifting off "
-            f"at most {MAX_TIP_SWITCHES} times)")
+            f"at most {T.MAX_TIP_SWITCHES} times)")
 
 
 def _gap_closure(ell: float) -> float:
@@ -251,7 +245,7 @@ def regained_span(lam: float, past: float) -> float:
     hi = 2.0
     while _gap_closure(hi) < ratio:
         hi *= 2.0
-    return lam * brentq(lambda ell: _gap_closure(ell) - ratio, lo, hi, xtol=1e-9)
+    return lam * brentq(lambda ell: _gap_closure(ell) - ratio, lo, hi, xtol=T.REL_ROUNDOFF)
 
 
 def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
@@ -288,7 +282,7 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     pb.contacts.st_active[k:-1] = 1
     pb.tip[0], pb.tip[1] = 1.0, 0.0
     follow_nodes(case, pb, (pb.td_node, k, kt))
-    if s[kt] + HOLD_SPLIT * pb.stats["h_min"] < target < s[pb.nn - 2]:
+    if s[kt] + T.HOLD_SPLIT * pb.stats["h_min"] < target < s[pb.nn - 2]:
         pb.move_boundary(B_LO, target)
 
 

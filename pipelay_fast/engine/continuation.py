@@ -33,8 +33,8 @@ from ..kernels.newton import (
     system_3d,
 )
 from ..kernels.types import Mesh, Settings
+from . import tuning as T
 from .boundaries import (
-    MAX_TIP_SWITCHES,
     bear_on_tip,
     lift_off_above_tip,
     tip_regime,
@@ -47,32 +47,14 @@ class ShortLaid(Exception):
     end, and the mesh needs more laid pipe (:func:`.solver._solve_gravity`)."""
 
 
-# The largest move [m] of a contact boundary in one Newton step: MAX_BOUNDARY_STEP
-# elements (href), or in a tension-dominated lay BOUNDARY_STEP_LAYER times
-# its boundary layer, the flexural length sqrt(EI/T) (``stats
-# ["boundary_layer"]``), the larger. Elements alone held fine meshes to short
-# steps (touchdown two 1 m elements an iteration): full 2D grid at 1 m, S67
-# 1179 -> 926 iterations, S125 1213 -> 1116, J125 158 -> 131, the solves above
-# 10 iterations 8 -> 1; at 4 and 8 m unchanged. 0.3 or 0.5 flexural lengths,
-# with the element term or without it, lost random case 08 (0.33 m pipe at
-# 33 m, 55 kN, lam = 31 m: its first guess's homotopy diverged), as did no
-# limit at all; 0.2 keeps the random cases' failures (the same 4; 13 with a
-# current step above 10 iterations, as before; 1743 -> 1747 iterations). In
-# a bending-dominated lay the flexural length is no boundary layer (J125
-# with 20 kN at the bottom: 113 m, against (EI/w)^(1/3) = 59 m): a fifth of
-# either took 116 and 11 iterations there (12 with elements), and with 1 kN
-# at the bottom found another equilibrium, 2.4 % strain beyond the
-# small-strain model, where elements find the lay's.
-MAX_BOUNDARY_STEP = 2.0
-BOUNDARY_STEP_LAYER = 0.2
 
 
 def boundary_step(pb: Problem) -> float:
     """The largest move [m] of a contact boundary per Newton step (see
-    MAX_BOUNDARY_STEP; a problem built with no boundary layer recorded, as
+    tuning.MAX_BOUNDARY_STEP; a problem built with no boundary layer recorded, as
     the kernels' tests build them, has elements alone)."""
-    return max(MAX_BOUNDARY_STEP * pb.settings.href,
-               BOUNDARY_STEP_LAYER * pb.stats.get("boundary_layer", 0.0))
+    return max(T.MAX_BOUNDARY_STEP * pb.settings.href,
+               T.BOUNDARY_STEP_LAYER * pb.stats.get("boundary_layer", 0.0))
 
 
 def run_newton(pb: Problem, g_off, tol, maxit):
@@ -169,7 +151,7 @@ def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
 def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
                      predicted: bool = False, maxit: int | None = None):
     """:func:`_budgeted_newton`, switching between lifting off and bearing on
-    the stinger's tip (at most MAX_TIP_SWITCHES times) when the kernel stops
+    the stinger's tip (at most tuning.MAX_TIP_SWITCHES times) when the kernel stops
     at the change of regime (PAST_TIP, SPAN_CLOSED), when, lifting off, the
     answer passes below the tip, and, with a node over the tip, when the
     answer leaves that node unloaded (:func:`.boundaries.tip_released`) or
@@ -184,9 +166,9 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     the last call started from).
     """
     spent = 0  # iterations of the calls that ended in a switch of regime
-    for switches in range(MAX_TIP_SWITCHES + 1):
+    for switches in range(T.MAX_TIP_SWITCHES + 1):
         start = snapshot(pb)
-        can_switch = pb.lo_node >= 0 and switches < MAX_TIP_SWITCHES
+        can_switch = pb.lo_node >= 0 and switches < T.MAX_TIP_SWITCHES
         status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
                                               switch=can_switch or predicted, maxit=maxit)
         status = tip_regime(pb, status, can_switch)
@@ -248,7 +230,8 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         # instead (uncapped, a secant start on random 3D case 26 of
         # bench_contact ran Newton's 100 iterations, and 2 its 100; capped
         # at once, the paper's 3D scenes lost half the gain)
-        cap = (min(2 * hardest, case.solver.max_iterations) if predicted and hardest > 0
+        cap = (min(T.PREDICTED_CAP * hardest, case.solver.max_iterations)
+               if predicted and hardest > 0
                else None)
         try:
             status, react, info, used, _start = newton_in_regime(case, pb, g_off, budget,
@@ -310,7 +293,8 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     def homotopy(alpha, _predict):
         return -(1.0 - alpha) * g0, False
 
-    react, stats = continuation(case, pb, budget, homotopy, first=0.25, largest=0.5, smallest=1e-4,
+    react, stats = continuation(case, pb, budget, homotopy, first=T.FIRST_LOAD_STEP,
+                                largest=T.HOMOTOPY_LARGEST, smallest=T.HOMOTOPY_SMALLEST,
                                 max_steps=case.solver.max_load_steps,
                                 name="the homotopy from the first guess, load factor")
     return react, {"iterations": stats["iterations"] + iters, "load_steps": stats["load_steps"]}
@@ -340,8 +324,9 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
         return zero, predict and pb.start_step(factor)
 
     pb.path.current_path = [pb.path_state(0.0)]
-    react, stats = continuation(case, pb, budget, load, first=0.25, largest=0.25,
-                                smallest=1e-3, max_steps=4 * case.solver.max_load_steps,
+    react, stats = continuation(case, pb, budget, load, first=T.FIRST_LOAD_STEP,
+                                largest=T.CURRENT_LARGEST, smallest=T.CURRENT_SMALLEST,
+                                max_steps=T.CURRENT_STEPS * case.solver.max_load_steps,
                                 name="current factor",
                                 converged=lambda level: pb.path.current_path.append(
                                     pb.path_state(level)))

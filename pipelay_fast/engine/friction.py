@@ -7,18 +7,8 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
+from . import tuning as T
 from .model import dimension_of
-
-# Decay lengths of the sticking zone behind the slipping one the laid pipe
-# modelled holds: e^-3, the held lower end's share of the lateral force 5 %
-# of what it was at the slipping zone's end. Without them S67 3D at 2 m left
-# the held lower end 0.4 to 1 % of the laid pipe's lateral force (a = -0.0022
-# to -0.0009; the laid pipe doubled above 1 %, from a = -0.0008), and a warm
-# start from a neighbour whose laid pipe had been doubled solved another
-# domain: 4.7e-6 from the cold peak stress (S67 3D 2 m, a = -0.0009 from
-# -0.00088), 8.6e-8 with them; 0.02 to 0.05 % left at the lower end, 17
-# elements more of 235 (4 m: 0.2 % -> 0.015 %, 8 more of 150).
-STICK_DECAY_LENGTHS = 3.0
 
 
 def slipping_length_bound(case: Case, cat) -> float:
@@ -52,7 +42,7 @@ def _sliding_force(case: Case) -> float:
 
 def friction_laid_length(case: Case, cat) -> float:
     """Laid length [m] the friction path needs behind touchdown: the slipping
-    length (:func:`slipping_length_bound`) and STICK_DECAY_LENGTHS decay
+    length (:func:`slipping_length_bound`) and tuning.DECAY_LENGTHS decay
     lengths of the sticking zone behind it, where the sticking springs (mu w
     / friction_slip per m) hold the pipe as an elastic foundation and the
     force left decays over (4 EI friction_slip / mu w)^(1/4) (0 where the
@@ -62,7 +52,7 @@ def friction_laid_length(case: Case, cat) -> float:
         return 0.0
     decay = (4.0 * case.pipe.bending_stiffness * case.seabed.friction_slip
              / _sliding_force(case)) ** 0.25
-    return slip + STICK_DECAY_LENGTHS * decay
+    return slip + T.DECAY_LENGTHS * decay
 
 
 def friction_path(case: Case) -> bool:

@@ -21,6 +21,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..input.case import Case
+from . import tuning as T
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
 
@@ -103,17 +104,6 @@ def free_span(case: Case) -> Catenary:
     return Catenary(brentq(gap, lo, hi, xtol=1e-10 * w1), w1, w2, depth, x_top)
 
 
-# The guess's lift-off is the cable's tangent point moved one flexural length
-# lam up the stinger, to first order in lam: near the change of regime the
-# answer can still bear on the tip where the guess lifts off just above it.
-# A guess that leaves below the tip by less than this share of lam is within
-# that error: it starts from the tip, lifting off, and Newton's step past the
-# tip decides and sets the gap span (a gap span guessed from a lift-off just
-# past the tip can close under Newton and switch the regime again). The
-# share: cold iterations on the grid, benchmarks/bench_contact.py part 1.
-GUESS_LIFTOFF_ERROR = 0.05
-
-
 def slay_liftoff(case: Case, bottom_tension: float | None = None):
     """(z of lift-off [m], horizontal tension h [N], how far [m] below the
     tip on the stinger's curve continued the pipe would lift off, None when
@@ -124,7 +114,7 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     below the stinger's tip, the guess leaves from the tip, and the third
     value says how far below: the pipe bears on the tip, and
     :func:`.boundaries.regained_span` gives the gap span from it
-    (:func:`.boundaries.bear_on_tip`). Within GUESS_LIFTOFF_ERROR flexural
+    (:func:`.boundaries.bear_on_tip`). Within tuning.GUESS_LIFTOFF_ERROR flexural
     lengths of the tip it is None: the guess leaves from the tip, lifting
     off, and Newton's step past the tip tells how far above the tip a pipe
     bearing on it regains the stinger. ValueError when the tension left at
@@ -164,7 +154,7 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         z_lo = max(z_s, z_l)
         if z_s < z_l:
             past = float(st.arc(z_s, z_l)[1][-1])
-            if past < GUESS_LIFTOFF_ERROR * lam:
+            if past < T.GUESS_LIFTOFF_ERROR * lam:
                 past = None  # within the guess's error of the tip: Newton decides
     x_lo = float(st.height(z_lo))
     t_lo = tension(x_lo)
@@ -261,14 +251,6 @@ def shape(case: Case, g: Guess, s):
     return x, z, th, te, kappa
 
 
-# The guide's element lengths over the case's [-]: its answer is only a
-# start, on a mesh the roller problem grades anew (the case's sizes; the
-# guide's longer laid pipe, 5 of its elements, kept), so a coarser guide
-# costs less without changing the answer (measured: cold roller solves and
-# random roller stingers, benchmarks/bench_rollers.py parts 1 and 3).
-GUIDE_COARSENING = 2.0
-
-
 @functools.lru_cache(maxsize=256)
 def guide_case(case: Case) -> Case:
     """A roller stinger's guide: the case with its rollers replaced by a
@@ -276,7 +258,7 @@ def guide_case(case: Case) -> Case:
     (x_U, z_U), held at the top along the curve (its slope m that of
     ``lay.top_angle``), through the last roller (a <= 0, concave down;
     pinned, m and a the least-squares fit of the rollers' heights), with
-    elements GUIDE_COARSENING times the case's. Its answer is where a
+    elements tuning.GUIDE_COARSENING times the case's. Its answer is where a
     roller stinger's solve starts
     (:func:`pipelay_fast.engine.problem.roller_problem`, which takes the
     case's own element sizes): where that answer bears on its tip, the pipe
@@ -304,8 +286,8 @@ def guide_case(case: Case) -> Case:
     x_l, z_l = (float(v) for v in pts[-1])
     angle = None if lay.top_angle == "pinned" else lay.top_angle
     solver = case.solver
-    coarse = {"solver.element_length": GUIDE_COARSENING * solver.element_length}
+    coarse = {"solver.element_length": T.GUIDE_COARSENING * solver.element_length}
     if solver.min_element_length is not None:
-        coarse["solver.min_element_length"] = GUIDE_COARSENING * solver.min_element_length
+        coarse["solver.min_element_length"] = T.GUIDE_COARSENING * solver.min_element_length
     return case.with_changes({"lay.stinger": {"a": a, "lower": [x_l, z_l], "upper": [x_u, z_u]},
                               "lay.top": None, "lay.top_angle": angle, **coarse})

@@ -17,8 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kernels.grading import graded_tables, grading_rates_of, place_nodes, plain_rates_of
-
-GROWTH = 1.2
+from . import tuning as T
 
 
 def _uniform_count(length, h_max):
@@ -26,7 +25,7 @@ def _uniform_count(length, h_max):
     return max(2, int(np.ceil(length / h_max)))
 
 
-def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=None,
+def graded_nodes(length, foci, h_max, h_min, growth=T.GROWTH, grading=True, check=None,
                  nodes=()):
     """Node positions s in [0, length] [m], graded towards each focus point.
 
@@ -58,7 +57,7 @@ def graded_nodes(length, foci, h_max, h_min, growth=GROWTH, grading=True, check=
     if not grading:  # uniform between the plain nodes
         a, b, _t, _phi, _counts = _tables(length, (), nodes, h_max, h_max, growth)
         counts = ([_uniform_count(length, h_max)] if a.size == 1 else
-                  [max(1, int(np.ceil((hi - lo) / h_max - 1e-9)))
+                  [max(1, int(np.ceil((hi - lo) / h_max - T.REL_ROUNDOFF)))
                    for lo, hi in zip(a, b, strict=True)])
         if check is not None:
             check(sum(counts))
@@ -88,7 +87,7 @@ def _place(t, phi, b, counts):
     return nodes
 
 
-def grading_rates(length, foci, moving, h_max, h_min, growth=GROWTH, step=1e-4, nodes=()):
+def grading_rates(length, foci, moving, h_max, h_min, growth=T.GROWTH, step=1e-4, nodes=()):
     """ds_i/df [-] of the nodes of :func:`graded_nodes` (graded) with respect
     to the foci ``foci[j]`` for j in ``moving``, at fixed element counts per
     span: central differences over ``step`` [m] (the nodes are smooth in the

@@ -18,6 +18,7 @@ from ..input.limits import check_mesh_size
 from ..kernels import layout as L
 from ..kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL
 from ..kernels.newton import B_PT
+from . import tuning as T
 from .boundaries import (
     bear_on_tip,
     follow_boundaries,
@@ -118,7 +119,7 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     """A roller stinger's problem from the answer ``guide`` of its guide case
     (the quadratic stinger through its rollers, :func:`.guess.guide_case`):
     the same length of pipe, a node over each roller (the guide answer's
-    material point nearest it, ROLLER_PROJECTIONS projections on its
+    material point nearest it, tuning.ROLLER_PROJECTIONS projections on its
     tangent from the nearest node; ungraded there), graded at the answer's
     touchdown, the state interpolated. The rollers it passes on or below
     bear (Newton's first step lifts the pipe onto those it passes below:
@@ -142,7 +143,7 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     d2 = ((u[0::ndn][None, :] - rollers[:, :1]) ** 2
           + (u[nd - 1::ndn][None, :] - rollers[:, 1:]) ** 2)
     s_r = guide.s[np.argmin(d2, axis=1)]
-    for _ in range(ROLLER_PROJECTIONS):
+    for _ in range(T.ROLLER_PROJECTIONS):
         u_r = interpolate_state(guide.s, u, nd, s_r)
         xp, zp = u_r[nd::ndn], u_r[2 * nd - 1::ndn]
         along = ((rollers[:, 0] - u_r[0::ndn]) * xp
@@ -162,7 +163,7 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     follow_nodes(case, pb, nodes)
     if case.solver.grading:  # graded at touchdown, the grading moving with it
         _follow_grading(pb, nodes, total, [s_t, total], s_r)
-    pb.contacts.points[:, L.PT_BEAR] = (roller_gaps(pb) <= ROLLER_ON * h_min).astype(float)
+    pb.contacts.points[:, L.PT_BEAR] = (roller_gaps(pb) <= T.ROLLER_ON * h_min).astype(float)
     return pb
 
 
@@ -195,10 +196,6 @@ def _follow_grading(pb: Problem, nodes, total: float, foci, over):
                                     nodes=over)
     pb.mesh.zone_b, pb.mesh.grade_b = pb.mesh.s_b, rates
     pb.mesh.follow_rates(nodes, rates)
-
-
-ROLLER_PROJECTIONS = 2  # the points over the rollers: 2 projections from the nearest node
-ROLLER_ON = 1e-6  # a roller bears at the start within this share of h_min of the pipe
 
 
 def _laid_source(case: Case, cat, lam: float, laid: float | None = None) -> str:

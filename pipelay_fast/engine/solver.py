@@ -33,6 +33,7 @@ from ..input.errors import SolveError
 from ..input.limits import IterationBudget
 from ..kernels import layout as L
 from ..kernels.contact import ST_ON, friction_track
+from . import tuning as T
 from .boundaries import (
     check_final_regime,
     graded_on_boundaries,
@@ -50,22 +51,10 @@ from .problem import build_problem, remesh, roller_problem
 from .state import Problem, Solution, restore, snapshot
 from .warm import warm_problem
 
-MAX_MESH_PASSES = 4
-# The first mesh's Newton tolerance [-]. That mesh is to find where the
-# boundaries are; the mesh graded there moves them by its own discretisation
-# (S67 2D at 4 m, bearing on the tip: re-contact 0.33 m), so they are not
-# wanted closer. 1e-3 against 1e-4: quick grid 4667 -> 4357 iterations (260
-# solves fewer, 6 more), planar 1785 -> 1645, warm 1482 -> 1453, the same
-# answers (3.6e-9); 1e-2 lost a random case, 1e-1 S67 2D cases.
-LOOSE_TOLERANCE = 1e-3
-
-
-MAX_LAID_DOUBLINGS = 6
-
 
 def solve_problem(case: Case, warm: Problem | None = None):
     """Solve with enough laid pipe: when the lower end, held laterally, carries
-    more than LOWER_END_SHARE of the laid pipe's lateral force (friction has not
+    more than tuning.LOWER_END_SHARE of the laid pipe's lateral force (friction has not
     taken it all up), the laid length is doubled and the case solved again.
     ``warm``: the solved problem of a neighbouring case to start from. All
     the passes share one budget of solver.max_iterations_total iterations.
@@ -83,7 +72,7 @@ def solve_problem(case: Case, warm: Problem | None = None):
     laid = None  # the case's
     budget = IterationBudget(case.solver.max_iterations_total)
     meshes = 0
-    for _ in range(MAX_LAID_DOUBLINGS + 1):
+    for _ in range(T.MAX_LAID_DOUBLINGS + 1):
         pb, react, stats, s_t, s_l = _solve_mesh(case, warm, budget, laid)
         warm = None
         meshes += stats["meshes"]
@@ -103,18 +92,15 @@ def solve_problem(case: Case, warm: Problem | None = None):
     )
 
 
-LOWER_END_SHARE = 0.01  # largest share of the seabed's lateral force the held lower end may carry
-
-
 def _lower_end_holds(pb: Problem, react) -> bool:
-    """True when the lower end, held laterally, carries more than LOWER_END_SHARE
+    """True when the lower end, held laterally, carries more than tuning.LOWER_END_SHARE
     of the lateral force on the laid pipe: the slipping (or elastically held)
     zone then reaches it, and more laid pipe is needed."""
     if pb.nd != 3 or pb.settings.factors[L.F_FRICTION] == 0.0:
         return False
     on_bed = np.flatnonzero(pb.contacts.fric[:, L.FR_W] > 0.0)
     total = np.abs(react[on_bed * pb.ndn + 1]).sum() + abs(react[1])
-    return abs(react[1]) > LOWER_END_SHARE * total
+    return abs(react[1]) > T.LOWER_END_SHARE * total
 
 
 def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
@@ -140,9 +126,9 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
     path = friction_path(case)
     if path:
         pb.on_gravity_path()
-    # graded, the first mesh only to LOOSE_TOLERANCE: it is to find where
+    # graded, the first mesh only to tuning.LOOSE_TOLERANCE: it is to find where
     # the boundaries are, and is graded anew there unless it already is
-    pb.settings.tolerance = (max(case.solver.tolerance, LOOSE_TOLERANCE)
+    pb.settings.tolerance = (max(case.solver.tolerance, T.LOOSE_TOLERANCE)
                     if case.solver.grading and not guided else None)
     pb, react, stats = _solve_gravity(case, pb, budget)
     stats["iterations"] += guide_iterations
@@ -162,8 +148,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         # the cold start (a warm start's first mesh, the neighbour's), unless
         # laid pipe had to be added
         total = pb.stats.get("cold_total")
-        cold_length = total is None or abs(total - pb.s[-1]) <= 1e-9 * total
-        if (one_mesh or passes >= MAX_MESH_PASSES
+        cold_length = total is None or abs(total - pb.s[-1]) <= T.REL_ROUNDOFF * total
+        if (one_mesh or passes >= T.MAX_MESH_PASSES
                 or (graded_on_boundaries(case, pb) and not short_laid and cold_length)):
             if pb.settings.tolerance is not None:  # on to the tolerance, this mesh
                 pb.settings.tolerance = None
@@ -174,7 +160,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
                 foci = stinger_foci(case, pb)
             break
         pb = remesh(case, pb, s_t, foci, grading=True, total=total)
-        if total is not None and abs(pb.s[-1] - total) > 1e-9 * total:
+        if total is not None and abs(pb.s[-1] - total) > T.REL_ROUNDOFF * total:
             pb.stats.pop("cold_total")  # laid pipe added (short), as the cold start would
         pb.settings.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
@@ -228,7 +214,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
 def _from_guide(case: Case, budget: IterationBudget, laid: float | None = None):
     """A roller stinger's start: its guide (the quadratic stinger through the
     rollers, :func:`.guess.guide_case`) solved under gravity on its first
-    mesh to LOOSE_TOLERANCE, then the roller problem built from that answer
+    mesh to tuning.LOOSE_TOLERANCE, then the roller problem built from that answer
     (:func:`.problem.roller_problem`). From the first guess itself the
     rollers' contacts swung for 5 to 30 iterations while the pipe found its
     balance (S67 2D at 1 to 8 m elements, rollers on the paper's curve every
@@ -240,7 +226,7 @@ def _from_guide(case: Case, budget: IterationBudget, laid: float | None = None):
     pb = build_problem(guide, laid)
     if friction_path(guide):
         pb.on_gravity_path()
-    pb.settings.tolerance = max(case.solver.tolerance, LOOSE_TOLERANCE)
+    pb.settings.tolerance = max(case.solver.tolerance, T.LOOSE_TOLERANCE)
     try:
         pb, _react, stats = _solve_gravity(guide, pb, budget)
     except SolveError as err:
@@ -258,7 +244,7 @@ def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
     was prepended to, "laid_added").
     """
     used = budget.used
-    for added in range(MAX_LAID_DOUBLINGS + 1):
+    for added in range(T.MAX_LAID_DOUBLINGS + 1):
         try:
             react, stats = newton_with_fallback(case, pb, budget)
         except ShortLaid:
@@ -269,7 +255,7 @@ def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
         return pb, react, stats
     raise SolveError(f"case {case.name!r}: touchdown still runs toward the lower end with "
                      f"{touchdown_position(pb):.4g} m of laid pipe modelled after "
-                     f"{MAX_LAID_DOUBLINGS} doublings of it; the case may have no touchdown")
+                     f"{T.MAX_LAID_DOUBLINGS} doublings of it; the case may have no touchdown")
 
 
 def _with_more_laid(case: Case, pb: Problem) -> Problem:
