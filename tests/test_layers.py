@@ -1,5 +1,6 @@
 """The package's layers import only downward, and no module imports itself
-back through others: input < kernels < engine < output < api < study < cli.
+back through others: input < kernels < engine < output < api < study < cli;
+and modules and functions stay small enough to read.
 
 Every import counts, those inside functions and under ``TYPE_CHECKING``
 included. Read from the sources with :mod:`ast`, nothing imported."""
@@ -124,3 +125,20 @@ def test_the_checks_find_what_they_look_for(tmp_path, monkeypatch):
     assert theirs == {"typing", "scipy"}
     with pytest.raises(AssertionError, match="imports from above"):
         test_imports_go_only_downward("pipelay_fast.kernels.fake")
+
+
+MAX_MODULE_LINES = 500
+MAX_FUNCTION_LINES = 120
+
+
+@pytest.mark.parametrize("name", sorted(MODULES))
+def test_modules_and_functions_stay_small(name):
+    """No module over MAX_MODULE_LINES lines, no function (its docstring
+    included) over MAX_FUNCTION_LINES."""
+    text = MODULES[name].read_text()
+    assert text.count("\n") <= MAX_MODULE_LINES, f"{name}: {text.count(chr(10))} lines"
+    long = [f"{node.name} ({node.end_lineno - node.lineno + 1} lines)"
+            for node in ast.walk(ast.parse(text))
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+            and node.end_lineno - node.lineno + 1 > MAX_FUNCTION_LINES]
+    assert not long, f"{name}: {', '.join(long)}"
