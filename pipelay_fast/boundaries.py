@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.optimize import brentq
 
-from .kernels.contact import ST_ON, tip_geometry
-from .kernels.newton import B_LO
+from .kernels.contact import tip_geometry
+from .kernels.layout import B_LO, ST_ON
 from .mesh import graded_nodes
 from .results import foundation_exit, last_roller_in_contact
 

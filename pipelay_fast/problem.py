@@ -24,10 +24,9 @@ from .boundaries import (
 from .case import Case
 from .guess import first_guess, guide_case, shape
 from .kernels import layout as L
-from .kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
 from .kernels.geometry import hermite_state
 from .kernels.grading import boundary_map
-from .kernels.newton import B_LO, B_PT
+from .kernels.layout import B_LO, B_PT, N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
 from .kernels.types import Ends, Model, Supports, load_factors
 from .limits import check_mesh_size
 from .mesh import graded_nodes, grading_rates

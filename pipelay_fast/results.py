@@ -17,9 +17,9 @@ import pandas as pd
 from .case import Case
 from .design import DESIGN_UNITS, design_columns
 from .kernels import layout as L
-from .kernels.contact import ST_ON
+from .kernels.constraints import point_gaps
 from .kernels.geometry import centreline_fields
-from .kernels.newton import point_gaps
+from .kernels.layout import ST_ON
 from .model import pin_jump
 
 PROFILE_UNITS = {

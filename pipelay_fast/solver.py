@@ -42,7 +42,8 @@ from .continuation import ShortLaid, apply_current, newton_with_fallback
 from .errors import SolveError
 from .guess import guide_case
 from .kernels import layout as L
-from .kernels.contact import ST_ZL, friction_track
+from .kernels.contact import friction_track
+from .kernels.layout import ST_ZL
 from .limits import IterationBudget, strain_beyond_line
 from .problem import (
     Problem,

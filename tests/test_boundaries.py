@@ -295,7 +295,7 @@ def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, examp
     included (forced once here: the lower end said to hold too much of the
     lateral force)."""
     from pipelay_fast import continuation, solver
-    from pipelay_fast.kernels.newton import I_ITER
+    from pipelay_fast.kernels.layout import I_ITER
 
     problems, iterations = [], []
     run = continuation.run_newton
@@ -454,7 +454,7 @@ def test_a_cable_leaving_below_the_tip_starts_bearing_with_the_span_found(exampl
     lift-off (``regained_span``): within 5 % of the span Newton finds on the
     bundled mesh (the cable's lift-off and the closed form are asymptotic,
     first order in the flexural length)."""
-    from pipelay_fast.kernels.newton import B_LO, B_PT
+    from pipelay_fast.kernels.layout import B_LO, B_PT
     from pipelay_fast.problem import build_problem
     from pipelay_fast.solver import solve_problem
 

@@ -18,13 +18,13 @@ from pipelay_fast.kernels.banded import (
     dense_to_band,
 )
 from pipelay_fast.kernels.contact import (
-    N_STINGER,
     friction_forces,
     friction_step,
     friction_track,
     node_arcs,
 )
-from pipelay_fast.kernels.newton import I_RES, _system
+from pipelay_fast.kernels.layout import I_RES, N_STINGER
+from pipelay_fast.kernels.system import _system
 from pipelay_fast.kernels.types import load_factors
 from pipelay_fast.model import build_props
 from pipelay_fast.problem import Problem
@@ -355,7 +355,7 @@ def test_carrying_a_node_along_the_pipe_is_its_hermite_interpolation(nd):
     at points inside elements, on nodes and in the graded elements; its
     derivative along the pipe at a node, on each side, against a one-sided
     difference of it."""
-    from pipelay_fast.kernels.newton import _element_at, _pipe_at
+    from pipelay_fast.kernels.constraints import _element_at, _pipe_at
     from pipelay_fast.problem import interpolate_state
 
     case = pf.load_case("pipelay_fast/examples/s67.toml").with_changes(

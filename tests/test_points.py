@@ -24,8 +24,7 @@ from scipy.integrate import cumulative_trapezoid
 
 from pipelay_fast.continuation import run_newton
 from pipelay_fast.kernels import layout as L
-from pipelay_fast.kernels.contact import N_STINGER
-from pipelay_fast.kernels.newton import B_PT
+from pipelay_fast.kernels.layout import B_PT, N_STINGER
 from pipelay_fast.kernels.types import load_factors
 from pipelay_fast.problem import Problem
 

@@ -516,7 +516,7 @@ def test_the_mesh_follows_touchdown_and_the_rollers_as_its_grading_does(example)
     d = 5 cm); between rollers, in uniform stretches, the rates are linear
     (to 1e-10 m: round-off of the central differences)."""
     from pipelay_fast.boundaries import touchdown_position
-    from pipelay_fast.kernels.newton import B_PT
+    from pipelay_fast.kernels.layout import B_PT
     from pipelay_fast.limits import IterationBudget
     from pipelay_fast.mesh import graded_nodes
     from pipelay_fast.solver import _from_guide

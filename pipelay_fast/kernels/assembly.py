@@ -8,8 +8,8 @@ import numpy as np
 from numba.core import types
 from numba.extending import overload
 
-from ._jit import jit, phase
 from . import layout as L
+from ._jit import jit, phase
 from .banded import band_add_block
 from .element import WORK_SIZE, element_force_ws
 from .element2d import element_2d

@@ -24,18 +24,10 @@ import math
 
 import numpy as np
 
-from ._jit import jit
 from . import layout as L
+from ._jit import jit
 from .element import hermite_crossing
-
-# stinger vector slots
-ST_A = 0
-ST_B = 1
-ST_C = 2
-ST_ZL = 3
-ST_ZU = 4
-ST_ON = 5
-N_STINGER = 6
+from .layout import ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
 
 
 @jit(_nrt=False)

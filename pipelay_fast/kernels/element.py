@@ -48,8 +48,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._jit import jit
 from . import layout as L
+from ._jit import jit
 from .loads import drag_force, effective_weight, wall_minus_effective
 from .types import Model, load_factors
 

@@ -25,8 +25,8 @@ x follow from it directly.
 
 from __future__ import annotations
 
-from ._jit import jit
 from . import layout as L
+from ._jit import jit
 from .element import _CUTLEV, _CUTS, GAUSS_W, GAUSS_XI, _cut_jumps, level_cuts
 from .loads import current_speed, effective_weight, wall_minus_effective
 

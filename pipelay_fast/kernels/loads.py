@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import math
 
-from ._jit import jit
 from . import layout as L
+from ._jit import jit
 
 
 @jit(_nrt=False)
