@@ -41,7 +41,7 @@ import numpy as np
 from . import layout as L
 from ._jit import jit, phase
 from .assembly import element_forces
-from .element import WORK_SIZE, hermite
+from .element_shapes import WORK_SIZE, hermite
 from .layout import B_LO, B_PT, B_TD, ST_A, ST_B, ST_C, ST_ON
 
 
@@ -346,7 +346,7 @@ def _pipe_at(nd, u_old, s_old, e, xi, sh, value, rate):
     """The pipe of state ``u_old`` on nodes ``s_old`` at ``xi`` of element
     ``e``: its nodal unknowns (r, r', lambda) into ``value`` and their
     derivatives along it (r', r'', lambda') into ``rate``; cubic Hermite in r
-    (:func:`.element.hermite`, ``sh`` (3, 4) its scratch), linear in lambda."""
+    (:func:`.element_shapes.hermite`, ``sh`` (3, 4) its scratch), linear in lambda."""
     ndn = 2 * nd + 1
     le = s_old[e + 1] - s_old[e]
     n, dn, ddn = sh[0], sh[1], sh[2]
