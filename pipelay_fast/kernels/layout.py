@@ -67,7 +67,7 @@ N_FRIC = 6
 # --- rigid point contacts (rows of ``Supports.points``) ------------------------
 # A rigid point in the lay plane (the stinger's tip, or a roller) holds
 # the pipe from below by a unilateral contact: a node follows the material
-# point over it (a boundary unknown of Newton, :mod:`.newton`) and its normal
+# point over it (a boundary unknown of Newton, :mod:`.constraints`) and its normal
 # contact is chosen by the complementarity min(R, c g) = 0.
 PT_X = 0  # the point's x [m] (the vertical, as the nodal unknown x)
 PT_Z = 1  # the point's z [m]

@@ -164,8 +164,8 @@ du_free : (ndof,) the Newton step, global frame [m, -, N]: ``_start_step``
     writes it; ``_step_length``, ``friction_step`` and ``_take_step`` read it.
 u_old : (ndof,) the state the step starts from (``_start_step``); read by
     ``_take_step`` and ``_largest_move``.
-scale : (ndof,) the unknowns' scales: 1 (positions), href (slopes), EI /
-    href^2 (multipliers) [m, m, N]; constant (:func:`_work`), read by the solve.
+scale : (ndof,) the unknowns' scales: 1 (positions), href [m] (slopes), EI /
+    href^2 [N] (multipliers); constant (:func:`_work`), read by the solve.
 torques : (nel,) the torque in each element [N m]: the case's, redistributed
     by ``_system`` under distributed moments; read by the element chain.
 rows : (nbr, ndof) the bordered equations' gradients, nodal frames
@@ -182,7 +182,7 @@ dz : (nbr,) the bordered unknowns' steps [N, m] (``_condensed_solve``); read
 sm, rh : (nbr, nbr), (nbr,) the Schur complement and its right-hand side,
     scratch of ``_condensed_solve``.
 rhs : (ndof, 1 + nbr) the step and the border columns solved together,
-    scratch of ``_condensed_solve``; ``_reactions`` does not read it.
+    scratch of ``_condensed_solve``.
 bcols : (nbnd, ndof) each boundary's column dG/ds_b, global frame
     [N/m, N, -]: ``_evaluate`` writes it, ``_border`` reads it.
 res_bnd : (nbnd,) the boundaries' equations [N m, -, m] (touchdown's moment,
@@ -205,8 +205,8 @@ fr_out : (ndof,) the friction springs' forces on the pipe [N]
 fr_stop : (nn,) the spring a step stopped at its stick zone's edge (1 + the
     component; 0 none): ``friction_step`` writes and reads it,
     ``_past_friction_cut`` clears it.
-row_td, own_td : (ndof,), (1,) touchdown's equation's gradient dM/du [N, N m]
-    and its derivative by s_T at fixed u [N]: ``_evaluate`` writes them,
+row_td, own_td : (ndof,), (1,) touchdown's equation's gradient dM/du [N, N m,
+    m] and its derivative by s_T at fixed u [N]: ``_evaluate`` writes them,
     ``_border`` reads them.
 at, at_rate, at_scratch, sh : (2 nd + 1,) x 3, (3, 4) the pipe at a material
     point, its derivative along the pipe and the Hermite shape functions:

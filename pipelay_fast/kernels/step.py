@@ -74,6 +74,28 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
 
 
 @phase
+def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
+    """Where the step starts: the Newton step in the global frame
+    (``w.du_free``, from the scaled ``w.du``), and the state, the boundaries'
+    and the nodes' arc lengths saved (``w.u_old``, ``w.bnd_old``,
+    ``w.s_old``). Returns the merit there, from the free rows' sum of
+    squares ``res_ssq``, the top tension's ``top_res`` and the boundaries'
+    equations ``w.res_bnd`` (unless ``hold``)."""
+    for i in range(u.shape[0]):
+        w.du_free[i] = w.du[i] * w.scale[i]
+    _to_global(nd, w.du_free, sup.phi_r, sup.phi_rp)
+    for i in range(u.shape[0]):
+        w.u_old[i] = u[i]
+    merit0 = res_ssq + top_res * top_res
+    for b in range(mesh.bnodes.shape[0]):
+        if mesh.bnodes[b] >= 0 and not hold:
+            merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, settings.href)) ** 2
+        w.bnd_old[b] = mesh.s_bd[b]
+    node_arcs(mesh.s_el, w.s_old)
+    return merit0
+
+
+@phase
 def _step_length(nd, u, mesh, sup, w, hold, href, bstep):
     """The longest fraction of the step the contact boundaries allow, and
     the status that stops the call (-1: none).
@@ -146,49 +168,83 @@ def _step_length(nd, u, mesh, sup, w, hold, href, bstep):
     return alpha, -1
 
 
-@jit(_nrt=False)
-def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has_bnd, mesh, w):
-    """The state a fraction ``alpha`` along the Newton step: nodal unknowns
-    (stinger contacts along their curve), bottom tension and boundary arc
-    lengths (from ``w.bnd_old`` by ``w.d_bnd``) with the element lengths they give.
+@phase
+def _up_to_tip(nd, u, mesh, sup, ends, w, alpha, dtb):
+    """PAST_TIP: the fraction ``alpha`` of the step that takes lift-off to
+    the stinger's tip is taken (none when it is there already). Returns how
+    far [m] along the pipe the whole step would take lift-off past the tip
+    (the caller estimates the gap span from it)."""
+    past = abs(w.d_bnd[B_LO]) * (1.0 - alpha)
+    if alpha > 0.0:
+        _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
+                   ends.tb[0], dtb, _has_boundaries(mesh), mesh, w)
+    return past
 
-    A node that the stinger's boundaries (lift-off or re-contact, the tip's
-    point) move along the pipe by sigma is carried along the pipe's present
-    curve: it takes the curve's values at its new material point
-    (:func:`.constraints._pipe_at`), plus the Newton step's increment less
-    the part of it that this transport makes to first order (the curve's
-    derivative at the node, on the side it moves to, times sigma). To first
-    order this is the Newton step; beyond it the pipe keeps its strains
-    where the mesh slides along it, instead of being stretched between nodes
-    held in place (against its axial stiffness EA, orders of magnitude above
-    the tension). Touchdown's zone is not carried: where touchdown moves,
-    suspended pipe comes to lie on the seabed."""
-    ndn = 2 * nd + 1
-    nn = st_active.shape[0]
-    for i in range(u.shape[0]):
-        u[i] = u_old[i] + alpha * du[i]
-    if has_bnd:
-        for node in range(nn):
-            rate = 0.0
-            for b in range(B_LO, mesh.s_b.shape[0]):
-                rate += mesh.s_b[b, node] * w.d_bnd[b]
-            if rate == 0.0:
-                continue
-            if rate > 0.0:
-                _pipe_at(nd, u_old, w.s_old, node, 0.0, w.sh, w.at, w.at_rate)
-            else:
-                _pipe_at(nd, u_old, w.s_old, node - 1, 1.0, w.sh, w.at, w.at_rate)
-            e, xi = _element_at(w.s_old, node, w.s_old[node] + alpha * rate)
-            _pipe_at(nd, u_old, w.s_old, e, xi, w.sh, w.at, w.at_scratch)
-            base = node * ndn
-            for i in range(ndn):
-                u[base + i] += w.at[i] - u_old[base + i] - alpha * w.at_rate[i] * rate
-    _onto_curve(nd, u, u_old, du, alpha, stinger, st_active)
-    tb[0] = tb_old + alpha * dtb
-    if has_bnd:
-        for b in range(mesh.s_bd.shape[0]):
-            mesh.s_bd[b] = w.bnd_old[b] + alpha * w.d_bnd[b]
-        mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
+
+@phase
+def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0):
+    """The step taken from ``w.u_old``: the limited step ``alpha`` cut where
+    a sliding friction spring would cross its stick zone
+    (:func:`.contact.friction_step`, :func:`_past_friction_cut`), then halved
+    until :func:`_accepts` takes the trial, 12 trials at most; where none is
+    accepted the first is taken anyway (the merit is flat there: a change of
+    constraint, a constraint's correction). Leaves u, the bottom tension and
+    the mesh at the step taken; returns (accepted, the last trial's merit)."""
+    alpha_lim = alpha
+    alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric,
+                          w.fr_stop, alpha)
+    if alpha < alpha_lim:
+        alpha = _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb,
+                                   alpha, alpha_lim)
+    has_bnd = _has_boundaries(mesh)
+    tb_old = ends.tb[0]
+    alpha0 = alpha
+    accepted = False
+    for _ls in range(12):
+        m1 = _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
+                    has_bnd)
+        if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
+            accepted = True
+            break
+        if not (m1 < 1e300) and alpha < 1e-3:
+            break
+        alpha *= 0.5
+    if not accepted:
+        _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
+                   tb_old, dtb, has_bnd, mesh, w)
+    return accepted, m1
+
+
+@phase
+def _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, alpha_lim):
+    """The step fraction, from ``alpha`` (where
+    :func:`.contact.friction_step` cut the limited step ``alpha_lim`` at a
+    spring's stick zone) doubled towards ``alpha_lim`` while the merit
+    falls; the lowest-merit trial is returned, and if it lies past the cut,
+    no spring is flagged as stopped (``w.fr_stop``). A laid pipe sliding as a
+    whole has its whole length carried back past the anchors by Newton (its
+    lateral stiffness then the span's alone): stopped at the first spring's
+    zone, it would move a small part of the step an iteration. The state is
+    left at the last trial (:func:`_line_search` takes the step from
+    ``w.u_old``), the bottom tension restored."""
+    has_bnd = _has_boundaries(mesh)
+    tb_old = ends.tb[0]
+    best = alpha
+    m_best = np.inf
+    trial = alpha
+    while True:
+        m1 = _trial(nd, trial, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd)
+        if m1 < m_best:
+            m_best, best = m1, trial
+        elif trial > alpha:
+            break
+        if trial >= alpha_lim:
+            break
+        trial = min(2.0 * trial, alpha_lim)
+    ends.tb[0] = tb_old
+    if best > alpha:
+        w.fr_stop[:] = 0.0
+    return best
 
 
 @jit(by_dimension=True, _nrt=False)
@@ -245,105 +301,49 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
             or (has_bnd and m1 <= MERIT_RISE * merit0) or (has_lo and not hold and m1 < 1e300))
 
 
-@phase
-def _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, alpha_lim):
-    """The step fraction, from ``alpha`` (where
-    :func:`.contact.friction_step` cut the limited step ``alpha_lim`` at a
-    spring's stick zone) doubled towards ``alpha_lim`` while the merit
-    falls; the lowest-merit trial is returned, and if it lies past the cut,
-    no spring is flagged as stopped (``w.fr_stop``). A laid pipe sliding as a
-    whole has its whole length carried back past the anchors by Newton (its
-    lateral stiffness then the span's alone): stopped at the first spring's
-    zone, it would move a small part of the step an iteration. The state is
-    left at the last trial (:func:`_line_search` takes the step from
-    ``w.u_old``), the bottom tension restored."""
-    has_bnd = _has_boundaries(mesh)
-    tb_old = ends.tb[0]
-    best = alpha
-    m_best = np.inf
-    trial = alpha
-    while True:
-        m1 = _trial(nd, trial, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd)
-        if m1 < m_best:
-            m_best, best = m1, trial
-        elif trial > alpha:
-            break
-        if trial >= alpha_lim:
-            break
-        trial = min(2.0 * trial, alpha_lim)
-    ends.tb[0] = tb_old
-    if best > alpha:
-        w.fr_stop[:] = 0.0
-    return best
+@jit(_nrt=False)
+def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has_bnd, mesh, w):
+    """The state a fraction ``alpha`` along the Newton step: nodal unknowns
+    (stinger contacts along their curve), bottom tension and boundary arc
+    lengths (from ``w.bnd_old`` by ``w.d_bnd``) with the element lengths they give.
 
-
-@phase
-def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
-    """Where the step starts: the Newton step in the global frame
-    (``w.du_free``, from the scaled ``w.du``), and the state, the boundaries'
-    and the nodes' arc lengths saved (``w.u_old``, ``w.bnd_old``,
-    ``w.s_old``). Returns the merit there, from the free rows' sum of
-    squares ``res_ssq``, the top tension's ``top_res`` and the boundaries'
-    equations ``w.res_bnd`` (unless ``hold``)."""
+    A node that the stinger's boundaries (lift-off or re-contact, the tip's
+    point) move along the pipe by sigma is carried along the pipe's present
+    curve: it takes the curve's values at its new material point
+    (:func:`.constraints._pipe_at`), plus the Newton step's increment less
+    the part of it that this transport makes to first order (the curve's
+    derivative at the node, on the side it moves to, times sigma). To first
+    order this is the Newton step; beyond it the pipe keeps its strains
+    where the mesh slides along it, instead of being stretched between nodes
+    held in place (against its axial stiffness EA, orders of magnitude above
+    the tension). Touchdown's zone is not carried: where touchdown moves,
+    suspended pipe comes to lie on the seabed."""
+    ndn = 2 * nd + 1
+    nn = st_active.shape[0]
     for i in range(u.shape[0]):
-        w.du_free[i] = w.du[i] * w.scale[i]
-    _to_global(nd, w.du_free, sup.phi_r, sup.phi_rp)
-    for i in range(u.shape[0]):
-        w.u_old[i] = u[i]
-    merit0 = res_ssq + top_res * top_res
-    for b in range(mesh.bnodes.shape[0]):
-        if mesh.bnodes[b] >= 0 and not hold:
-            merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, settings.href)) ** 2
-        w.bnd_old[b] = mesh.s_bd[b]
-    node_arcs(mesh.s_el, w.s_old)
-    return merit0
-
-
-@phase
-def _up_to_tip(nd, u, mesh, sup, ends, w, alpha, dtb):
-    """PAST_TIP: the fraction ``alpha`` of the step that takes lift-off to
-    the stinger's tip is taken (none when it is there already). Returns how
-    far [m] along the pipe the whole step would take lift-off past the tip
-    (the caller estimates the gap span from it)."""
-    past = abs(w.d_bnd[B_LO]) * (1.0 - alpha)
-    if alpha > 0.0:
-        _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-                   ends.tb[0], dtb, _has_boundaries(mesh), mesh, w)
-    return past
-
-
-@phase
-def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0):
-    """The step taken from ``w.u_old``: the limited step ``alpha`` cut where
-    a sliding friction spring would cross its stick zone
-    (:func:`.contact.friction_step`, :func:`_past_friction_cut`), then halved
-    until :func:`_accepts` takes the trial, 12 trials at most; where none is
-    accepted the first is taken anyway (the merit is flat there: a change of
-    constraint, a constraint's correction). Leaves u, the bottom tension and
-    the mesh at the step taken; returns (accepted, the last trial's merit)."""
-    alpha_lim = alpha
-    alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric,
-                          w.fr_stop, alpha)
-    if alpha < alpha_lim:
-        alpha = _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb,
-                                   alpha, alpha_lim)
-    has_bnd = _has_boundaries(mesh)
-    tb_old = ends.tb[0]
-    alpha0 = alpha
-    accepted = False
-    for _ls in range(12):
-        m1 = _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
-                    has_bnd)
-        if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
-            accepted = True
-            break
-        if not (m1 < 1e300) and alpha < 1e-3:
-            break
-        alpha *= 0.5
-    if not accepted:
-        _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-                   tb_old, dtb, has_bnd, mesh, w)
-    return accepted, m1
+        u[i] = u_old[i] + alpha * du[i]
+    if has_bnd:
+        for node in range(nn):
+            rate = 0.0
+            for b in range(B_LO, mesh.s_b.shape[0]):
+                rate += mesh.s_b[b, node] * w.d_bnd[b]
+            if rate == 0.0:
+                continue
+            if rate > 0.0:
+                _pipe_at(nd, u_old, w.s_old, node, 0.0, w.sh, w.at, w.at_rate)
+            else:
+                _pipe_at(nd, u_old, w.s_old, node - 1, 1.0, w.sh, w.at, w.at_rate)
+            e, xi = _element_at(w.s_old, node, w.s_old[node] + alpha * rate)
+            _pipe_at(nd, u_old, w.s_old, e, xi, w.sh, w.at, w.at_scratch)
+            base = node * ndn
+            for i in range(ndn):
+                u[base + i] += w.at[i] - u_old[base + i] - alpha * w.at_rate[i] * rate
+    _onto_curve(nd, u, u_old, du, alpha, stinger, st_active)
+    tb[0] = tb_old + alpha * dtb
+    if has_bnd:
+        for b in range(mesh.s_bd.shape[0]):
+            mesh.s_bd[b] = w.bnd_old[b] + alpha * w.d_bnd[b]
+        mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
 
 
 @phase

@@ -243,7 +243,7 @@ def _curve_all(nd, ab, kl, ku, g, u, stinger, st_active, want_tangent):
 @jit(_nrt=False)
 def _frame_turn(nd, ab, kl, g, u, mesh, sup):
     """The frame over a rigid point is the pipe's, phi = atan2(x', z')
-    (:func:`_nodal_frames`), and turns with r': its rows (normal n . G,
+    (:func:`.constraints._nodal_frames`), and turns with r': its rows (normal n . G,
     tangent t . G, ``g`` already in that frame) carry d/dphi = (-G_t, G_n)
     times dphi/dr' (the normal's reaction G_n turns into the tangent's row)."""
     ndn = 2 * nd + 1
