@@ -24,8 +24,8 @@ from importlib.resources import files
 from pathlib import Path
 
 from . import __version__
-from .kernels import _jit
 from .case import load_case
+from .kernels import _jit
 from .results import SUMMARY_UNITS
 from .solver import SolveError, solve
 

@@ -15,8 +15,7 @@ import numba.core.caching as caching
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.kernels import _jit
-from pipelay_fast.kernels import loads
+from pipelay_fast.kernels import _jit, loads
 from tests.helpers import EXAMPLES
 
 PACKAGE = Path(pf.__file__).resolve().parent
