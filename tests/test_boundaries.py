@@ -295,7 +295,7 @@ def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, examp
     included (forced once here: the lower end said to hold too much of the
     lateral force)."""
     from pipelay_fast.engine import continuation, solver
-    from pipelay_fast.kernels.newton import I_ITER
+    from pipelay_fast.kernels.layout import I_ITER
 
     problems, iterations = [], []
     run = continuation.run_newton
@@ -456,7 +456,7 @@ def test_a_cable_leaving_below_the_tip_starts_bearing_with_the_span_found(exampl
     first order in the flexural length)."""
     from pipelay_fast.engine.problem import build_problem
     from pipelay_fast.engine.solver import solve_problem
-    from pipelay_fast.kernels.newton import B_LO, B_PT
+    from pipelay_fast.kernels.layout import B_LO, B_PT
 
     case = pf.load_case(EXAMPLES / f"{example}.toml").with_changes({"lay.stinger.a": a})
     start = build_problem(case)

@@ -284,7 +284,7 @@ def test_power_basis_is_the_hermite(s67):
     """tip_clearance's power basis (:func:`.kernels.geometry._at`) gives the
     same centreline as the elements' Hermite shape functions
     (:func:`.kernels.element.hermite`), its slope and its curvature too."""
-    from pipelay_fast.kernels.element import hermite
+    from pipelay_fast.kernels.element_shapes import hermite
     from pipelay_fast.kernels.geometry import _at
 
     p = pf.solve(s67.with_changes({"lay.stinger.a": -0.0014})).profile

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from pipelay_fast.kernels import layout as L
-from pipelay_fast.kernels.element import element_force, hermite_crossing
+from pipelay_fast.kernels.assembly import element_force
+from pipelay_fast.kernels.element_shapes import hermite_crossing
 
 
 def make_props(drag=0.0, torque_free=True, extensible=True, bed_k=0.0):

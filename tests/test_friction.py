@@ -124,7 +124,7 @@ def test_current_steps_are_counted_as_newton_ran_them(monkeypatch):
     last converged state: neither happens in this J-lay)."""
     from pipelay_fast.engine import continuation
     from pipelay_fast.kernels import layout as L
-    from pipelay_fast.kernels.newton import I_ITER
+    from pipelay_fast.kernels.layout import I_ITER
 
     calls = []
     run = continuation.run_newton

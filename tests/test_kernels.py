@@ -25,7 +25,8 @@ from pipelay_fast.kernels.contact import (
     friction_track,
     node_arcs,
 )
-from pipelay_fast.kernels.newton import I_RES, _system
+from pipelay_fast.kernels.layout import I_RES
+from pipelay_fast.kernels.system import _system
 from pipelay_fast.kernels.types import load_factors
 from pipelay_fast.output.results import foundation_force
 from tests.helpers import EXAMPLES
@@ -352,7 +353,7 @@ def test_carrying_a_node_along_the_pipe_is_its_hermite_interpolation(nd):
     derivative along the pipe at a node, on each side, against a one-sided
     difference of it."""
     from pipelay_fast.engine.state import interpolate_state
-    from pipelay_fast.kernels.newton import _element_at, _pipe_at
+    from pipelay_fast.kernels.constraints import _element_at, _pipe_at
 
     case = pf.load_case("pipelay_fast/examples/s67.toml").with_changes(
         {"solver.dimension": f"{nd}d", "environment.current.speed": 0.0})

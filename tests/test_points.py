@@ -25,7 +25,7 @@ from scipy.integrate import cumulative_trapezoid
 from pipelay_fast.engine.continuation import run_newton
 from pipelay_fast.engine.state import EndConditions, make_problem
 from pipelay_fast.kernels import layout as L
-from pipelay_fast.kernels.newton import B_PT
+from pipelay_fast.kernels.layout import B_PT
 from pipelay_fast.kernels.types import load_factors
 
 Q = 1000.0  # weight per length [N/m]

@@ -519,7 +519,7 @@ def test_the_mesh_follows_touchdown_and_the_rollers_as_its_grading_does(example)
     from pipelay_fast.engine.mesh import graded_nodes
     from pipelay_fast.engine.solver import _from_guide
     from pipelay_fast.input.limits import IterationBudget
-    from pipelay_fast.kernels.newton import B_PT
+    from pipelay_fast.kernels.layout import B_PT
 
     case = pf.load_case(EXAMPLES / f"{example}.toml")
     pb, _ = _from_guide(case, IterationBudget(case.solver.max_iterations_total))

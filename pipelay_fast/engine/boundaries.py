@@ -24,8 +24,9 @@ from scipy.optimize import brentq
 
 from ..input.errors import SolveError
 from ..kernels import layout as L
-from ..kernels.contact import ST_ON, ST_ZL, tip_geometry
-from ..kernels.newton import B_LO, point_gaps
+from ..kernels.constraints import point_gaps
+from ..kernels.contact import tip_geometry
+from ..kernels.layout import B_LO, ST_ON, ST_ZL
 from . import tuning as T
 from .mesh import graded_nodes
 

@@ -19,19 +19,9 @@ from ..input.errors import SolveError
 from ..input.limits import IterationBudget
 from ..kernels import layout as L
 from ..kernels.contact import friction_forces
-from ..kernels.newton import (
-    B_PT,
-    I_DELTA,
-    I_ITER,
-    I_PAST,
-    I_RES,
-    I_TOP_RES,
-    N_INFO,
-    newton_2d,
-    newton_3d,
-    system_2d,
-    system_3d,
-)
+from ..kernels.layout import B_PT, I_DELTA, I_ITER, I_PAST, I_RES, I_TOP_RES, N_INFO
+from ..kernels.newton import newton_2d, newton_3d
+from ..kernels.system import system_2d, system_3d
 from ..kernels.types import Mesh, Settings
 from . import tuning as T
 from .boundaries import (

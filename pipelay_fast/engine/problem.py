@@ -16,8 +16,7 @@ import numpy as np
 from ..input.case import Case
 from ..input.limits import check_mesh_size
 from ..kernels import layout as L
-from ..kernels.contact import N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL
-from ..kernels.newton import B_PT
+from ..kernels.layout import B_PT, N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL
 from . import tuning as T
 from .boundaries import (
     bear_on_tip,

@@ -32,7 +32,8 @@ from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import IterationBudget
 from ..kernels import layout as L
-from ..kernels.contact import ST_ON, friction_track
+from ..kernels.contact import friction_track
+from ..kernels.layout import ST_ON
 from . import tuning as T
 from .boundaries import (
     check_final_regime,

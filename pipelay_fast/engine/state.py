@@ -21,10 +21,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kernels import layout as L
-from ..kernels.contact import N_STINGER, ST_ON
 from ..kernels.geometry import hermite_state
 from ..kernels.grading import boundary_map
-from ..kernels.newton import B_PT
+from ..kernels.layout import B_PT, N_STINGER, ST_ON
 from ..kernels.types import Ends, Model, Supports, load_factors
 
 

@@ -8,8 +8,7 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
-from ..kernels.contact import ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
-from ..kernels.newton import B_LO
+from ..kernels.layout import B_LO, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
 from .boundaries import touchdown_position
 from .guess import guide_case
 from .model import dimension_of

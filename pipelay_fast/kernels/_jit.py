@@ -3,9 +3,8 @@
 Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
 
 * ``cache=True`` so that worker processes and later sessions load machine code
-  from numba's cache instead of recompiling (measured by
-  ``benchmarks/bench_compile.py``: a first solve in a fresh cache 21.5 to 24 s,
-  a cached start 0.7 s);
+  from numba's cache instead of recompiling (``benchmarks/bench_compile.py``
+  measures a first solve in a fresh cache and a cached start);
 * each kernel compiled once for its callers' plain argument types, and the
   element chain once per dimension (:func:`plain_calls`, ``by_dimension``);
 * ``nopython`` (``njit``): no object mode, no Python objects inside kernels;
@@ -18,10 +17,9 @@ Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
   CPython wrapper (Python's call: unboxing every argument) and a C wrapper (a
   function pointer), and optimises and compiles both again in every caller's
   module. Only the kernels the Python layer calls, ``jit(entry=True)``, keep
-  the CPython wrapper; none keeps the C wrapper. The first J125 solve in a
-  fresh cache compiles in 23.1 s instead of 26.1 (``bench_compile.py``). A
-  call from Python of any other kernel (tests, benchmarks) goes to a copy
-  compiled with the wrapper (:class:`Kernel`).
+  the CPython wrapper; none keeps the C wrapper (the first compile,
+  ``bench_compile.py``). A call from Python of any other kernel (tests,
+  benchmarks) goes to a copy compiled with the wrapper (:class:`Kernel`).
 
 Numba checks a cached kernel against its own source file only, not against the
 callees and constants it took from other modules. So, when this module is
@@ -62,9 +60,9 @@ def jit(func=None, *, by_dimension=False, entry=False, **overrides):
     ``by_dimension``: the kernel is compiled for its callers' dimension, its
     argument ``nd`` a literal 2 or 3 (:func:`plain_calls`), so that its loops
     over components have constant bounds and a dimension's choice between
-    kernels is made when it is typed (:func:`.kernels.assembly.element_forces`:
+    kernels is made when it is typed (:func:`.assembly.element_forces`:
     a planar solve never compiles the spatial element). The Newton kernel's
-    entries :func:`.kernels.newton.newton_2d` and ``newton_3d`` give it.
+    entries :func:`.newton.newton_2d` and ``newton_3d`` give it.
 
     ``entry``: the Python layer calls the kernel, which is compiled with
     numba's CPython wrapper; the others are :class:`Kernel`.
@@ -73,8 +71,9 @@ def jit(func=None, *, by_dimension=False, entry=False, **overrides):
     when the kernel, or a phase inlined into it, creates an array; False
     when it does not (its arrays' counts then cost nothing). numba compiles
     a kernel that does not set it with its first caller's setting, so an
-    allocating kernel first reached from one without counting failed to
-    compile (``_system`` under ``system_2d``, before this rule)."""
+    allocating kernel first reached from one without counting would fail to
+    compile (``tests/test_jit_cache.py``: :func:`.system._system`, first
+    reached from ``system_2d``)."""
     options = {"nopython": True, "boundscheck": None, "cache": True, "nogil": True,
                "error_model": "numpy",
                "no_cfunc_wrapper": True, "no_cpython_wrapper": not entry}
@@ -143,9 +142,8 @@ def plain_calls(dispatcher, keep=()):
     a literal value (but for the arguments named in ``keep``): numba types a
     constant argument (``want_tangent=False``, ``nd`` written as 2) as a
     literal and compiles one more specialisation of the callee, and of
-    everything it calls, for each. The element kernels were compiled four
-    times and their helpers eight (the first S67 solve: 158 compilations,
-    57 s)."""
+    everything it calls, for each: the element kernels, called with literal
+    flags from several places, would be compiled several times over."""
     get = dispatcher.get_call_template
     kept = [name in keep for name in inspect.signature(dispatcher.py_func).parameters]
 
@@ -162,14 +160,14 @@ def phase(func):
     """Decorate one phase of a kernel: :func:`jit`, inlined into its caller at
     numba's IR level (``inline="always"``), so it compiles as part of the
     kernel instead of as a library of its own. Each compiled kernel costs
-    numba a fixed 0.5 to 1 s of compile time (its own LLVM module, optimised
-    again with every callee linked in): the Newton kernel's phases as
-    kernels of their own made its first compile 30 % slower (S67, measured
-    side by side). Inlining has a cost of its own: numba copies the inlined
-    function's whole scope once for each of its blocks, so a phase is to be
-    small; the Newton kernel itself, inlined into its two entries, took
-    5.9 s of the first S67 compile that way
-    (:func:`.kernels.newton._newton_kernel` makes it a closure instead)."""
+    numba a fixed share of compile time (its own LLVM module, optimised
+    again with every callee linked in), so the Newton kernel's phases are
+    not kernels of their own (``benchmarks/bench_compile.py``). Inlining has
+    a cost of its own: numba deep-copies each of the inlined function's
+    blocks with the function's whole scope, a cost that grows as blocks
+    times variables, so a phase is to be small and a large function is not
+    inlined (:func:`.newton._newton_kernel` makes the Newton kernel a
+    closure instead)."""
     return jit(func, inline="always")
 
 
@@ -217,7 +215,7 @@ NEWTON_CACHE_PREFIX = "newton._newton_kernel"  # numba's index file of the Newto
 def kernels_cached() -> bool:
     """Whether numba's cache holds the Newton kernel's machine code for these
     sources (stale files are gone at import, :func:`expire_stale_cache`): when
-    it does not, the first solve compiles the kernels (21.5 to 24 s,
+    it does not, the first solve compiles the kernels (for how long:
     ``benchmarks/bench_compile.py``), and the command line says so."""
     for cache_dir in cache_dirs(KERNEL_DIR):
         try:

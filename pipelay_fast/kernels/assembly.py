@@ -11,8 +11,10 @@ from numba.extending import overload
 from . import layout as L
 from ._jit import jit, phase
 from .banded import band_add_block
-from .element import WORK_SIZE, element_force_ws
+from .element import element_force_ws
 from .element2d import element_2d
+from .element_shapes import WORK_SIZE
+from .types import Model, load_factors
 
 
 def element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
@@ -79,8 +81,8 @@ def _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent,
     """:func:`assemble`'s loop, with its scratch ``fe``, ``ke``, ``dfe``, ``ws``,
     ``wm`` given. (Compiled without numba's reference counting, as the element
     kernels are: it allocates nothing, and the counts on each element's slice
-    of ``u`` and on the arrays passed down cost more than the element's
-    residual: 2D residual and tangent 695 -> 430 ns an element.)"""
+    of ``u`` and on the arrays passed down would cost more than the
+    element's residual.)"""
     ndn = 2 * nd + 1
     ne = 2 * ndn
     nel = s_el.shape[0]
@@ -247,3 +249,20 @@ def curve_node(nd, ab, kl, ku, g, node, fp, fpp, zp, want_tangent):
 def element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """:func:`element_forces` callable from Python (tests, one-off calls)."""
     element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+
+
+def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=None,
+                  current_factor=1.0):
+    """Force vector ``fe`` (= G), tangent ``ke`` = dG/due and, if ``dfe`` is
+    given, ``dfe`` = dG/dle of one element, with the current's drag times
+    ``current_factor``.
+
+    Allocating Python wrapper of the kernel the solves run (in 2D the planar
+    one, :func:`.element2d.element_2d`; in 3D :func:`.element.element_force_ws`) for
+    tests and one-off calls; it always calls it with the same argument types.
+    """
+    want_dle = dfe is not None
+    model = Model(props, table, load_factors(current_factor, False))
+    element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent,
+                      dfe if want_dle else np.zeros(ue.size), want_dle,
+                      np.empty(WORK_SIZE), np.empty((3, 3)))

@@ -1,11 +1,12 @@
 """Contact laws as kernels: the stinger's geometry, the tip, the lateral
 hold, seabed friction.
 
-Normal contacts act through the condensation in :mod:`.newton`: a contact
-node's unknowns are prescribed in its nodal frame and its reaction is read
-back from the constrained rows. Which nodes are in contact follows from the
-contact boundaries, unknowns of Newton there (the seabed from the lower end
-to touchdown, the stinger from lift-off to the top). This module carries:
+Normal contacts act through the condensation (:mod:`.condensation`): a
+contact node's unknowns are prescribed in its nodal frame and its reaction
+is read back from the constrained rows. Which nodes are in contact follows
+from the contact boundaries, unknowns of Newton (:mod:`.constraints`: the
+seabed from the lower end to touchdown, the stinger from lift-off to the
+top). This module carries:
 
 * :func:`tip_geometry`: the stinger's tip as a point against the element
   spanning it (the material point whose z is the tip's);
@@ -26,16 +27,8 @@ import numpy as np
 
 from . import layout as L
 from ._jit import jit
-from .element import hermite_crossing
-
-# stinger vector slots
-ST_A = 0
-ST_B = 1
-ST_C = 2
-ST_ZL = 3
-ST_ZU = 4
-ST_ON = 5
-N_STINGER = 6
+from .element_shapes import hermite_crossing
+from .layout import ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
 
 
 @jit(_nrt=False)
@@ -313,16 +306,15 @@ def friction_step(nd, u, du, s, model, bed_active, fric, stop, alpha):
     side stops there, at -d_slip (it slides the other way from there on, if
     the next step asks). Crossing it in one step, Newton on a laid pipe
     sliding as a whole (its lateral stiffness then the suspended span's
-    alone) flipped the slip direction every step: J125 3D on an ungraded 16 m
-    mesh, y at touchdown -9.9 m, +27.7 m, ..., 531 iterations (22 now).
+    alone) can flip the slip direction every step.
 
     A spring this rule stopped at the far edge (``stop`` (nn,): 1 + the
     component, 0 lateral, 1 axial, set here for the next call of the same
-    Newton solve; 0 none) that the next step carries back stops at its anchor instead,
-    inside the stick zone where it has a stiffness: stopped at the edge each
-    time, a spring the tracking of its anchor left a hair outside the stick
-    zone flipped between the two edges with no stiffness at either (random
-    3D S-lays, 100 iterations in a current step, 10 now)."""
+    Newton solve; 0 none) that the next step carries back stops at its
+    anchor instead, inside the stick zone where it has a stiffness: stopped
+    at the edge each time, a spring the tracking of its anchor left a hair
+    outside the stick zone could flip between the two edges with no
+    stiffness at either."""
     if model.factors[L.F_FRICTION] == 0.0:
         return alpha
     props = model.props

@@ -6,9 +6,8 @@ map onto its contact boundaries (:func:`boundary_map`,
 
 Kernels, not NumPy, because a solve builds and differentiates its graded mesh
 several times (the cold start's mesh, the meshes graded at the boundaries
-found, and each focus's rate by central differences): over small arrays the
-NumPy version spent some 0.4 ms a solve in call overhead, more than Newton on
-a J125 mesh of 8 m elements.
+found, and each focus's rate by central differences): over such small arrays
+NumPy's call overhead would cost more than a coarse mesh's Newton iterations.
 """
 
 from __future__ import annotations
@@ -277,11 +276,10 @@ def plain_rates_of(length, points, nf, moving, h_max, h_min, growth, step):
     """:func:`grading_rates_of` for a mesh with plain nodes, the same
     numbers: a plain node (j at least ``nf``) moves only the two stretches
     it ends, so only their tables are built anew and their nodes placed
-    (:func:`_plain_node_moves`; 24 rollers' rates 476 -> 75 us); a focus, or
-    a plain node without two stretches of its own, moves the whole mesh
-    (:func:`_whole_mesh_moves`). A kernel of its own so that a mesh without
-    plain nodes never compiles it (J125's first solve: 26.3 s either way,
-    the median of three, one after the other)."""
+    (:func:`_plain_node_moves`); a focus, or a plain node without two
+    stretches of its own, moves the whole mesh (:func:`_whole_mesh_moves`).
+    A kernel of its own so that a mesh without plain nodes never compiles
+    it."""
     a, b, t, phi, counts, base, rates = _base_mesh(length, points, nf, moving.shape[0], h_max,
                                                    h_min, growth)
     focus, _count = _inside(points[:nf], length)

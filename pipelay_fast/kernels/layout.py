@@ -67,7 +67,7 @@ N_FRIC = 6
 # --- rigid point contacts (rows of ``Supports.points``) ------------------------
 # A rigid point in the lay plane (the stinger's tip, or a roller) holds
 # the pipe from below by a unilateral contact: a node follows the material
-# point over it (a boundary unknown of Newton, :mod:`.newton`) and its normal
+# point over it (a boundary unknown of Newton, :mod:`.constraints`) and its normal
 # contact is chosen by the complementarity min(R, c g) = 0.
 PT_X = 0  # the point's x [m] (the vertical, as the nodal unknown x)
 PT_Z = 1  # the point's z [m]
@@ -75,6 +75,32 @@ PT_BEAR = 2  # 1 while the pipe bears on it, else 0 (the complementarity's branc
 PT_R = 3  # its normal reaction [N] while it bears
 PT_HOLD = 4  # 1: while it bears it holds the pipe laterally, y = 0 (a V roller; 3D)
 N_PT = 5
+
+# --- the stinger's curve (the vector ``Supports.stinger``) ---------------------
+# x = a z^2 + b z + c on [zL, zU], x the height and z the lay direction [m]
+ST_A = 0  # a [1/m]
+ST_B = 1  # b [-]
+ST_C = 2  # c [m]
+ST_ZL = 3  # zL [m], the tip (its lower end)
+ST_ZU = 4  # zU [m]
+ST_ON = 5  # 1.0 when the stinger is this curve, 0.0 when it is none (or its rollers only)
+N_STINGER = 6
+
+# --- contact boundaries that can be unknowns of Newton ---------------------
+# (entries of ``Mesh.bnodes``, rows of ``Mesh.s_b``, entries of ``Mesh.s_bd``)
+B_TD = 0  # touchdown
+B_LO = 1  # lift-off from the stinger (or re-contact above a bearing tip)
+B_PT = 2  # the first rigid point (``Supports.points`` row 0, the stinger's tip first);
+#           point j is boundary B_PT + j: the material point over it
+
+# --- the Newton kernel's report (the vector ``info``) -----------------------
+I_STATUS = 0  # status code (below)
+I_ITER = 1  # Newton iterations taken
+I_RES = 2  # weighted residual (max norm) at exit [-]
+I_DELTA = 3  # largest constraint violation at exit [m, rad]
+I_TOP_RES = 4  # relative top-tension residual [-]
+I_PAST = 5  # PAST_TIP: how far [m] along the pipe the step would take lift-off past the tip
+N_INFO = 6
 
 # --- current profiles ---------------------------------------------------------
 PROFILE_UNIFORM = 0

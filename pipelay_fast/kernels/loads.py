@@ -19,7 +19,7 @@ def effective_weight(props, x):
     Submerged weight below the water surface, dry weight above it, contents
     counted below their free surface. Its jump at the surface enters the
     element's tangent through the movement of the cut there
-    (:func:`.element._cut_jumps`).
+    (:func:`.element_dle._cut_jumps`).
     """
     w = props[L.W_DRY]
     if x < props[L.H_CONT]:
