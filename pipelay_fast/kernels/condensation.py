@@ -23,10 +23,11 @@ import math
 from ._jit import jit, phase
 from .banded import band_factor, band_solve_many
 from .contact import stinger_angle
+from .system import _to_global
 
 
 @phase
-def _condensed_solve(nd, w, nb):
+def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     """The Newton step by condensation and the bordered solve (module
     docstring), ``nb`` bordered unknowns.
 
@@ -35,7 +36,9 @@ def _condensed_solve(nd, w, nb):
     du_c), the band is factored once, and the nb border unknowns are
     eliminated by a dense Schur complement: du = y0 - sum_j dz_j Y_j with S dz
     = rows . y0 + res. Leaves the scaled step in ``w.du``, the border steps in
-    ``w.dz`` and the unscaled tangent in ``w.ab0``. False when singular."""
+    ``w.dz``, the scaled tangent in ``w.ab0`` and the step in the global
+    frame (the nodal frames' angles ``phi_r``, ``phi_rp`` [rad]) in
+    ``w.du_free`` [m, -, N]. False when singular."""
     ndn = 2 * nd + 1
     kl = 2 * ndn - 1
     ku = kl
@@ -106,6 +109,9 @@ def _condensed_solve(nd, w, nb):
     for j in range(nb):
         for i in range(n):
             du[i] -= w.dz[j] * rhs[i, 1 + j]
+    for i in range(n):
+        w.du_free[i] = du[i] * scale[i]
+    _to_global(nd, w.du_free, phi_r, phi_rp)
     return True
 
 

@@ -97,7 +97,19 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
     # Gauss points as 4 x 4 scalars and spread onto ke once, after the loop
     ka = ws[_KA:_KA + 16]
     kx = ws[_KX:_KX + 16]
-    _zero_outputs(2 * ndn, fe, ke, ka, kx, dfe, want_tangent, want_dle)
+    ne = 2 * ndn
+    for a in range(ne):
+        fe[a] = 0.0
+    if want_tangent:
+        for a in range(ne):
+            for b in range(ne):
+                ke[a, b] = 0.0
+        for a in range(16):
+            ka[a] = 0.0
+            kx[a] = 0.0
+    if want_dle:
+        for a in range(ne):
+            dfe[a] = 0.0
 
     # local index of shape function k, component i:  off[k] + i
     off = (0, nd, ndn, ndn + nd)
@@ -121,6 +133,10 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
     cuts = ws[_CUTS:_CUTS + 4]
     cutlev = ws[_CUTLEV:_CUTLEV + 4]
     ncut = level_cuts(props, le, ue[0], ue[nd], ue[ndn], ue[ndn + nd], cuts, cutlev)
+    pt = (n, dn, ddn, r, rp, rpp, q, qd, dq_drp, dq_dx, dwork)
+    idx = (off, lam_idx, slot3)
+    moments = (rp3, rpp3, m3, c3, e3)
+    use_moments = use_torque or use_moment
     for gg in range(4 * ncut):
         part = gg // 4
         g = gg % 4
@@ -129,27 +145,17 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
         wl = GAUSS_W[g] * span * le
         p0 = 1.0 - xi
         p1 = xi
-        rp2, kap2 = _point_state(nd, le, ue, xi, n, dn, ddn, r, rp, rpp)
         lam = p0 * ue[lam_idx[0]] + p1 * ue[lam_idx[1]]
-        x = r[0]
-        e, de_deps, deps_dx = _extension(props, extensible, ei, ea, x, lam, kap2)
-        dqx_dx, has_drag = _point_loads(model, nd, props, k_bed, x, rp, q, qd, dq_drp, dq_dx,
-                                        dwork)
-        cval = _point_residual(nd, off, lam_idx, wl, ei, lam, rp2, e, p0, p1, n, dn, ddn, rp,
-                               rpp, q, fe)
-        if use_torque or use_moment:
-            _moment_residual(nd, off, slot3, wl, hh, use_moment, rp, rpp, rp3, rpp3, m3, c3,
-                             e3, dn, fe)
+        rp2, kap2, dqx_dx, has_drag = _point_values(nd, le, ue, xi, model, k_bed, pt)
+        e, de_deps, deps_dx = _extension(props, extensible, ei, ea, r[0], lam, kap2)
+        cval = _point_residual(nd, idx, wl, ei, lam, rp2, e, p0, p1, pt, hh, use_moments,
+                               use_moment, moments, fe)
         if want_dle:
             _dle_gauss_point(nd, le, ue, props, hh, wl, p0, p1, lam, cval, de_deps, deps_dx,
                              dqx_dx, has_drag, ws, wm, dfe)
         if want_tangent:
-            _point_tangent(nd, off, lam_idx, wl, ei, ea, lam, extensible, de_deps, deps_dx,
-                           dqx_dx, has_drag, p0, p1, n, dn, ddn, rp, rpp, dq_drp, dq_dx, ka, kx,
-                           ke)
-            if use_torque or use_moment:
-                _moment_tangent(nd, off, slot3, wl, hh, use_moment, dn, ddn, rp3, rpp3, m3, c3,
-                                e3, ke)
+            _point_tangent(nd, idx, wl, ei, ea, lam, extensible, de_deps, deps_dx, dqx_dx,
+                           has_drag, p0, p1, pt, ka, kx, hh, use_moments, use_moment, moments, ke)
 
     if (want_tangent or want_dle) and ncut > 1:
         _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm)
@@ -164,28 +170,15 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
 
 
 @phase
-def _zero_outputs(ne, fe, ke, ka, kx, dfe, want_tangent, want_dle):
-    """Zero the outputs a call writes and the tangent's 4 x 4 sums ``ka``, ``kx``."""
-    for a in range(ne):
-        fe[a] = 0.0
-    if want_tangent:
-        for a in range(ne):
-            for b in range(ne):
-                ke[a, b] = 0.0
-        for a in range(16):
-            ka[a] = 0.0
-            kx[a] = 0.0
-    if want_dle:
-        for a in range(ne):
-            dfe[a] = 0.0
-
-
-@phase
-def _point_state(nd, le, ue, xi, n, dn, ddn, r, rp, rpp):
-    """The shape functions at ``xi`` into ``n``, ``dn``, ``ddn`` and the
-    centreline there into ``r``, ``rp``, ``rpp`` (r, r', r''). Returns
-    (r'.r', kappa^2 = r''.r'')."""
+def _point_values(nd, le, ue, xi, model, k_bed, pt):
+    """A Gauss point's values at ``xi`` into the views ``pt``: the shape
+    functions, r, r', r'', the distributed load q [N/m] (the effective
+    weight, the elastic seabed below x = 0, the drag, its derivatives,
+    :func:`.loads.drag_force`). Returns (r'.r', kappa^2 = r''.r'' [1/m2], the
+    seabed's dq_x/dx [N/m2], whether drag acts)."""
+    n, dn, ddn, r, rp, rpp, q, qd, dq_drp, dq_dx, dwork = pt
     ndn = 2 * nd + 1
+    props = model.props
     hermite(xi, le, n, dn, ddn)
     # r' and r'' from the chord r_b - r_a (their shape functions of r_a and
     # r_b are opposite), which keeps round-off relative to the element size
@@ -201,7 +194,19 @@ def _point_state(nd, le, ue, xi, n, dn, ddn, r, rp, rpp):
     for i in range(nd):
         rp2 += rp[i] * rp[i]
         kap2 += rpp[i] * rpp[i]
-    return rp2, kap2
+    x = r[0]
+    for i in range(nd):
+        q[i] = 0.0
+    q[0] = -effective_weight(props, x)
+    dqx_dx = 0.0
+    if k_bed > 0.0 and x <= 0.0:  # (at x = 0 its tangent: the pipe lands on it)
+        q[0] -= k_bed * x
+        dqx_dx = -k_bed
+    has_drag = drag_force(model, nd, x, rp, qd, dq_drp, dq_dx, dwork)
+    if has_drag:
+        for i in range(nd):
+            q[i] += qd[i]
+    return rp2, kap2, dqx_dx, has_drag
 
 
 @phase
@@ -222,70 +227,54 @@ def _extension(props, extensible, ei, ea, x, lam, kap2):
 
 
 @phase
-def _point_loads(model, nd, props, k_bed, x, rp, q, qd, dq_drp, dq_dx, dwork):
-    """The distributed load ``q`` [N/m] at height ``x``: the effective weight,
-    the elastic seabed below x = 0 and the drag (``qd``, its derivatives
-    ``dq_drp`` [N/m] and ``dq_dx`` [N/m2], :func:`.loads.drag_force`).
-    Returns (the seabed's dq_x/dx [N/m2], whether drag acts)."""
-    for i in range(nd):
-        q[i] = 0.0
-    q[0] = -effective_weight(props, x)
-    dqx_dx = 0.0
-    if k_bed > 0.0 and x <= 0.0:  # (at x = 0 its tangent: the pipe lands on it)
-        q[0] -= k_bed * x
-        dqx_dx = -k_bed
-    has_drag = drag_force(model, nd, x, rp, qd, dq_drp, dq_dx, dwork)
-    if has_drag:
-        for i in range(nd):
-            q[i] += qd[i]
-    return dqx_dx, has_drag
-
-
-@phase
-def _point_residual(nd, off, lam_idx, wl, ei, lam, rp2, e, p0, p1, n, dn, ddn, rp, rpp, q, fe):
-    """A Gauss point's share (weight ``wl`` [m]) of G but the torque's and
-    the moment's terms; ``p0``, ``p1`` the multiplier's shape functions.
-    Returns the constraint's value (r'.r' - 1) / 2 - e."""
+def _point_residual(nd, idx, wl, ei, lam, rp2, e, p0, p1, pt, hh, use_moments, use_moment,
+                    moments, fe):
+    """A Gauss point's share (weight ``wl`` [m]) of G, ``p0``, ``p1`` the
+    multiplier's shape functions. With ``use_moments``, the torque's (``hh``
+    [N m]) and the distributed moment's (``m3`` [N m/m]) terms: c3 = H (r' x
+    r'') + r' x m acts on dr' (r', r'' as 3-vectors into ``rp3``, ``rpp3``,
+    c3 into ``c3``). Returns the constraint's value (r'.r' - 1) / 2 - e."""
+    off, lam_idx, slot3 = idx
+    n, dn, ddn, _r, rp, rpp, q = pt[0], pt[1], pt[2], pt[3], pt[4], pt[5], pt[6]
+    rp3, rpp3, m3, c3, e3 = moments
     for k in range(4):
         for i in range(nd):
             fe[off[k] + i] += wl * (ei * rpp[i] * ddn[k] + lam * rp[i] * dn[k] - q[i] * n[k])
     cval = 0.5 * (rp2 - 1.0) - e
     fe[lam_idx[0]] += wl * p0 * cval
     fe[lam_idx[1]] += wl * p1 * cval
+    if use_moments:
+        for i in range(3):
+            rp3[i] = 0.0
+            rpp3[i] = 0.0
+        for i in range(nd):
+            rp3[slot3[i]] = rp[i]
+            rpp3[slot3[i]] = rpp[i]
+        _cross3(rp3, rpp3, c3)
+        for i in range(3):
+            c3[i] *= hh
+        if use_moment:
+            _cross3(rp3, m3, e3)
+            for i in range(3):
+                c3[i] += e3[i]
+        for k in range(4):
+            for i in range(nd):
+                fe[off[k] + i] += wl * c3[slot3[i]] * dn[k]
     return cval
 
 
 @phase
-def _moment_residual(nd, off, slot3, wl, hh, use_moment, rp, rpp, rp3, rpp3, m3, c3, e3, dn, fe):
-    """A Gauss point's share of the torque's (``hh`` [N m]) and the
-    distributed moment's (``m3`` [N m/m]) terms of G: c3 = H (r' x r'') + r'
-    x m acts on dr'. Leaves r', r'' as 3-vectors in ``rp3``, ``rpp3`` and c3
-    in ``c3``."""
-    for i in range(3):
-        rp3[i] = 0.0
-        rpp3[i] = 0.0
-    for i in range(nd):
-        rp3[slot3[i]] = rp[i]
-        rpp3[slot3[i]] = rpp[i]
-    _cross3(rp3, rpp3, c3)
-    for i in range(3):
-        c3[i] *= hh
-    if use_moment:
-        _cross3(rp3, m3, e3)
-        for i in range(3):
-            c3[i] += e3[i]
-    for k in range(4):
-        for i in range(nd):
-            fe[off[k] + i] += wl * c3[slot3[i]] * dn[k]
-
-
-@phase
-def _point_tangent(nd, off, lam_idx, wl, ei, ea, lam, extensible, de_deps, deps_dx, dqx_dx,
-                   has_drag, p0, p1, n, dn, ddn, rp, rpp, dq_drp, dq_dx, ka, kx, ke):
-    """A Gauss point's share of the tangent but the torque's and the
-    moment's: the bending and lam blocks and the seabed's into the 4 x 4
-    sums ``ka``, ``kx`` (upper triangles), the drag's load stiffness and the
-    multipliers' rows and columns into ``ke``."""
+def _point_tangent(nd, idx, wl, ei, ea, lam, extensible, de_deps, deps_dx, dqx_dx, has_drag, p0,
+                   p1, pt, ka, kx, hh, use_moments, use_moment, moments, ke):
+    """A Gauss point's share of the tangent: the bending and lam blocks and
+    the seabed's into the 4 x 4 sums ``ka``, ``kx`` (upper triangles), the
+    drag's load stiffness, the multipliers' rows and columns and, with
+    ``use_moments``, the torque's and the moment's terms into ``ke``
+    (:func:`_point_residual`'s ``rp3``, ``rpp3``; ``c3``, ``e3`` scratch)."""
+    off, lam_idx, slot3 = idx
+    n, dn, ddn, rp, rpp = pt[0], pt[1], pt[2], pt[4], pt[5]
+    dq_drp, dq_dx = pt[8], pt[9]
+    rp3, rpp3, m3, c3, e3 = moments
     wei = wl * ei
     wlam = wl * lam
     for k in range(4):
@@ -321,13 +310,8 @@ def _point_tangent(nd, off, lam_idx, wl, ei, ea, lam, extensible, de_deps, deps_
             for mm in range(2):
                 pn = p0 if mm == 0 else p1
                 ke[lm, lam_idx[mm]] -= wl * pm * pn * de_deps / ea
-
-
-@phase
-def _moment_tangent(nd, off, slot3, wl, hh, use_moment, dn, ddn, rp3, rpp3, m3, c3, e3, ke):
-    """A Gauss point's share of the tangent of the torque's and the moment's
-    terms (:func:`_moment_residual`'s ``rp3``, ``rpp3``; ``c3`` and ``e3``
-    its scratch)."""
+    if not use_moments:
+        return
     for l in range(4):
         for j in range(nd):
             for i in range(3):

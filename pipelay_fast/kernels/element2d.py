@@ -104,13 +104,26 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
         span = cuts[part + 1] - cuts[part]
         t = cuts[part] + span * GAUSS_XI[gg % 4]
         wl = GAUSS_W[gg % 4] * span * le
-        shape = _hermite_2d(t, le, inv_le)
-        n, d, dd = shape
-        x = xa + n[1] * xpa + n[2] * cx + n[3] * xpb
-        xp = d[1] * xpa + d[2] * cx + d[3] * xpb
-        zp = d[1] * zpa + d[2] * cz + d[3] * zpb
-        xpp = dd[1] * xpa + dd[2] * cx + dd[3] * xpb
-        zpp = dd[1] * zpa + dd[2] * cz + dd[3] * zpb
+        t2 = t * t
+        t3 = t2 * t
+        # cubic Hermite (r_a, r'_a, r_b, r'_b; N_0 = 1 - N_2 acts through the chord)
+        n0 = 1.0 - 3.0 * t2 + 2.0 * t3
+        n1 = le * (t - 2.0 * t2 + t3)
+        n2 = 3.0 * t2 - 2.0 * t3
+        n3 = le * (t3 - t2)
+        d1 = 1.0 - 4.0 * t + 3.0 * t2
+        d2 = (6.0 * t - 6.0 * t2) * inv_le
+        d0 = -d2
+        d3 = 3.0 * t2 - 2.0 * t
+        dd1 = (6.0 * t - 4.0) * inv_le
+        dd2 = (6.0 - 12.0 * t) * inv_le * inv_le
+        dd0 = -dd2
+        dd3 = (6.0 * t - 2.0) * inv_le
+        x = xa + n1 * xpa + n2 * cx + n3 * xpb
+        xp = d1 * xpa + d2 * cx + d3 * xpb
+        zp = d1 * zpa + d2 * cz + d3 * zpb
+        xpp = dd1 * xpa + dd2 * cx + dd3 * xpb
+        zpp = dd1 * zpa + dd2 * cz + dd3 * zpb
         p0 = 1.0 - t
         p1 = t
         lam = p0 * la + p1 * lb
@@ -118,7 +131,17 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
         loads = _loads_2d(model, k_bed, has_current, c_drag, ez, x, xp, zp)
         # (-my z', my x'): the distributed moment's term r' x m on dr'
         state = (xp, zp, xpp, zpp, lam, -my * zp, my * xp)
-        cval = _residual_2d(fe, wl, ei, state, loads, ext, shape, p0, p1)
+        # --- residual
+        shape = ((n0, n1, n2, n3), (d0, d1, d2, d3), (dd0, dd1, dd2, dd3))
+        nn_, dn, ddn = shape
+        off = (0, 2, 5, 7)  # the x unknown of each shape function (z: + 1)
+        bx, bz, ax, az, wqx, wqz = _weighted_terms(wl, ei, state, loads)
+        for k in range(4):
+            fe[off[k]] += bx * ddn[k] + ax * dn[k] - wqx * nn_[k]
+            fe[off[k] + 1] += bz * ddn[k] + az * dn[k] - wqz * nn_[k]
+        cval = 0.5 * (xp * xp + zp * zp - 1.0) - ext[0]
+        fe[_LA] += wl * p0 * cval
+        fe[_LB] += wl * p1 * cval
         if want_dle:
             _dle_2d(dfe, wl, inv_le, ei, ea, extensible, my, (xpa, zpa, xpb, zpb), state, loads,
                     ext, shape, cval, p0, p1)
@@ -137,28 +160,6 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     # (after the spread: _cut_jumps takes ws's first slots as its scratch)
     if (want_tangent or want_dle) and ncut > 1:
         _cut_jumps(2, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm)
-
-
-@phase
-def _hermite_2d(t, le, inv_le):
-    """The cubic Hermite shape functions (r_a, r'_a, r_b, r'_b) at ``t`` and
-    their d/ds and d2/ds2, as three 4-tuples (N_0 = 1 - N_2 acts through the
-    chord)."""
-    t2 = t * t
-    t3 = t2 * t
-    n0 = 1.0 - 3.0 * t2 + 2.0 * t3
-    n1 = le * (t - 2.0 * t2 + t3)
-    n2 = 3.0 * t2 - 2.0 * t3
-    n3 = le * (t3 - t2)
-    d1 = 1.0 - 4.0 * t + 3.0 * t2
-    d2 = (6.0 * t - 6.0 * t2) * inv_le
-    d0 = -d2
-    d3 = 3.0 * t2 - 2.0 * t
-    dd1 = (6.0 * t - 4.0) * inv_le
-    dd2 = (6.0 - 12.0 * t) * inv_le * inv_le
-    dd0 = -dd2
-    dd3 = (6.0 * t - 2.0) * inv_le
-    return (n0, n1, n2, n3), (d0, d1, d2, d3), (dd0, dd1, dd2, dd3)
 
 
 @phase
@@ -190,29 +191,11 @@ def _loads_2d(model, k_bed, has_current, c_drag, ez, x, xp, zp):
 
 
 @phase
-def _residual_2d(fe, wl, ei, state, loads, ext, shape, p0, p1):
-    """A Gauss point's share (weight ``wl`` [m]) of G; ``state`` (x', z',
-    x'', z'', lam, the moment's c_x, c_z), ``loads`` :func:`_loads_2d`'s,
-    ``ext`` :func:`.element._extension`'s, ``shape`` :func:`_hermite_2d`'s.
-    Returns the constraint's value (r'.r' - 1) / 2 - e."""
-    xp, zp = state[0], state[1]
-    nn_, dn, ddn = shape
-    off = (0, 2, 5, 7)  # the x unknown of each shape function (z: + 1)
-    bx, bz, ax, az, wqx, wqz = _weighted_terms(wl, ei, state, loads)
-    for k in range(4):
-        fe[off[k]] += bx * ddn[k] + ax * dn[k] - wqx * nn_[k]
-        fe[off[k] + 1] += bz * ddn[k] + az * dn[k] - wqz * nn_[k]
-    cval = 0.5 * (xp * xp + zp * zp - 1.0) - ext[0]
-    fe[_LA] += wl * p0 * cval
-    fe[_LB] += wl * p1 * cval
-    return cval
-
-
-@phase
 def _weighted_terms(wl, ei, state, loads):
     """The integrand's factors of N_k'', N_k' and N_k in x and z, times
     ``wl``: (wl EI x'', wl EI z'', wl (lam x' + c_x), wl (lam z' + c_z),
-    wl q_x, wl q_z); ``state`` and ``loads`` as :func:`_residual_2d`'s."""
+    wl q_x, wl q_z); ``state`` (x', z', x'', z'', lam [N], the moment's c_x,
+    c_z [N m/m]), ``loads`` :func:`_loads_2d`'s."""
     xp, zp, xpp, zpp, lam, cmx, cmz = state
     qx, qz = loads[0], loads[1]
     return (wl * ei * xpp, wl * ei * zpp, wl * (lam * xp + cmx), wl * (lam * zp + cmz),
@@ -223,8 +206,11 @@ def _weighted_terms(wl, ei, state, loads):
 def _dle_2d(dfe, wl, inv_le, ei, ea, extensible, my, slopes, state, loads, ext, shape, cval, p0,
             p1):
     """A Gauss point's share of dG/dle at fixed unknowns and abscissae
-    (:mod:`.element_dle`'s docstring); ``slopes`` the nodal (x'_a, z'_a,
-    x'_b, z'_b), the rest as :func:`_residual_2d`'s."""
+    (:mod:`.element_dle`'s docstring), weight ``wl`` [m]: ``slopes`` the
+    nodal (x'_a, z'_a, x'_b, z'_b), ``state`` and ``loads`` as
+    :func:`_weighted_terms`', ``ext`` :func:`.element._extension`'s,
+    ``shape`` the shape functions (N, N', N'' as 4-tuples), ``cval`` the
+    constraint's value, ``p0``, ``p1`` the multiplier's shape functions."""
     xpa, zpa, xpb, zpb = slopes
     xp, zp, xpp, zpp, lam, _cmx, _cmz = state
     _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx = loads
@@ -267,7 +253,7 @@ def _tangent_2d(ke, ws, wl, ei, ea, extensible, my, state, loads, ext, shape, p0
     """A Gauss point's share of the tangent: the bending and lam blocks and
     the seabed's into the 4 x 4 sums at ``ws[_KA]``, ``ws[_KX]`` (upper
     triangles), the load stiffness, the moment's term and the multipliers'
-    rows and columns into ``ke``; the arguments as :func:`_residual_2d`'s."""
+    rows and columns into ``ke``; the arguments as :func:`_dle_2d`'s."""
     xp, zp, xpp, zpp, lam, _cmx, _cmz = state
     _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx = loads
     _e, de_deps, deps_dx = ext

@@ -83,6 +83,7 @@ from . import layout as L
 from ._jit import jit, phase
 from .condensation import _border_steps, _condensed_solve, _curve_reactions, _reactions
 from .constraints import (
+    _bnd_scale,
     _constraint_set,
     _has_boundaries,
     _nodal_frames,
@@ -97,16 +98,16 @@ from .contact import (
     node_arcs,
     normal_force,
 )
-from .layout import I_DELTA, I_ITER, I_PAST, I_RES, I_STATUS, I_TOP_RES, N_INFO, ST_ON
-from .step import (
-    _hold_boundaries,
-    _largest_move,
-    _line_search,
-    _start_step,
-    _step_length,
-    _up_to_tip,
+from .layout import B_LO, I_DELTA, I_ITER, I_PAST, I_RES, I_STATUS, I_TOP_RES, N_INFO, ST_ON
+from .step import _hold_boundaries, _line_search, _start_step, _take_step
+from .system import (
+    _evaluate,
+    _roundoff_ratio,
+    _solves_tb,
+    _to_nodal_residual,
+    _to_nodal_system,
+    _weighted_max,
 )
-from .system import _evaluate, _imbalance, _roundoff_ratio, _to_nodal_residual, _to_nodal_system
 
 # A weighted residual above RUNAWAY times the larger of its start and 1 has
 # diverged (forces a million times the reference force).
@@ -145,9 +146,9 @@ ab0 : (rows, ndof) the scaled tangent before condensation; ``_condensed_solve``
     writes it, :func:`.condensation._reactions` reads it.
 ipiv : (ndof,) int64, the band factors' pivots (``_condensed_solve``).
 g : (ndof,) the residual G, global frame then nodal frames: ``_evaluate``,
-    ``_to_nodal_system`` or ``_to_nodal_residual`` write it; ``_imbalance``,
+    ``_to_nodal_system`` or ``_to_nodal_residual`` write it; :func:`_test`,
     ``_hold_boundaries``, ``_roundoff_ratio``, ``_condensed_solve``,
-    ``_reactions`` and :func:`_commit_friction` read it.
+    ``_reactions`` and the friction's commit on convergence read it.
 g_trial : (ndof,) the residual at a trial state: :func:`.step._trial` writes
     it, ``_trial_merit`` reads it.
 d : (ndof,) the top tension's row dTe/du [N/m, N, -], global frame:
@@ -159,13 +160,14 @@ cmask : (ndof,) bool, the constrained unknowns: ``_constraint_set`` (and
     ``_hold_boundaries``) write it; the residual's norms, ``_condensed_solve``
     and ``_reactions`` read it.
 du : (ndof,) the scaled Newton step, nodal frames [-] (``_condensed_solve``);
-    ``_reactions`` and :func:`.step._start_step` read it.
-du_free : (ndof,) the Newton step, global frame [m, -, N]: ``_start_step``
-    writes it; ``_step_length``, ``friction_step`` and ``_take_step`` read it.
-u_old : (ndof,) the state the step starts from (``_start_step``); read by
-    ``_take_step`` and ``_largest_move``.
+    ``_reactions`` reads it.
+du_free : (ndof,) the Newton step, global frame [m, -, N]: ``_condensed_solve``
+    writes it; ``_start_step``, ``friction_step`` and ``_take_step`` read it.
+u_old : (ndof,) the state the step starts from (:func:`.step._start_step`);
+    read by ``_take_step`` and ``_line_search``.
 scale : (ndof,) the unknowns' scales: 1 (positions), href [m] (slopes), EI /
-    href^2 [N] (multipliers); constant (:func:`_work`), read by the solve.
+    href^2 [N] (multipliers); constant (:func:`_work`), read by
+    ``_condensed_solve`` and ``_reactions``.
 torques : (nel,) the torque in each element [N m]: the case's, redistributed
     by ``_system`` under distributed moments; read by the element chain.
 rows : (nbr, ndof) the bordered equations' gradients, nodal frames
@@ -187,24 +189,24 @@ bcols : (nbnd, ndof) each boundary's column dG/ds_b, global frame
     [N/m, N, -]: ``_evaluate`` writes it, ``_border`` reads it.
 res_bnd : (nbnd,) the boundaries' equations [N m, -, m] (touchdown's moment,
     lift-off's slope, a point's distance): ``_to_nodal_system``,
-    ``_to_nodal_residual`` and ``_border`` write them; ``_imbalance`` and
+    ``_to_nodal_residual`` and ``_border`` write them; ``_test`` and
     ``_start_step`` (the merit) read them.
 d_top : (nbnd,) dTe_top/ds_b at fixed u [N/m]: ``_evaluate`` writes it,
     ``_border`` reads it.
 d_bnd : (nbnd,) the boundaries' steps [m] (``_border_steps``); read by
-    ``_step_length``, ``_take_step`` and ``_up_to_tip``.
+    ``_start_step`` and ``_take_step``, and the loop at PAST_TIP.
 bnd_old : (nbnd,) the boundaries' arc lengths where the step starts [m]
     (``_start_step``); read by ``_take_step``.
 s_nd : (nn,) the nodes' arc lengths [m] on the present mesh: ``_evaluate``,
-    the loop after each step and ``_commit_friction`` write them; the
+    the loop after each step and on convergence write them; the
     friction kernels read them.
 s_old : (nn,) the nodes' arc lengths where the step starts [m]
     (``_start_step``); read by ``_take_step``.
 fr_out : (ndof,) the friction springs' forces on the pipe [N]
-    (``friction_forces``); ``_commit_friction`` adds them to the reactions.
+    (``friction_forces``); on convergence the loop adds them to the reactions.
 fr_stop : (nn,) the spring a step stopped at its stick zone's edge (1 + the
     component; 0 none): ``friction_step`` writes and reads it,
-    ``_past_friction_cut`` clears it.
+    ``_line_search`` clears it.
 row_td, own_td : (ndof,), (1,) touchdown's equation's gradient dM/du [N, N m,
     m] and its derivative by s_T at fixed u [N]: ``_evaluate`` writes them,
     ``_border`` reads them.
@@ -216,17 +218,12 @@ no_row, no_ab : (0,), (1, 1) stand-ins for "no gradient" and "no tangent".
 
 
 @phase
-def _work(nd, u, mesh, model, sup, settings):
-    """The iteration's work arrays (:data:`Work`). The border's rows and
+def _work(nd, n, nn, nel, nbnd, props, href):
+    """The iteration's work arrays (:data:`Work`) for ``n`` unknowns, ``nn``
+    nodes, ``nel`` elements and ``nbnd`` boundaries. The border's rows and
     columns, the boundaries' columns and the multi-RHS block are written
     before they are read, so they are left unzeroed."""
     ndn = 2 * nd + 1
-    n = u.shape[0]
-    nn = sup.phi_r.shape[0]
-    nel = mesh.s_el.shape[0]
-    nbnd = mesh.bnodes.shape[0]
-    props = model.props
-    href = settings.href
     n_border = 1 + nbnd
     kl = 2 * ndn - 1
     rows_ab = 3 * kl + 1
@@ -254,38 +251,38 @@ def _work(nd, u, mesh, model, sup, settings):
 
 
 @phase
-def _converged(nd, it, u, w, settings, want_tangent, changed, last_step, r_max, res_max,
-               max_delta, top_res, bnd_res):
-    """The test: the residuals below the tolerance, or every free row at its
-    round-off floor (:func:`.system._roundoff_ratio`, which reads the tangent:
-    a fine mesh far from the origin cannot reach every tolerance), or the
-    Newton step stalled (``last_step`` [m] against the largest position
-    ``r_max`` [m]); the constraints held; no rigid point changed branch."""
+def _test(nd, it, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, changed,
+          last_step, r_max):
+    """The residuals the test reads and the test. Returns (the free rows'
+    largest weighted residual and sum of squares, the top tension's relative
+    residual, the boundaries' largest scaled residual, whether converged).
+
+    Converged: the residuals below the tolerance, or every free row at its
+    round-off floor (:func:`.system._roundoff_ratio`, which reads the
+    tangent: a fine mesh far from the origin cannot reach every tolerance),
+    or the Newton step stalled (``last_step`` [m] against the largest
+    position ``r_max`` [m]); the constraints held (``max_delta``); no rigid
+    point changed branch (``changed``)."""
+    res_max, res_ssq = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
+    top_res = 0.0
+    if _solves_tb(ends):
+        top_res = abs(te_top - ends.top_target) / ends.top_target
+    bnd_res = 0.0
+    for b in range(mesh.bnodes.shape[0]):
+        if mesh.bnodes[b] >= 0:
+            bnd_res = max(bnd_res, abs(w.res_bnd[b]) / _bnd_scale(b, settings.fref,
+                                                                  settings.href))
     tol = settings.tol
     # (the stall's test first: the floor's is a pass over the band)
     at_roundoff = (it > 1 and res_max > tol
                    and ((last_step <= STALL_STEP * 2.2e-16 * (r_max + settings.href)
                          and res_max <= 1e-4)
                         or (want_tangent
-                            and _roundoff_ratio(nd, u, w) <= ROUNDOFF_RATIO)))
-    return (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
-            and (top_res <= tol or at_roundoff)
-            and (bnd_res <= tol or at_roundoff) and not changed)
-
-
-@phase
-def _commit_friction(nd, u, mesh, model, sup, w, react):
-    """On convergence: the springs' normal forces of the answer (for the
-    results), their forces added to the reactions, and the return mapping
-    (slipping springs' anchors follow the pipe)."""
-    w.fr_out[:] = 0.0
-    node_arcs(mesh.s_el, w.s_nd)
-    for node in range(sup.phi_r.shape[0]):
-        sup.fric[node, L.FR_W] = normal_force(nd, w.g, sup.bed_active, sup.fric, node)
-    friction_forces(nd, u, w.g, w.no_ab, 0, model, sup.bed_active, sup.fric, w.fr_out, w.s_nd)
-    for i in range(u.shape[0]):
-        react[i] += w.fr_out[i]
-    friction_commit(nd, u, model, sup.bed_active, sup.fric, w.s_nd)
+                            and _roundoff_ratio(nd, u, w.ab, w.g, w.cmask) <= ROUNDOFF_RATIO)))
+    converged = (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
+                 and (top_res <= tol or at_roundoff)
+                 and (bnd_res <= tol or at_roundoff) and not changed)
+    return res_max, res_ssq, top_res, bnd_res, converged
 
 
 def _newton_kernel(nd):
@@ -298,7 +295,8 @@ def _newton_kernel(nd):
     @jit(entry=True, _nrt=True)
     def newton(u, mesh, model, sup, ends, settings, react, info):
         """Solve G(u) = reactions for one load level (the module docstring)."""
-        w = _work(nd, u, mesh, model, sup, settings)
+        w = _work(nd, u.shape[0], sup.phi_r.shape[0], mesh.s_el.shape[0], mesh.bnodes.shape[0],
+                  model.props, settings.href)
         href = settings.href
         for k in range(N_INFO):
             info[k] = 0.0
@@ -327,10 +325,9 @@ def _newton_kernel(nd):
                 else:
                     _to_nodal_residual(nd, u, mesh, sup, w, m_td)
                 max_delta = _constraint_set(nd, u, mesh, sup, ends, w, href)
-                res_max, res_ssq, top_res, bnd_res = _imbalance(nd, mesh, ends, w, settings,
-                                                                te_top)
-                converged = _converged(nd, it, u, w, settings, want_tangent, changed, last_step,
-                                       r_max, res_max, max_delta, top_res, bnd_res)
+                res_max, res_ssq, top_res, bnd_res, converged = _test(
+                    nd, it, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, changed,
+                    last_step, r_max)
                 if want_tangent or converged or not (res_max < 1e300 and res_ssq < 1e300):
                     break
                 want_tangent = True
@@ -353,23 +350,25 @@ def _newton_kernel(nd):
                     and _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res))
             if hold:
                 nb = nb_fixed
-            if not _condensed_solve(nd, w, nb):
+            if not _condensed_solve(nd, w, nb, sup.phi_r, sup.phi_rp):
                 status = L.SINGULAR
                 break
             dtb = _border_steps(w, nb)
             _reactions(nd, w, nb, react)
             # ---- step
-            merit0 = _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res)
-            alpha, stop = _step_length(nd, u, mesh, sup, w, hold, href, settings.bstep)
+            merit0, alpha, stop = _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq,
+                                              top_res)
             if stop >= 0:
                 status = stop
-                if stop == L.PAST_TIP:
-                    info[I_PAST] = _up_to_tip(nd, u, mesh, sup, ends, w, alpha, dtb)
+                if stop == L.PAST_TIP:  # how far past the tip; the step taken up to it
+                    info[I_PAST] = abs(w.d_bnd[B_LO]) * (1.0 - alpha)
+                    if alpha > 0.0:
+                        _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active,
+                                   ends.tb, ends.tb[0], dtb, _has_boundaries(mesh), mesh, w)
                 break
-            accepted, m1 = _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb,
-                                        alpha, merit0)
+            accepted, m1, last_step, r_max = _line_search(nd, u, mesh, model, sup, ends, w,
+                                                          settings, hold, dtb, alpha, merit0)
             moved = not hold and accepted and m1 < merit0
-            last_step, r_max = _largest_move(nd, u, w)
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)
             friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
@@ -385,7 +384,17 @@ def _newton_kernel(nd):
                     break
                 res_change = res_max
         if status == L.OK:
-            _commit_friction(nd, u, mesh, model, sup, w, react)
+            # the springs' normal forces of the answer (for the results), their
+            # forces joined to the reactions; slipping springs' anchors follow
+            w.fr_out[:] = 0.0
+            node_arcs(mesh.s_el, w.s_nd)
+            for node in range(sup.phi_r.shape[0]):
+                sup.fric[node, L.FR_W] = normal_force(nd, w.g, sup.bed_active, sup.fric, node)
+            friction_forces(nd, u, w.g, w.no_ab, 0, model, sup.bed_active, sup.fric, w.fr_out,
+                            w.s_nd)
+            for i in range(u.shape[0]):
+                react[i] += w.fr_out[i]
+            friction_commit(nd, u, model, sup.bed_active, sup.fric, w.s_nd)
         if sup.stinger[ST_ON] != 0.0:
             _curve_reactions(nd, u, sup.stinger, sup.st_active, sup.phi_r, sup.phi_rp, react)
         info[I_STATUS] = status

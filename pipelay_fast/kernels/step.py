@@ -27,7 +27,7 @@ from .constraints import (
 )
 from .contact import friction_step, node_arcs
 from .layout import B_LO, B_PT, B_TD, ST_ZL
-from .system import _evaluate, _solves_tb, _to_global, _to_nodal_frames, _weighted_max
+from .system import _evaluate, _solves_tb, _to_nodal_frames, _weighted_max
 
 # The boundaries move once the pipe's imbalance is below INNER_RATIO times
 # theirs (:func:`_hold_boundaries`).
@@ -75,15 +75,24 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
 
 @phase
 def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
-    """Where the step starts: the Newton step in the global frame
-    (``w.du_free``, from the scaled ``w.du``), and the state, the boundaries'
-    and the nodes' arc lengths saved (``w.u_old``, ``w.bnd_old``,
-    ``w.s_old``). Returns the merit there, from the free rows' sum of
-    squares ``res_ssq``, the top tension's ``top_res`` and the boundaries'
-    equations ``w.res_bnd`` (unless ``hold``)."""
-    for i in range(u.shape[0]):
-        w.du_free[i] = w.du[i] * w.scale[i]
-    _to_global(nd, w.du_free, sup.phi_r, sup.phi_rp)
+    """Where the step starts and how far it may go. Saves the state, the
+    boundaries' and the nodes' arc lengths (``w.u_old``, ``w.bnd_old``,
+    ``w.s_old`` [m]); returns (the merit there, the longest fraction of the
+    step the contact boundaries allow, the status that stops the call, -1
+    none). The merit: the free rows' sum of squares ``res_ssq``, the top
+    tension's ``top_res`` and the boundaries' equations ``w.res_bnd``
+    (unless ``hold``).
+
+    A boundary stays inside its zone (no element there shrinks below a
+    tenth) and moves at most ``settings.bstep`` [m]; touchdown stays on the
+    modelled laid pipe (SHORT_LAID past half way to the lower end); the span
+    between re-contact and a bearing tip at most halves or doubles (it grows
+    like sqrt(a - a_switch) past the change of regime: a step in its
+    logarithm follows that), SPAN_CLOSED when there is no bearing solution;
+    a step that would take lift-off past the tip returns PAST_TIP with the
+    fraction that takes it to the tip (0 when it is there already), which
+    the Newton kernel takes before it stops (stopped short of the tip
+    instead, the approach would only halve the distance a step)."""
     for i in range(u.shape[0]):
         w.u_old[i] = u[i]
     merit0 = res_ssq + top_res * top_res
@@ -92,24 +101,8 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
             merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, settings.href)) ** 2
         w.bnd_old[b] = mesh.s_bd[b]
     node_arcs(mesh.s_el, w.s_old)
-    return merit0
-
-
-@phase
-def _step_length(nd, u, mesh, sup, w, hold, href, bstep):
-    """The longest fraction of the step the contact boundaries allow, and
-    the status that stops the call (-1: none).
-
-    A boundary stays inside its zone (no element there shrinks below a
-    tenth) and moves at most ``bstep`` [m]; touchdown stays on the modelled
-    laid pipe (SHORT_LAID past half way to the lower end); the span between
-    re-contact and a bearing tip at most halves or doubles (it grows like
-    sqrt(a - a_switch) past the change of regime: a step in its logarithm
-    follows that), SPAN_CLOSED when there is no bearing solution; a step
-    that would take lift-off past the tip returns PAST_TIP with the fraction
-    that takes it to the tip (0 when it is there already), which the Newton
-    kernel takes before it stops (:func:`_up_to_tip`; stopped short of the
-    tip instead, the approach would only halve the distance a step)."""
+    href = settings.href
+    bstep = settings.bstep
     ndn = 2 * nd + 1
     nn = sup.phi_r.shape[0]
     bnodes = mesh.bnodes
@@ -135,7 +128,7 @@ def _step_length(nd, u, mesh, sup, w, hold, href, bstep):
             alpha = bstep / abs(d_bnd[b])
     if has_td and not hold and d_bnd[B_TD] < 0.0:
         if -d_bnd[B_TD] * alpha > 0.5 * (s_bd[B_TD] - mesh.s_a[0]):
-            return alpha, L.SHORT_LAID
+            return merit0, alpha, L.SHORT_LAID
     if has_lo and has_tipn and not hold:
         gap_s = s_bd[B_LO] - s_bd[B_PT]
         d_gap_s = (d_bnd[B_LO] - d_bnd[B_PT]) * alpha
@@ -149,7 +142,7 @@ def _step_length(nd, u, mesh, sup, w, hold, href, bstep):
                 # span is shorter than an element the two regimes differ
                 # by less than the mesh resolves: the pipe lifts off
                 # above the tip.
-                return alpha, L.SPAN_CLOSED
+                return merit0, alpha, L.SPAN_CLOSED
             alpha *= 0.5 * gap_s / -d_gap_s
         elif d_gap_s > gap_s:
             alpha *= gap_s / d_gap_s
@@ -160,44 +153,55 @@ def _step_length(nd, u, mesh, sup, w, hold, href, bstep):
         room = u[base + nd - 1] - sup.stinger[ST_ZL]
         dz_lo = w.du_free[base + nd - 1]  # the node's own z slides it along the curve
         if room < 1e-3 * href and dz_lo < 0.0:
-            return 0.0, L.PAST_TIP
+            return merit0, 0.0, L.PAST_TIP
         if dz_lo * alpha < -room:
             if room > 0.0:  # from above the tip, the step would take it past
-                return room / -dz_lo, L.PAST_TIP
+                return merit0, room / -dz_lo, L.PAST_TIP
             alpha = room / -dz_lo  # from below the tip, rising: up to it
-    return alpha, -1
-
-
-@phase
-def _up_to_tip(nd, u, mesh, sup, ends, w, alpha, dtb):
-    """PAST_TIP: the fraction ``alpha`` of the step that takes lift-off to
-    the stinger's tip is taken (none when it is there already). Returns how
-    far [m] along the pipe the whole step would take lift-off past the tip
-    (the caller estimates the gap span from it)."""
-    past = abs(w.d_bnd[B_LO]) * (1.0 - alpha)
-    if alpha > 0.0:
-        _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-                   ends.tb[0], dtb, _has_boundaries(mesh), mesh, w)
-    return past
+    return merit0, alpha, -1
 
 
 @phase
 def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0):
-    """The step taken from ``w.u_old``: the limited step ``alpha`` cut where
-    a sliding friction spring would cross its stick zone
-    (:func:`.contact.friction_step`, :func:`_past_friction_cut`), then halved
-    until :func:`_accepts` takes the trial, 12 trials at most; where none is
+    """The step taken from ``w.u_old``; returns (accepted, the last trial's
+    merit, the step's largest move of a position [m], the largest position
+    [m]: the stall test's scale), u, the bottom tension and the mesh left at
+    the step taken.
+
+    The limited step ``alpha`` is cut where a sliding friction spring would
+    cross its stick zone (:func:`.contact.friction_step`), then doubled
+    back towards the limited step while the merit falls, the lowest-merit
+    trial kept (past the cut, no spring stays flagged as stopped,
+    ``w.fr_stop``): a laid pipe sliding as a whole has its whole length
+    carried back past the anchors by Newton (its lateral stiffness then the
+    span's alone), and stopped at the first spring's zone it would move a
+    small part of the step an iteration. From there the step is halved until
+    :func:`_accepts` takes the trial, 12 trials at most; where none is
     accepted the first is taken anyway (the merit is flat there: a change of
-    constraint, a constraint's correction). Leaves u, the bottom tension and
-    the mesh at the step taken; returns (accepted, the last trial's merit)."""
+    constraint, a constraint's correction)."""
+    has_bnd = _has_boundaries(mesh)
+    tb_old = ends.tb[0]
     alpha_lim = alpha
     alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric,
                           w.fr_stop, alpha)
     if alpha < alpha_lim:
-        alpha = _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb,
-                                   alpha, alpha_lim)
-    has_bnd = _has_boundaries(mesh)
-    tb_old = ends.tb[0]
+        best = alpha
+        m_best = np.inf
+        trial = alpha
+        while True:
+            m1 = _trial(nd, trial, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
+                        has_bnd)
+            if m1 < m_best:
+                m_best, best = m1, trial
+            elif trial > alpha:
+                break
+            if trial >= alpha_lim:
+                break
+            trial = min(2.0 * trial, alpha_lim)
+        ends.tb[0] = tb_old
+        if best > alpha:
+            w.fr_stop[:] = 0.0
+        alpha = best
     alpha0 = alpha
     accepted = False
     for _ls in range(12):
@@ -212,39 +216,14 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     if not accepted:
         _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
                    tb_old, dtb, has_bnd, mesh, w)
-    return accepted, m1
-
-
-@phase
-def _past_friction_cut(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, alpha_lim):
-    """The step fraction, from ``alpha`` (where
-    :func:`.contact.friction_step` cut the limited step ``alpha_lim`` at a
-    spring's stick zone) doubled towards ``alpha_lim`` while the merit
-    falls; the lowest-merit trial is returned, and if it lies past the cut,
-    no spring is flagged as stopped (``w.fr_stop``). A laid pipe sliding as a
-    whole has its whole length carried back past the anchors by Newton (its
-    lateral stiffness then the span's alone): stopped at the first spring's
-    zone, it would move a small part of the step an iteration. The state is
-    left at the last trial (:func:`_line_search` takes the step from
-    ``w.u_old``), the bottom tension restored."""
-    has_bnd = _has_boundaries(mesh)
-    tb_old = ends.tb[0]
-    best = alpha
-    m_best = np.inf
-    trial = alpha
-    while True:
-        m1 = _trial(nd, trial, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd)
-        if m1 < m_best:
-            m_best, best = m1, trial
-        elif trial > alpha:
-            break
-        if trial >= alpha_lim:
-            break
-        trial = min(2.0 * trial, alpha_lim)
-    ends.tb[0] = tb_old
-    if best > alpha:
-        w.fr_stop[:] = 0.0
-    return best
+    ndn = 2 * nd + 1
+    last_step = 0.0
+    r_max = 0.0
+    for i in range(u.shape[0]):
+        if i % ndn < nd:
+            last_step = max(last_step, abs(u[i] - w.u_old[i]))
+            r_max = max(r_max, abs(u[i]))
+    return accepted, m1, last_step, r_max
 
 
 @jit(by_dimension=True, _nrt=False)
@@ -344,17 +323,3 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
         for b in range(mesh.s_bd.shape[0]):
             mesh.s_bd[b] = w.bnd_old[b] + alpha * w.d_bnd[b]
         mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
-
-
-@phase
-def _largest_move(nd, u, w):
-    """The step's largest move of a position [m] (from ``w.u_old``) and the
-    largest position [m] (the scale of the stall test's round-off)."""
-    ndn = 2 * nd + 1
-    last_step = 0.0
-    r_max = 0.0
-    for i in range(u.shape[0]):
-        if i % ndn < nd:
-            last_step = max(last_step, abs(u[i] - w.u_old[i]))
-            r_max = max(r_max, abs(u[i]))
-    return last_step, r_max

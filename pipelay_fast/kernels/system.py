@@ -37,7 +37,7 @@ import numpy as np
 from . import layout as L
 from ._jit import jit, phase
 from .assembly import assemble, curve_node, distribute_torque, rotate_node
-from .constraints import _bnd_equation, _bnd_scale, _free_moment
+from .constraints import _bnd_equation, _free_moment
 from .contact import friction_forces, friction_length_derivative, node_arcs
 from .layout import B_LO, B_PT, B_TD, ST_A, ST_B
 
@@ -365,27 +365,10 @@ def _weighted_max(nd, g, cmask, fref, href):
 
 
 @phase
-def _imbalance(nd, mesh, ends, w, settings, te_top):
-    """The residuals convergence is judged on: (weighted max and sum of
-    squares of the free rows, the top tension's relative residual, the
-    boundaries' largest scaled residual)."""
-    res_max, res_ssq = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
-    top_res = 0.0
-    if _solves_tb(ends):
-        top_res = abs(te_top - ends.top_target) / ends.top_target
-    bnd_res = 0.0
-    for b in range(mesh.bnodes.shape[0]):
-        if mesh.bnodes[b] >= 0:
-            bnd_res = max(bnd_res, abs(w.res_bnd[b]) / _bnd_scale(b, settings.fref,
-                                                                  settings.href))
-    return res_max, res_ssq, top_res, bnd_res
-
-
-@phase
-def _roundoff_ratio(nd, u, w):
-    """How far the free rows' residual is above its round-off floor: the
-    largest |G_i| / (eps sum_j |K_ij| |u_j|) (``w.ab``: the tangent, nodal
-    frames, before scaling). The sum is what perturbing each unknown by its
+def _roundoff_ratio(nd, u, ab, g, cmask):
+    """How far the free rows' residual ``g`` (``cmask`` False) is above its
+    round-off floor: the largest |G_i| / (eps sum_j |K_ij| |u_j|) (``ab``: the
+    tangent, nodal frames, before scaling). The sum is what perturbing each unknown by its
     own round-off, eps |u_j|, changes G_i by: a residual within a small
     multiple of it is as small as a state held in float64 can make it (it
     grows like EI |r| eps / h^3: fine meshes far from the origin)."""
@@ -394,12 +377,12 @@ def _roundoff_ratio(nd, u, w):
     n = u.shape[0]
     worst = 0.0
     for i in range(n):
-        if w.cmask[i] or w.g[i] == 0.0:
+        if cmask[i] or g[i] == 0.0:
             continue
         acc = 0.0
         for j in range(max(0, i - kl), min(n - 1, i + kl) + 1):
-            acc += abs(w.ab[kv + i - j, j] * u[j])
-        ratio = abs(w.g[i]) / (2.2e-16 * acc) if acc > 0.0 else np.inf
+            acc += abs(ab[kv + i - j, j] * u[j])
+        ratio = abs(g[i]) / (2.2e-16 * acc) if acc > 0.0 else np.inf
         if ratio > worst:
             worst = ratio
     return worst
