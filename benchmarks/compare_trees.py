@@ -59,7 +59,7 @@ def run_tree(tree: Path, scenes, repeats: int) -> dict:
     """One process on ``tree``: warm-up time, median solve time per scene, summaries."""
     env = {**os.environ, "PYTHONPATH": str(tree)}
     done = subprocess.run([sys.executable, "-c", CHILD, ",".join(scenes), str(repeats)],
-                          env=env, capture_output=True, text=True, check=False)
+                          env=env, cwd=tree, capture_output=True, text=True, check=False)
     if done.returncode != 0:
         raise RuntimeError(f"{tree}: {done.stderr[-2000:]}")
     answer = json.loads(done.stdout.splitlines()[-1])
