@@ -283,7 +283,7 @@ def test_jlay_lcc_is_interior_peak():
 def test_power_basis_is_the_hermite(s67):
     """tip_clearance's power basis (:func:`.kernels.geometry._at`) gives the
     same centreline as the elements' Hermite shape functions
-    (:func:`.kernels.element.hermite`), its slope and its curvature too."""
+    (:func:`.kernels.element_shapes.hermite`), its slope and its curvature too."""
     from pipelay_fast.kernels.element_shapes import hermite
     from pipelay_fast.kernels.geometry import _at
 
