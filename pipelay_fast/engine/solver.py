@@ -289,7 +289,8 @@ def _solution(pb: Problem, react, stats: dict, s_t: float, s_l: float | None) ->
         fric=c.fric, points=c.points, y_held=c.y_held,
         torque=float(pb.props[L.TORQUE]) if pb.nd == 3 else 0.0,
         lo_node=pb.lo_node, tip=tip, roller_nodes=pb.roller_nodes,
-        roller_gaps=roller_gaps(pb), last_roller=last_roller_in_contact(pb) if rollers else None,
+        roller_gaps=roller_gaps(pb) if rollers else np.zeros(0),
+        last_roller=last_roller_in_contact(pb) if rollers else None,
         s_tdp=s_t, s_liftoff=s_l, stats=stats)
 
 
