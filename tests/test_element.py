@@ -9,19 +9,22 @@ from pipelay_fast.kernels.element_shapes import hermite_crossing
 
 
 def make_props(drag=0.0, torque_free=True, extensible=True, bed_k=0.0):
+    """The scene's ``props`` and an element's ``section`` row."""
+    sec = np.zeros(L.N_SECTION)
+    sec[L.S_EI] = 2.6e8
+    sec[L.S_EA] = 5.8e9
+    sec[L.S_W_DRY] = 9.0e3
+    sec[L.S_W_CONT] = 1.5e3
+    sec[L.S_W_BUOY] = 4.0e3
+    sec[L.S_AREA_I] = np.pi * 0.58**2 / 4
+    sec[L.S_AREA_E] = np.pi * 0.61**2 / 4
+    sec[L.S_DRAG] = drag
     p = np.zeros(L.N_PROPS)
-    p[L.EI] = 2.6e8
-    p[L.EA] = 5.8e9
-    p[L.W_DRY] = 9.0e3
-    p[L.W_CONT] = 1.5e3
+    p[L.EI_REF] = sec[L.S_EI]
     p[L.H_CONT] = 40.0
-    p[L.W_BUOY] = 4.0e3
     p[L.DEPTH] = 67.0
     p[L.RHOW_G] = 1025 * 9.81
     p[L.RHOI_G] = 900 * 9.81
-    p[L.AREA_I] = np.pi * 0.58**2 / 4
-    p[L.AREA_E] = np.pi * 0.61**2 / 4
-    p[L.DRAG] = drag
     p[L.CUR_SPEED] = 1.0
     p[L.CUR_EY] = np.sin(0.7)
     p[L.CUR_EZ] = np.cos(0.7)
@@ -31,7 +34,7 @@ def make_props(drag=0.0, torque_free=True, extensible=True, bed_k=0.0):
     p[L.EXTENSIBLE] = 1.0 if extensible else 0.0
     if not torque_free:
         p[L.MOM_X], p[L.MOM_Y], p[L.MOM_Z] = 30.0, -20.0, 10.0
-    return p
+    return p, sec
 
 
 def random_state(nd, rng, x0=20.0, chord=1.7):
@@ -51,7 +54,7 @@ def random_state(nd, rng, x0=20.0, chord=1.7):
     return ue
 
 
-def fd_tangent(nd, le, ue, props, table, torque):
+def fd_tangent(nd, le, ue, props, sec, table, torque):
     ne = ue.size
     fe = np.zeros(ne)
     ke = np.zeros((ne, ne))
@@ -60,12 +63,12 @@ def fd_tangent(nd, le, ue, props, table, torque):
         h = 1e-6 * max(1.0, abs(ue[j])) if j % (2 * nd + 1) != 2 * nd else 1e-2
         up = ue.copy()
         up[j] += h
-        element_force(nd, le, up, props, table, torque, fe, ke, False)
+        element_force(nd, le, up, props, sec, table, torque, fe, ke, False)
         fp = fe.copy()
         up[j] -= 2 * h
-        element_force(nd, le, up, props, table, torque, fe, ke, False)
+        element_force(nd, le, up, props, sec, table, torque, fe, ke, False)
         kfd[:, j] = (fp - fe) / (2 * h)
-    element_force(nd, le, ue, props, table, torque, fe, ke, True)
+    element_force(nd, le, ue, props, sec, table, torque, fe, ke, True)
     return ke, kfd
 
 
@@ -82,11 +85,11 @@ def fd_tangent(nd, le, ue, props, table, torque):
 )
 def test_tangent_matches_central_difference(nd, kw):
     rng = np.random.default_rng(3)
-    props = make_props(**kw)
+    props, sec = make_props(**kw)
     x0 = -0.05 if kw.get("bed_k") else 20.0
     ue = random_state(nd, rng, x0=x0)
     torque = 0.0 if kw.get("torque_free", True) else 4.0e4
-    ke, kfd = fd_tangent(nd, 1.7, ue, props, np.zeros((0, 2)), torque)
+    ke, kfd = fd_tangent(nd, 1.7, ue, props, sec, np.zeros((0, 2)), torque)
     scale = np.abs(kfd).max(axis=1, keepdims=True) + 1e-30
     assert np.max(np.abs(ke - kfd) / scale) < 2e-6
 
@@ -124,7 +127,7 @@ def crossings(nd, le, ue, props):
 @pytest.mark.parametrize("kw", DLE_CASES, ids=lambda kw: "-".join(kw) or "plain")
 @pytest.mark.parametrize("le", [0.5, 4.0, 20.0])
 def test_length_derivative_matches_central_difference(nd, kw, le):
-    props = make_props(**kw)
+    props, sec = make_props(**kw)
     table = np.zeros((0, 2))
     torque = 0.0 if kw.get("torque_free", True) else 4.0e4
     rng = np.random.default_rng(7)
@@ -141,11 +144,11 @@ def test_length_derivative_matches_central_difference(nd, kw, le):
         fe = np.zeros(ue.size)
         ke = np.zeros((ue.size, ue.size))
         dfe = np.full(ue.size, np.nan)
-        element_force(nd, le, ue, props, table, torque, fe, ke, False, dfe)
+        element_force(nd, le, ue, props, sec, table, torque, fe, ke, False, dfe)
         h = 1e-5 * le
         fp = np.zeros(ue.size)
-        element_force(nd, le + h, ue, props, table, torque, fp, ke, False)
-        element_force(nd, le - h, ue, props, table, torque, fe, ke, False)
+        element_force(nd, le + h, ue, props, sec, table, torque, fp, ke, False)
+        element_force(nd, le - h, ue, props, sec, table, torque, fe, ke, False)
         dfd = (fp - fe) / (2 * h)
         for rows in kinds:
             scale = np.abs(dfd[rows]).max()
@@ -155,7 +158,7 @@ def test_length_derivative_matches_central_difference(nd, kw, le):
 
 @pytest.mark.parametrize("nd", [2, 3])
 def test_length_derivative_leaves_residual_and_tangent_unchanged(nd):
-    props = make_props(drag=300.0, torque_free=False)
+    props, sec = make_props(drag=300.0, torque_free=False)
     rng = np.random.default_rng(9)
     ue = centred_state(nd, rng, 1.7, props[L.DEPTH])
     assert crossings(nd, 1.7, ue, props)[0] > 0.0  # integrated in two parts
@@ -164,7 +167,7 @@ def test_length_derivative_leaves_residual_and_tangent_unchanged(nd):
     for dfe in (None, np.zeros(ne)):
         fe = np.zeros(ne)
         ke = np.zeros((ne, ne))
-        element_force(nd, 1.7, ue, props, np.zeros((0, 2)), 4.0e4, fe, ke, True, dfe)
+        element_force(nd, 1.7, ue, props, sec, np.zeros((0, 2)), 4.0e4, fe, ke, True, dfe)
         out.append((fe, ke))
     assert np.array_equal(out[0][0], out[1][0])
     assert np.array_equal(out[0][1], out[1][1])
@@ -172,7 +175,7 @@ def test_length_derivative_leaves_residual_and_tangent_unchanged(nd):
 
 def test_planar_state_gives_same_forces_in_2d_and_3d():
     rng = np.random.default_rng(5)
-    props = make_props(drag=300.0)
+    props, sec = make_props(drag=300.0)
     props[L.CUR_EY], props[L.CUR_EZ] = 0.0, 1.0  # current along z: planar
     ue2 = random_state(2, rng)
     ue3 = np.zeros(14)
@@ -183,8 +186,8 @@ def test_planar_state_gives_same_forces_in_2d_and_3d():
         ue3[a3 + 6] = ue2[a2 + 4]
     f2, k2 = np.zeros(10), np.zeros((10, 10))
     f3, k3 = np.zeros(14), np.zeros((14, 14))
-    element_force(2, 1.3, ue2, props, np.zeros((0, 2)), 0.0, f2, k2, True)
-    element_force(3, 1.3, ue3, props, np.zeros((0, 2)), 0.0, f3, k3, True)
+    element_force(2, 1.3, ue2, props, sec, np.zeros((0, 2)), 0.0, f2, k2, True)
+    element_force(3, 1.3, ue3, props, sec, np.zeros((0, 2)), 0.0, f3, k3, True)
     keep = [0, 2, 3, 5, 6, 7, 9, 10, 12, 13]
     np.testing.assert_allclose(f3[keep], f2, rtol=1e-13, atol=1e-9)
     np.testing.assert_allclose(k3[np.ix_(keep, keep)], k2, rtol=1e-13, atol=1e-9)
@@ -204,7 +207,7 @@ def test_tangent_and_length_derivative_of_an_element_cut_by_a_level(nd, drag, le
     moves with the nodes' heights and with le: the tangent and d/dle carry
     that movement, so both match central differences (without it the tangent
     was off by 1.7e-6 to 1.2e-5 of its row's largest entry, d/dle by 1e-6)."""
-    props = make_props(drag=drag)
+    props, sec = make_props(drag=drag)
     rng = np.random.default_rng(11)
     table = np.zeros((0, 2))
     ndn = 2 * nd + 1
@@ -217,21 +220,21 @@ def test_tangent_and_length_derivative_of_an_element_cut_by_a_level(nd, drag, le
     ue[0] += shift
     ue[ndn] += shift
     assert [c > 0.0 for c in crossings(nd, le, ue, props)] == list(cut)
-    ke, kfd = fd_tangent(nd, le, ue, props, table, 0.0)
+    ke, kfd = fd_tangent(nd, le, ue, props, sec, table, 0.0)
     scale = np.abs(kfd).max(axis=1, keepdims=True) + 1e-30
     assert np.max(np.abs(ke - kfd) / scale) < 1e-8
     ne = ue.size
     fe, fp = np.zeros(ne), np.zeros(ne)
     dfe = np.zeros(ne)
-    element_force(nd, le, ue, props, table, 0.0, fe, np.zeros((ne, ne)), False, dfe)
+    element_force(nd, le, ue, props, sec, table, 0.0, fe, np.zeros((ne, ne)), False, dfe)
     h = 1e-6 * le
-    element_force(nd, le + h, ue, props, table, 0.0, fp, np.zeros((ne, ne)), False)
-    element_force(nd, le - h, ue, props, table, 0.0, fe, np.zeros((ne, ne)), False)
+    element_force(nd, le + h, ue, props, sec, table, 0.0, fp, np.zeros((ne, ne)), False)
+    element_force(nd, le - h, ue, props, sec, table, 0.0, fe, np.zeros((ne, ne)), False)
     dfd = (fp - fe) / (2 * h)
     assert np.max(np.abs(dfe - dfd)) < 1e-8 * np.abs(dfd).max()
 
 
-def reference_residual(nd, le, ue, props, torque=0.0):
+def reference_residual(nd, le, ue, props, sec, torque=0.0):
     """The element's residual G by NumPy, written apart from the kernels from
     the weak form in :mod:`pipelay_fast.kernels.element`'s docstring: cubic
     Hermite r, linear lam, 4-point Gauss-Legendre on each piece between the
@@ -277,29 +280,29 @@ def reference_residual(nd, le, ue, props, torque=0.0):
             lam = (1 - xi) * lam_a + xi * lam_b
             x = r[0]
             q3 = np.zeros(3)
-            q3[0] = -(props[L.W_DRY] + props[L.W_CONT] * (x < props[L.H_CONT])
-                      - props[L.W_BUOY] * (x < props[L.DEPTH]))
+            q3[0] = -(sec[L.S_W_DRY] + sec[L.S_W_CONT] * (x < props[L.H_CONT])
+                      - sec[L.S_W_BUOY] * (x < props[L.DEPTH]))
             if props[L.SEABED_K] > 0 and x <= 0:
                 q3[0] -= props[L.SEABED_K] * x
             rp3, rpp3 = np.zeros(3), np.zeros(3)
             rp3[slots], rpp3[slots] = rp, rpp
-            if props[L.DRAG] > 0 and 0 <= x <= props[L.DEPTH]:
+            if sec[L.S_DRAG] > 0 and 0 <= x <= props[L.DEPTH]:
                 v = props[L.CUR_SPEED] * (x / props[L.DEPTH]) ** props[L.CUR_EXP] * current
                 t = rp3 / np.linalg.norm(rp3)
                 vn = v - (v @ t) * t
-                q3 += props[L.DRAG] * np.linalg.norm(rp3) * np.linalg.norm(vn) * vn
+                q3 += sec[L.S_DRAG] * np.linalg.norm(rp3) * np.linalg.norm(vn) * vn
             e = 0.0
             if props[L.EXTENSIBLE]:
-                tw_te = (props[L.RHOI_G] * (props[L.H_CONT] - x) * props[L.AREA_I]
+                tw_te = (props[L.RHOI_G] * (props[L.H_CONT] - x) * sec[L.S_AREA_I]
                          * (x < props[L.H_CONT])
-                         - props[L.RHOW_G] * (props[L.DEPTH] - x) * props[L.AREA_E]
+                         - props[L.RHOW_G] * (props[L.DEPTH] - x) * sec[L.S_AREA_E]
                          * (x < props[L.DEPTH]))
-                eps = (lam + props[L.EI] * rpp @ rpp + tw_te) / props[L.EA]
+                eps = (lam + sec[L.S_EI] * rpp @ rpp + tw_te) / sec[L.S_EA]
                 e = eps + eps**2 / 2
             c3 = torque * np.cross(rp3, rpp3) + np.cross(rp3, m3)
             for k in range(4):
                 rows = [k // 2 * ndn + (k % 2) * nd + i for i in range(nd)]
-                fe[rows] += w * (props[L.EI] * rpp * ddh[k] + (lam * rp + c3[slots]) * dh[k]
+                fe[rows] += w * (sec[L.S_EI] * rpp * ddh[k] + (lam * rp + c3[slots]) * dh[k]
                                  - q3[slots] * h[k])
             cval = (rp @ rp - 1) / 2 - e
             fe[2 * nd] += w * (1 - xi) * cval
@@ -314,7 +317,7 @@ def test_residual_matches_a_numpy_quadrature_of_the_weak_form(nd, kw, x_mid):
     """Each kernel the solves run (the planar one in 2D) against
     :func:`reference_residual`, on elements inside a level and cut by the
     contents level (40 m) or the water surface (67 m)."""
-    props = make_props(**kw)
+    props, sec = make_props(**kw)
     if nd == 2:
         props[L.CUR_EY], props[L.CUR_EZ] = 0.0, -1.0
     torque = 4.0e4 if nd == 3 and not kw.get("torque_free", True) else 0.0
@@ -328,9 +331,9 @@ def test_residual_matches_a_numpy_quadrature_of_the_weak_form(nd, kw, x_mid):
         crossed = max(crossings(nd, le, ue, props)) > 0.0
         assert crossed == (x_mid != 20.0 and not kw.get("bed_k"))
         fe = np.zeros(ue.size)
-        element_force(nd, le, ue, props, np.zeros((0, 2)), torque, fe,
+        element_force(nd, le, ue, props, sec, np.zeros((0, 2)), torque, fe,
                       np.zeros((ue.size, ue.size)), False)
-        ref = reference_residual(nd, le, ue, props, torque)
+        ref = reference_residual(nd, le, ue, props, sec, torque)
         for rows in kinds:
             scale = np.abs(ref[rows]).max()
             assert np.max(np.abs(fe[rows] - ref[rows])) <= 1e-11 * scale

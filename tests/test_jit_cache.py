@@ -20,12 +20,13 @@ from tests.helpers import EXAMPLES
 
 PACKAGE = Path(pf.__file__).resolve().parent
 
-# effective_weight (kernels/loads.py) reads props[W_DRY], W_DRY a constant of kernels/layout.py
+# effective_weight (kernels/loads.py) reads sec[S_W_DRY], S_W_DRY a constant of kernels/layout.py
 PROBE = """
 import json, numpy as np
 from pipelay_fast.kernels import layout, loads
-props = 100.0 + np.arange(layout.N_PROPS)
-weight = loads.effective_weight(props, 1e9)  # above the sea and the contents: the dry weight
+props = np.zeros(layout.N_PROPS)
+sec = 100.0 + np.arange(layout.N_SECTION)
+weight = loads.effective_weight(props, sec, 1e9)  # above the sea and the contents: the dry weight
 stats = loads.effective_weight.from_python().stats  # the copy Python calls (_jit.Kernel)
 print(json.dumps({"file": loads.__file__, "weight": weight, "cache": stats.cache_path,
                   "hits": sum(stats.cache_hits.values())}))
@@ -62,14 +63,14 @@ def test_an_edit_in_another_module_reaches_the_cached_kernel(tmp_path, numba_cac
     cache_dir = tmp_path / "numba-cache" if numba_cache_dir else None
 
     first = _probe(tmp_path, cache_dir)
-    assert first["weight"] == 100.0 + 2 and first["hits"] == 0  # W_DRY = 2, compiled
+    assert first["weight"] == 100.0 + 2 and first["hits"] == 0  # S_W_DRY = 2, compiled
     expected_cache = (tmp_path / "pipelay_fast" / "kernels" / "__pycache__" if cache_dir is None
                       else cache_dir)
     assert Path(first["cache"]).resolve().is_relative_to(expected_cache.resolve())
     assert (Path(first["cache"]) / _jit.STAMP_NAME).is_file()
 
-    _edit(layout, "W_DRY = 2  #", "W_DRY = 7  #")
-    # numba alone: loads.py is unchanged, so its cached machine code (W_DRY = 2) is loaded
+    _edit(layout, "S_W_DRY = 2  #", "S_W_DRY = 7  #")
+    # numba alone: loads.py is unchanged, so its cached machine code (S_W_DRY = 2) is loaded
     original = jit_module.read_text()
     _edit(jit_module, "\nexpire_stale_cache()\n", "\n")
     stale = _probe(tmp_path, cache_dir)
@@ -77,7 +78,7 @@ def test_an_edit_in_another_module_reaches_the_cached_kernel(tmp_path, numba_cac
 
     jit_module.write_text(original)
     fresh = _probe(tmp_path, cache_dir)
-    assert fresh["weight"] == 100.0 + 7 and fresh["hits"] == 0  # recompiled with W_DRY = 7
+    assert fresh["weight"] == 100.0 + 7 and fresh["hits"] == 0  # recompiled with S_W_DRY = 7
     again = _probe(tmp_path, cache_dir)
     assert again["weight"] == 100.0 + 7 and again["hits"] == 1  # and cached again
 

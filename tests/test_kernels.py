@@ -10,7 +10,7 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.engine.continuation import run_newton
-from pipelay_fast.engine.model import build_props
+from pipelay_fast.engine.model import build_props, section_array, sections_of
 from pipelay_fast.engine.state import EndConditions, make_problem
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.banded import (
@@ -95,8 +95,9 @@ def laid_pipe(case, nd, n_el=40, length=50.0, tension=2e5, lift=0.3):
     on_bed[0] = 0
     props, table = build_props(case)
     ends = EndConditions(fix, np.zeros_like(u), f_node, -1, s.size - 1, 0.0)
-    return make_problem(nd=nd, s=s, props=props, table=table, u=u, ends=ends, fref=tension,
-                        href=1.0, bed_active=on_bed)
+    return make_problem(nd=nd, s=s, props=props, table=table,
+                        section=section_array(s, sections_of(case)), u=u, ends=ends,
+                        fref=tension, href=1.0, bed_active=on_bed)
 
 
 @pytest.mark.parametrize("nd", [2, 3])
@@ -561,7 +562,7 @@ def test_an_anchor_interpolated_towards_a_free_neighbour_moves_with_it():
     nd, ndn, nn = 3, 7, 3
     props = np.zeros(L.N_PROPS)
     props[L.MU_Y], props[L.MU_Z], props[L.FRICTION_SLIP] = 0.6, 0.3, 0.05
-    model = Model(props, np.zeros((1, 2)), load_factors(1.0, True))
+    model = Model(props, np.zeros((1, 2)), load_factors(1.0, True), np.zeros((nn - 1, L.N_SECTION)))
     s = np.array([0.0, 4.0, 8.0])
     bed = np.array([1, 1, 0], dtype=np.int8)
     u0 = np.zeros(nn * ndn)

@@ -48,7 +48,9 @@ def beam_on_points(drop=(0.0, 0.0, 0.0), h=0.5, nd=2):
     u[nd - 1::ndn] = s
     u[2 * nd - 1::ndn] = 1.0
     props = np.zeros(L.N_PROPS)
-    props[L.EI], props[L.EA], props[L.W_DRY] = EI, 1e12, Q
+    props[L.EI_REF] = EI
+    section = np.zeros((nn - 1, L.N_SECTION))
+    section[:, L.S_EI], section[:, L.S_EA], section[:, L.S_W_DRY] = EI, 1e12, Q
     props[L.H_CONT] = -1.0  # no contents; the depth 0: in air
     props[L.EXTENSIBLE] = 1.0
     fix = np.zeros(nn * ndn, dtype=np.int8)
@@ -60,8 +62,9 @@ def beam_on_points(drop=(0.0, 0.0, 0.0), h=0.5, nd=2):
     pts[:, L.PT_Z] = POINTS
     pts[:, L.PT_BEAR] = 1.0
     ends = EndConditions(fix, np.zeros(nn * ndn), np.zeros(nn * ndn), -1, nn - 1, 0.0)
-    pb = make_problem(nd=nd, s=s, props=props, table=np.zeros((1, 2)), u=u, ends=ends,
-                      fref=Q * 10.0, href=h, points=pts, factors=load_factors(0.0, False))
+    pb = make_problem(nd=nd, s=s, props=props, table=np.zeros((1, 2)), section=section, u=u,
+                      ends=ends, fref=Q * 10.0, href=h, points=pts,
+                      factors=load_factors(0.0, False))
     # no touchdown, no lift-off; a node on each point, its zone 4 m each side
     nodes = [-1, -1] + [int(np.argmin(np.abs(s - z))) for z in POINTS]
     pb.mesh.follow(nodes, [(0.0, 0.0)] * 2 + [(4.0, 4.0)] * len(POINTS))

@@ -1,6 +1,7 @@
 """From a validated :class:`~pipelay_fast.input.case.Case` to the flat arrays of
 the kernels (engine layer): the dimension solved in, the ``props`` vector and the
-current table, and the tension jump at a pinned S-lay top."""
+current table, the per-element ``section`` array, and the tension jump at a
+pinned S-lay top."""
 
 from __future__ import annotations
 
@@ -36,26 +37,20 @@ def dimension_of(case: Case) -> int:
 
 
 def build_props(case: Case):
-    """The ``props`` vector (``layout.N_PROPS`` floats, SI, one per slot of
-    :mod:`pipelay_fast.kernels.layout`) and the current table ``[[x, speed],
-    ...]`` ([m], [m/s]; one zero row without a table profile) of a case (its
-    data only: the load path's factors are the solver's, layout ``F_*``)."""
+    """The ``props`` vector of the scene (``layout.N_PROPS`` floats, SI, one per
+    slot of :mod:`pipelay_fast.kernels.layout`) and the current table ``[[x,
+    speed], ...]`` ([m], [m/s]; one zero row without a table profile) of a
+    case (its data only: the load path's factors are the solver's, layout
+    ``F_*``; the pipe's section is :func:`sections_of`'s)."""
     pipe = case.pipe
     env = case.environment
     cur = env.current
     p = np.zeros(L.N_PROPS)
-    p[L.EI] = pipe.bending_stiffness
-    p[L.EA] = pipe.axial_stiffness
-    p[L.W_DRY] = case.weight_dry
-    p[L.W_CONT] = case.weight_contents
+    p[L.EI_REF] = pipe.bending_stiffness
     p[L.H_CONT] = pipe.contents_level
-    p[L.W_BUOY] = case.buoyancy
     p[L.DEPTH] = env.water_depth
     p[L.RHOW_G] = env.water_density * env.gravity
     p[L.RHOI_G] = pipe.contents_density * env.gravity
-    p[L.AREA_I] = pipe.inner_area
-    p[L.AREA_E] = pipe.outer_area
-    p[L.DRAG] = 0.5 * env.water_density * pipe.drag_coefficient * pipe.hydrodynamic_diameter
     p[L.CUR_SPEED] = cur.speed
     heading = math.radians(cur.heading)
     p[L.CUR_EY] = math.sin(heading)
@@ -74,6 +69,50 @@ def build_props(case: Case):
     else:
         table = np.zeros((1, 2))
     return p, table
+
+
+def section_row(case: Case) -> np.ndarray:
+    """The case's pipe as a ``section`` row (``layout.N_SECTION`` floats, SI,
+    the ``S_*`` slots: EI [N m2], EA [N], the dry, contents and buoyancy
+    weights [N/m], the steel's inner and outer areas [m2], the drag's 1/2
+    rho_w C_D D_h [kg/m2])."""
+    pipe = case.pipe
+    env = case.environment
+    row = np.zeros(L.N_SECTION)
+    row[L.S_EI] = pipe.bending_stiffness
+    row[L.S_EA] = pipe.axial_stiffness
+    row[L.S_W_DRY] = case.weight_dry
+    row[L.S_W_CONT] = case.weight_contents
+    row[L.S_W_BUOY] = case.buoyancy
+    row[L.S_AREA_I] = pipe.inner_area
+    row[L.S_AREA_E] = pipe.outer_area
+    row[L.S_DRAG] = 0.5 * env.water_density * pipe.drag_coefficient * pipe.hydrodynamic_diameter
+    return row
+
+
+def sections_of(case: Case) -> list[tuple[float, np.ndarray]]:
+    """The sections along the line, from the top down: ``(start, row)`` pairs,
+    ``start`` [m] the unstretched arc length from the top (the vessel's end, a
+    material point that stays where it is when laid pipe is added or cut at
+    the lower end) at which the section begins, the first 0, increasing;
+    ``row`` its :func:`section_row`. A case has one section, its pipe."""
+    return [(0.0, section_row(case))]
+
+
+def section_array(s: np.ndarray, sections) -> np.ndarray:
+    """The kernels' ``section`` array ((n_elements, N_SECTION), C-contiguous)
+    of the mesh with nodes ``s`` [m] (increasing from the lower end to the
+    top): element e gets the row of the section its midpoint lies in, its
+    distance from the top s[-1] - (s[e] + s[e+1]) / 2 measured against the
+    ``sections``' starts (:func:`sections_of`). A section joint that is to
+    fall on an element boundary has to be a node of the mesh: an element
+    across it takes the section of its midpoint."""
+    s = np.asarray(s, dtype=np.float64)
+    rows = np.array([row for _start, row in sections], dtype=np.float64).reshape(-1, L.N_SECTION)
+    starts = np.array([start for start, _row in sections], dtype=np.float64)
+    depth = s[-1] - 0.5 * (s[:-1] + s[1:])  # each element's midpoint, from the top
+    which = np.clip(np.searchsorted(starts, depth, side="right") - 1, 0, len(starts) - 1)
+    return np.ascontiguousarray(rows[which])
 
 
 def pin_jump(case: Case) -> float:

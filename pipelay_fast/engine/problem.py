@@ -29,7 +29,7 @@ from .boundaries import (
 from .friction import anchor_friction, friction_laid_length
 from .guess import first_guess, shape
 from .mesh import graded_nodes, grading_rates
-from .model import build_props, dimension_of, pin_jump
+from .model import build_props, dimension_of, pin_jump, section_array, sections_of
 from .state import EndConditions, Problem, interpolate_state, make_problem
 
 
@@ -268,9 +268,11 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
     fric = np.zeros((nn, L.N_FRIC))
     anchor_friction(fric, u, nd, s)
     ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target)
-    return make_problem(nd=nd, s=s, props=props, table=table, u=u, ends=ends, fref=fref,
-                        href=stats["h_max"], points=_points(case, stinger), stinger=stinger,
-                        tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats)
+    section = section_array(s, sections_of(case))
+    return make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
+                        fref=fref, href=stats["h_max"], points=_points(case, stinger),
+                        stinger=stinger, tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp,
+                        stats=stats)
 
 
 def _points(case: Case, stinger: np.ndarray) -> np.ndarray:

@@ -190,17 +190,21 @@ class Problem:
     """Everything a Newton solve needs: the case's data as arrays, and the
     parts above.
 
-    ``nd``: 2 or 3; ``props`` (N_PROPS,): the case's scalars, indexed by
+    ``nd``: 2 or 3; ``props`` (N_PROPS,): the scene's scalars, indexed by
     ``layout`` (SI units); ``table`` (n, 2): the current table [[x m, speed
-    m/s], ...]; ``stinger`` (N_STINGER,): the quadratic stinger's
-    coefficients and ends (contact ``ST_*``; ``ST_ON`` 0 without one); the
-    unknowns ``u`` (nn ndn,): x, (y), z [m], r' [-], lambda [N] node by
-    node, and ``tb`` (1,) [N]: the bottom tension.
+    m/s], ...]; ``section`` (nn - 1, N_SECTION): the pipe's section, a row
+    per element of this mesh (layout ``S_*``; its node count is fixed: a new
+    mesh is a new problem, :func:`.model.section_array`); ``stinger``
+    (N_STINGER,): the quadratic stinger's coefficients and ends (contact
+    ``ST_*``; ``ST_ON`` 0 without one); the unknowns ``u`` (nn ndn,): x,
+    (y), z [m], r' [-], lambda [N] node by node, and ``tb`` (1,) [N]: the
+    bottom tension.
     """
 
     nd: int
     props: np.ndarray
     table: np.ndarray
+    section: np.ndarray
     stinger: np.ndarray
     u: np.ndarray
     tb: np.ndarray
@@ -212,7 +216,7 @@ class Problem:
 
     def model(self) -> Model:
         """What the element kernels read: the case's data and the load path's factors."""
-        return Model(self.props, self.table, self.settings.factors)
+        return Model(self.props, self.table, self.settings.factors, self.section)
 
     def kernel_supports(self) -> Supports:
         """The Newton kernel's constraints and contacts (arrays shared, not copied)."""
@@ -405,12 +409,13 @@ class Solution:
         return 2 * self.nd + 1
 
 
-def make_problem(*, nd: int, s, props, table, u, ends: EndConditions, fref: float,
+def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, fref: float,
                  href: float, points=None, stinger=None, tb: float = 0.0, bed_active=None,
                  st_active=None, fric=None, phi_r=None, phi_rp=None, stats: dict | None = None,
                  factors=None) -> Problem:
-    """A :class:`Problem` on nodes ``s`` [m] with unknowns ``u``, its mesh not
-    yet mapped onto boundaries (every boundary node -1); the parts' arrays
+    """A :class:`Problem` on nodes ``s`` [m] with unknowns ``u`` and the
+    elements' ``section`` (nn - 1, N_SECTION), its mesh not yet mapped onto
+    boundaries (every boundary node -1); the parts' arrays
     not given are empty: no rigid points, no stinger (``ST_ON`` 0), no
     contacts, no nodal frames, the friction springs unanchored, the load
     factors full current without friction."""
@@ -428,7 +433,12 @@ def make_problem(*, nd: int, s, props, table, u, ends: EndConditions, fref: floa
     settings = Settings(fref, href)
     if factors is not None:
         settings.factors = factors
-    return Problem(nd, props, table, np.zeros(N_STINGER) if stinger is None else stinger, u,
+    if section.shape != (nn - 1, L.N_SECTION):
+        raise ValueError(f"section {section.shape}: one row of {L.N_SECTION} per element of "
+                         f"{nn - 1} expected")
+    section = np.ascontiguousarray(section, dtype=np.float64)  # one type: one compile
+    return Problem(nd, props, table, section,
+                   np.zeros(N_STINGER) if stinger is None else stinger, u,
                    np.array([float(tb)]), MeshMap(s, np.full(nb, -1, dtype=np.int64),
                                                   np.zeros(nb)),
                    contacts, ends, settings, Path({} if stats is None else stats))

@@ -17,7 +17,7 @@ from .element_shapes import WORK_SIZE
 from .types import Model, load_factors
 
 
-def element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+def element_forces(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """One element's G, dG/du and dG/dle: the planar kernel in 2D
     (:func:`.element2d.element_2d`), the spatial one in 3D
     (:func:`.element.element_force_ws`); the arguments are the latter's.
@@ -28,27 +28,27 @@ def element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dl
     (:func:`_element_forces_impl`); from Python, or with ``nd`` a plain
     integer, it branches at run time (called from Python, it runs
     :func:`element_forces_py`)."""
-    element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+    element_forces_py(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
 
 
 @overload(element_forces, prefer_literal=True, jit_options={"_nrt": False})
-def _element_forces_impl(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws,
-                         wm):
+def _element_forces_impl(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle,
+                         ws, wm):
     if isinstance(nd, types.IntegerLiteral) and nd.literal_value == 2:
-        def planar(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
-            element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+        def planar(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+            element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm)
         return planar
     if isinstance(nd, types.IntegerLiteral):
-        def spatial(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
-            element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle,
+        def spatial(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+            element_force_ws(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle,
                              ws, wm)
         return spatial
 
-    def either(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+    def either(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
         if nd == 2:
-            element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+            element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm)
         else:
-            element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle,
+            element_force_ws(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle,
                              ws, wm)
     return either
 
@@ -102,7 +102,7 @@ def _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent,
             for b in range(nbnd):
                 if bnodes[b] >= 0 and s_b[b, e + 1] != s_b[b, e]:
                     want_dle = True
-        element_forces(nd, s_el[e], u[g0:g0 + ne], model, torques[e], fe, ke,
+        element_forces(nd, s_el[e], u[g0:g0 + ne], model, model.section[e], torques[e], fe, ke,
                        want_tangent, dfe, want_dle, ws, wm)
         for a in range(ne):
             g[g0 + a] += fe[a]
@@ -246,23 +246,24 @@ def curve_node(nd, ab, kl, ku, g, node, fp, fpp, zp, want_tangent):
 
 
 @jit(_nrt=False)
-def element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+def element_forces_py(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """:func:`element_forces` callable from Python (tests, one-off calls)."""
-    element_forces(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+    element_forces(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
 
 
-def element_force(nd, le, ue, props, table, torque, fe, ke, want_tangent, dfe=None,
+def element_force(nd, le, ue, props, sec, table, torque, fe, ke, want_tangent, dfe=None,
                   current_factor=1.0):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due and, if ``dfe`` is
-    given, ``dfe`` = dG/dle of one element, with the current's drag times
-    ``current_factor``.
+    given, ``dfe`` = dG/dle of one element of section ``sec`` (N_SECTION,),
+    with the current's drag times ``current_factor``.
 
     Allocating Python wrapper of the kernel the solves run (in 2D the planar
     one, :func:`.element2d.element_2d`; in 3D :func:`.element.element_force_ws`) for
     tests and one-off calls; it always calls it with the same argument types.
     """
     want_dle = dfe is not None
-    model = Model(props, table, load_factors(current_factor, False))
-    element_forces_py(nd, le, ue, model, torque, fe, ke, want_tangent,
+    section = np.ascontiguousarray(np.asarray(sec, dtype=np.float64).reshape(1, L.N_SECTION))
+    model = Model(props, table, load_factors(current_factor, False), section)
+    element_forces_py(nd, le, ue, model, section[0], torque, fe, ke, want_tangent,
                       dfe if want_dle else np.zeros(ue.size), want_dle,
                       np.empty(WORK_SIZE), np.empty((3, 3)))

@@ -197,7 +197,8 @@ def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
     ke = np.zeros((ne, ne))
     dfe = np.zeros(ne)
     want = row.shape[0] == u.shape[0]
-    element_forces(nd, s_el[e], u[e * ndn:e * ndn + ne], model, torques[e], fe, ke,
+    sec = model.section[e]
+    element_forces(nd, s_el[e], u[e * ndn:e * ndn + ne], model, sec, torques[e], fe, ke,
                    want, dfe, want, np.empty(WORK_SIZE), np.empty((3, 3)))
     if not want:
         return fe[nd], 0.0

@@ -52,7 +52,8 @@ from .loads import drag_force, effective_weight, wall_minus_effective
 
 
 @jit(by_dimension=True, _nrt=False)
-def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+def element_force_ws(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws,
+                     wm):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due, and dG/dle of one element.
 
     Parameters
@@ -64,8 +65,11 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
     ue : (2*(2nd+1),) float64
         Nodal unknowns of the two nodes (layout in :mod:`.layout`).
     model : :data:`.types.Model`
-        The case's data ``props`` (:mod:`.layout`), the current table
+        The scene's ``props`` (:mod:`.layout`), the current table
         ``[[x, speed], ...]`` and the load path's factors (``F_*``).
+    sec : (N_SECTION,) float64
+        This element's section (:mod:`.layout` ``S_*``: EI, EA, weights,
+        steel areas, drag), its row of ``model.section``.
     torque : float
         Torque H in this element [N m] (3D only).
     fe, ke : float64 arrays, overwritten
@@ -82,8 +86,8 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
     """
     ndn = 2 * nd + 1
     props = model.props
-    ei = props[L.EI]
-    ea = props[L.EA]
+    ei = sec[L.S_EI]
+    ea = sec[L.S_EA]
     extensible = props[L.EXTENSIBLE] != 0.0
     k_bed = props[L.SEABED_K]
     use_torque = nd == 3 and torque != 0.0
@@ -146,19 +150,20 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
         p0 = 1.0 - xi
         p1 = xi
         lam = p0 * ue[lam_idx[0]] + p1 * ue[lam_idx[1]]
-        rp2, kap2, dqx_dx, has_drag = _point_values(nd, le, ue, xi, model, k_bed, pt)
-        e, de_deps, deps_dx = _extension(props, extensible, ei, ea, r[0], lam, kap2)
+        rp2, kap2, dqx_dx, has_drag = _point_values(nd, le, ue, xi, model, sec, k_bed, pt)
+        e, de_deps, deps_dx = _extension(props, sec, extensible, ei, ea, r[0], lam, kap2)
         cval = _point_residual(nd, idx, wl, ei, lam, rp2, e, p0, p1, pt, hh, use_moments,
                                use_moment, moments, fe)
         if want_dle:
-            _dle_gauss_point(nd, le, ue, props, hh, wl, p0, p1, lam, cval, de_deps, deps_dx,
+            _dle_gauss_point(nd, le, ue, props, sec, hh, wl, p0, p1, lam, cval, de_deps, deps_dx,
                              dqx_dx, has_drag, ws, wm, dfe)
         if want_tangent:
             _point_tangent(nd, idx, wl, ei, ea, lam, extensible, de_deps, deps_dx, dqx_dx,
                            has_drag, p0, p1, pt, ka, kx, hh, use_moments, use_moment, moments, ke)
 
     if (want_tangent or want_dle) and ncut > 1:
-        _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm)
+        _cut_jumps(nd, le, ue, model, sec, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle,
+                   ws, wm)
 
     if want_tangent:
         for k in range(4):
@@ -170,12 +175,13 @@ def element_force_ws(nd, le, ue, model, torque, fe, ke, want_tangent, dfe, want_
 
 
 @phase
-def _point_values(nd, le, ue, xi, model, k_bed, pt):
+def _point_values(nd, le, ue, xi, model, sec, k_bed, pt):
     """A Gauss point's values at ``xi`` into the views ``pt``: the shape
     functions, r, r', r'', the distributed load q [N/m] (the effective
     weight, the elastic seabed below x = 0, the drag, its derivatives,
-    :func:`.loads.drag_force`). Returns (r'.r', kappa^2 = r''.r'' [1/m2], the
-    seabed's dq_x/dx [N/m2], whether drag acts)."""
+    :func:`.loads.drag_force`; ``sec`` the element's section row). Returns
+    (r'.r', kappa^2 = r''.r'' [1/m2], the seabed's dq_x/dx [N/m2], whether
+    drag acts)."""
     n, dn, ddn, r, rp, rpp, q, qd, dq_drp, dq_dx, dwork = pt
     ndn = 2 * nd + 1
     props = model.props
@@ -197,12 +203,12 @@ def _point_values(nd, le, ue, xi, model, k_bed, pt):
     x = r[0]
     for i in range(nd):
         q[i] = 0.0
-    q[0] = -effective_weight(props, x)
+    q[0] = -effective_weight(props, sec, x)
     dqx_dx = 0.0
     if k_bed > 0.0 and x <= 0.0:  # (at x = 0 its tangent: the pipe lands on it)
         q[0] -= k_bed * x
         dqx_dx = -k_bed
-    has_drag = drag_force(model, nd, x, rp, qd, dq_drp, dq_dx, dwork)
+    has_drag = drag_force(model, sec, nd, x, rp, qd, dq_drp, dq_dx, dwork)
     if has_drag:
         for i in range(nd):
             q[i] += qd[i]
@@ -210,7 +216,7 @@ def _point_values(nd, le, ue, xi, model, k_bed, pt):
 
 
 @phase
-def _extension(props, extensible, ei, ea, x, lam, kap2):
+def _extension(props, sec, extensible, ei, ea, x, lam, kap2):
     """The extensible rod's strain term at height ``x`` [m]: (e = eps +
     eps^2 / 2 with eps = Tw / EA, de/deps, deps/dx [1/m]); zeros when
     inextensible. ``lam`` [N], ``kap2`` [1/m2]."""
@@ -218,7 +224,7 @@ def _extension(props, extensible, ei, ea, x, lam, kap2):
     de_deps = 0.0
     deps_dx = 0.0
     if extensible:
-        dtw, ddtw_dx = wall_minus_effective(props, x)
+        dtw, ddtw_dx = wall_minus_effective(props, sec, x)
         eps = (lam + ei * kap2 + dtw) / ea
         e = eps + 0.5 * eps * eps
         de_deps = 1.0 + eps

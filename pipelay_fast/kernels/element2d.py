@@ -59,17 +59,17 @@ def _drag_2d(c, v, dv_dx, xp, zp):
 
 
 @jit(_nrt=False)
-def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+def element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due and dG/dle ``dfe``
     of one planar element (unknowns per node x, z, x', z', lam); the
     arguments as :func:`.element.element_force_ws`'s (nd = 2, no torque)."""
     props = model.props
-    ei = props[L.EI]
-    ea = props[L.EA]
+    ei = sec[L.S_EI]
+    ea = sec[L.S_EA]
     extensible = props[L.EXTENSIBLE] != 0.0
     k_bed = props[L.SEABED_K]
     my = props[L.MOM_Y]
-    c_drag = props[L.DRAG] * model.factors[L.F_CURRENT]
+    c_drag = sec[L.S_DRAG] * model.factors[L.F_CURRENT]
     ez = props[L.CUR_EZ]
     has_current = c_drag != 0.0 and props[L.CUR_SPEED] != 0.0
     for a in range(10):
@@ -127,8 +127,8 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
         p0 = 1.0 - t
         p1 = t
         lam = p0 * la + p1 * lb
-        ext = _extension(props, extensible, ei, ea, x, lam, xpp * xpp + zpp * zpp)
-        loads = _loads_2d(model, k_bed, has_current, c_drag, ez, x, xp, zp)
+        ext = _extension(props, sec, extensible, ei, ea, x, lam, xpp * xpp + zpp * zpp)
+        loads = _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, xp, zp)
         # (-my z', my x'): the distributed moment's term r' x m on dr'
         state = (xp, zp, xpp, zpp, lam, -my * zp, my * xp)
         # --- residual
@@ -159,16 +159,18 @@ def element_2d(le, ue, model, fe, ke, want_tangent, dfe, want_dle, ws, wm):
 
     # (after the spread: _cut_jumps takes ws's first slots as its scratch)
     if (want_tangent or want_dle) and ncut > 1:
-        _cut_jumps(2, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm)
+        _cut_jumps(2, le, ue, model, sec, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle,
+                   ws, wm)
 
 
 @phase
-def _loads_2d(model, k_bed, has_current, c_drag, ez, x, xp, zp):
+def _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, xp, zp):
     """The distributed load at height ``x`` [m] with slope (``xp``, ``zp``):
     (q_x, q_z [N/m], the seabed's dq_x/dx [N/m2], the drag's dq_x/dx',
-    dq_x/dz', dq_z/dx', dq_z/dz' [N/m] and dq_x/dx, dq_z/dx [N/m2])."""
+    dq_x/dz', dq_z/dx', dq_z/dz' [N/m] and dq_x/dx, dq_z/dx [N/m2]); ``sec``
+    the element's section row."""
     props = model.props
-    qx = -effective_weight(props, x)
+    qx = -effective_weight(props, sec, x)
     qz = 0.0
     dqx_bed = 0.0
     if k_bed > 0.0 and x <= 0.0:  # (at x = 0 its tangent: the pipe lands on it)

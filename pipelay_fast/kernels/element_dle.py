@@ -51,14 +51,16 @@ from .loads import drag_force, effective_weight
 
 
 @jit(by_dimension=True, _nrt=False)
-def _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws, wm):
+def _cut_jumps(nd, le, ue, model, sec, ncut, cuts, cutlev, ke, want_tangent, dfe, want_dle, ws,
+               wm):
     """The movement of the cuts: the load q jumps at a crossed level (the
     weight at the water surface and the contents level, the drag at the water
     surface), and each cut xi_c, X(xi_c) = level with X the height x along the
     element, moves with the nodal x unknowns and with le. By Leibniz' rule
     dG_(k,i) = le (h_L - h_R)(xi_c) dxi_c, h = -q_i N_k the load's integrand,
     L and R the pieces below and above xi_c, with dxi_c/du_(l,x) = -N_l /
-    (le x') and dxi_c/dle = -(N_1 x'_a + N_3 x'_b) / (le^2 x')."""
+    (le x') and dxi_c/dle = -(N_1 x'_a + N_3 x'_b) / (le^2 x'). ``sec``: the
+    element's section row (:mod:`.layout` ``S_*``)."""
     ndn = 2 * nd + 1
     off = (0, nd, ndn, ndn + nd)
     props = model.props
@@ -79,8 +81,8 @@ def _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, wan
         for side in range(2):
             x_s = np.nextafter(level, -np.inf) if side == 0 else np.nextafter(level, np.inf)
             sgn = 1.0 if side == 0 else -1.0
-            jump[0] -= sgn * effective_weight(props, x_s)
-            if drag_force(model, nd, x_s, rp, qd, dq_drp, dq_dx, dwork):
+            jump[0] -= sgn * effective_weight(props, sec, x_s)
+            if drag_force(model, sec, nd, x_s, rp, qd, dq_drp, dq_dx, dwork):
                 for i in range(nd):
                     jump[i] += sgn * qd[i]
         if ue[0] > level:
@@ -99,20 +101,21 @@ def _cut_jumps(nd, le, ue, model, ncut, cuts, cutlev, ke, want_tangent, dfe, wan
 
 
 @jit(by_dimension=True, _nrt=False)
-def _dle_gauss_point(nd, le, ue, props, torque, wl, p0, p1, lam, cval, de_deps, deps_dx,
+def _dle_gauss_point(nd, le, ue, props, sec, torque, wl, p0, p1, lam, cval, de_deps, deps_dx,
                      dqx_dx, has_drag, ws, wm, dfe):
     """Add one Gauss point's share of dG/dle to ``dfe`` (module docstring).
 
     Reads the point's values that :func:`.element.element_force_ws` left in
-    ``ws`` and ``wm``; ``torque`` is 0 where the torque term is off. A
+    ``ws`` and ``wm``; ``sec`` the element's section row; ``torque`` is 0
+    where the torque term is off. A
     function of its own, not inlined, so that the kernel's Gauss loop runs as
     fast without it.
     """
     ndn = 2 * nd + 1
     off = (0, nd, ndn, ndn + nd)
     slot3 = (0, 1 if nd == 3 else 2, 2)
-    ei = props[L.EI]
-    ea = props[L.EA]
+    ei = sec[L.S_EI]
+    ea = sec[L.S_EA]
     inv_le = 1.0 / le
     dx = (ws[_N + 1] * ue[nd] + ws[_N + 3] * ue[ndn + nd]) * inv_le
     dcval = 0.0

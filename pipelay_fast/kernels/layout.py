@@ -1,8 +1,10 @@
 """Flat layout of the model data that reaches the kernels.
 
-A case becomes one float64 vector ``props`` (indices below, SI units) plus a few
-arrays (element lengths, the current table, constraint sets). Kernels index
-``props`` with these module-level integer constants, which numba freezes as
+A case becomes one float64 vector ``props`` of the scene (indices below, SI
+units), the per-element array ``section`` of the pipe's sections (one row per
+element, the ``S_*`` columns below), plus a few arrays (element lengths, the
+current table, constraint sets). Kernels index ``props`` and a ``section``
+row with these module-level integer constants, which numba freezes as
 compile-time constants.
 
 Nodal unknowns, node by node (so the global matrix is banded):
@@ -16,34 +18,43 @@ multiplier lambda = Te - EI kappa^2 [N]. The slot of ``x`` is component 0 in bot
 dimensions; ``z`` is component ``nd - 1``.
 """
 
-# --- props vector -----------------------------------------------------------
-EI = 0  # bending stiffness [N m2]
-EA = 1  # axial stiffness [N]
-W_DRY = 2  # weight of steel + coating per length, in air [N/m]
-W_CONT = 3  # weight of contents per length where x < contents level [N/m]
-H_CONT = 4  # contents free-surface height [m]
-W_BUOY = 5  # buoyancy per length where x < water depth [N/m]
-DEPTH = 6  # water depth [m]
-RHOW_G = 7  # water density * g [N/m3]
-RHOI_G = 8  # contents density * g [N/m3]
-AREA_I = 9  # inner steel area pi Di^2/4 [m2]
-AREA_E = 10  # outer steel area pi Do^2/4 [m2]
-DRAG = 11  # 0.5 * rho_w * C_D * D_h [kg/m2]
-CUR_SPEED = 12  # surface current speed [m/s]
-CUR_EY = 13  # current direction, y component [-]
-CUR_EZ = 14  # current direction, z component [-]
-CUR_PROFILE = 15  # 0 uniform, 1 linear, 2 power, 3 table
-CUR_EXP = 16  # power-law exponent [-]
-SEABED_K = 17  # elastic seabed stiffness per length [N/m2]; 0 = rigid
-EXTENSIBLE = 18  # 1.0 extensible, 0.0 inextensible
-TORQUE = 19  # torque H [N m] at the top (constant when m . t = 0)
-MOM_X = 20  # distributed moment, global components [N m/m]
-MOM_Y = 21
-MOM_Z = 22
-MU_Y = 23  # lateral seabed friction coefficient [-]
-MU_Z = 24  # axial seabed friction coefficient [-]
-FRICTION_SLIP = 25  # displacement that mobilises full friction [m]
-N_PROPS = 26
+# --- props vector: the scene, the same for every element --------------------
+EI_REF = 0  # reference bending stiffness [N m2]: Newton's scale of the multipliers
+#             (EI / href^2), not the elements' stiffness (``section``'s S_EI)
+H_CONT = 1  # contents free-surface height [m]
+DEPTH = 2  # water depth [m]
+RHOW_G = 3  # water density * g [N/m3]
+RHOI_G = 4  # contents density * g [N/m3]
+CUR_SPEED = 5  # surface current speed [m/s]
+CUR_EY = 6  # current direction, y component [-]
+CUR_EZ = 7  # current direction, z component [-]
+CUR_PROFILE = 8  # 0 uniform, 1 linear, 2 power, 3 table
+CUR_EXP = 9  # power-law exponent [-]
+SEABED_K = 10  # elastic seabed stiffness per length [N/m2]; 0 = rigid
+EXTENSIBLE = 11  # 1.0 extensible, 0.0 inextensible
+TORQUE = 12  # torque H [N m] at the top (constant when m . t = 0)
+MOM_X = 13  # distributed moment, global components [N m/m]
+MOM_Y = 14
+MOM_Z = 15
+MU_Y = 16  # lateral seabed friction coefficient [-]
+MU_Z = 17  # axial seabed friction coefficient [-]
+FRICTION_SLIP = 18  # displacement that mobilises full friction [m]
+N_PROPS = 19
+
+# --- section: the pipe's properties, a row per element ---------------------
+# ``Model.section`` is (n_elements, N_SECTION) float64, C-contiguous; element e
+# reads row e (the engine maps the sections along the line onto the elements,
+# :func:`pipelay_fast.engine.model.section_array`). The rod is torsionally
+# rigid (the torque H is given, not a twist unknown): no torsional stiffness.
+S_EI = 0  # bending stiffness [N m2]
+S_EA = 1  # axial stiffness [N]
+S_W_DRY = 2  # weight of steel + coating per length, in air [N/m]
+S_W_CONT = 3  # weight of contents per length where x < contents level [N/m]
+S_W_BUOY = 4  # buoyancy per length where x < water depth [N/m]
+S_AREA_I = 5  # inner steel area pi Di^2/4 [m2]
+S_AREA_E = 6  # outer steel area pi Do^2/4 [m2]
+S_DRAG = 7  # 0.5 * rho_w * C_D * D_h [kg/m2]
+N_SECTION = 8
 
 # --- load-path control: the vector ``factors`` of a Model (:mod:`.types`) -------
 # Not model data: the solver sets them along its load path, props stays the case's.

@@ -1,7 +1,7 @@
 """Distributed loads at a point of the pipe: effective weight, pressures, current.
 
-All functions take the height ``x`` above the seabed [m] and the ``props``
-vector of :mod:`pipelay_fast.kernels.layout`.
+They take the height ``x`` above the seabed [m], the ``props`` vector of
+:mod:`pipelay_fast.kernels.layout` and the element's ``section`` row ``sec`` (S_*).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from ._jit import jit
 
 
 @jit(_nrt=False)
-def effective_weight(props, x):
+def effective_weight(props, sec, x):
     """Effective weight per unstretched length [N/m] at height ``x``.
 
     Submerged weight below the water surface, dry weight above it, contents
@@ -21,27 +21,27 @@ def effective_weight(props, x):
     element's tangent through the movement of the cut there
     (:func:`.element_dle._cut_jumps`).
     """
-    w = props[L.W_DRY]
+    w = sec[L.S_W_DRY]
     if x < props[L.H_CONT]:
-        w += props[L.W_CONT]
+        w += sec[L.S_W_CONT]
     if x < props[L.DEPTH]:
-        w -= props[L.W_BUOY]
+        w -= sec[L.S_W_BUOY]
     return w
 
 
 @jit(_nrt=False)
-def wall_minus_effective(props, x):
+def wall_minus_effective(props, sec, x):
     """Tw - Te = pi Ai - pe Ae [N] at height ``x``, and its derivative d/dx [N/m]."""
     val = 0.0
     dval = 0.0
     hi = props[L.H_CONT]
     if x < hi:
-        val += props[L.RHOI_G] * (hi - x) * props[L.AREA_I]
-        dval -= props[L.RHOI_G] * props[L.AREA_I]
+        val += props[L.RHOI_G] * (hi - x) * sec[L.S_AREA_I]
+        dval -= props[L.RHOI_G] * sec[L.S_AREA_I]
     d = props[L.DEPTH]
     if x < d:
-        val -= props[L.RHOW_G] * (d - x) * props[L.AREA_E]
-        dval += props[L.RHOW_G] * props[L.AREA_E]
+        val -= props[L.RHOW_G] * (d - x) * sec[L.S_AREA_E]
+        dval += props[L.RHOW_G] * sec[L.S_AREA_E]
     return val, dval
 
 
@@ -86,10 +86,10 @@ def current_speed(props, table, x):
 
 
 @jit(by_dimension=True, _nrt=False)
-def drag_force(model, nd, x, rp, q, dq_drp, dq_dx, work):
+def drag_force(model, sec, nd, x, rp, q, dq_drp, dq_dx, work):
     """Morison drag per unstretched length on the current normal to the pipe.
 
-    q = C |r'| |Vn| Vn with C = 1/2 rho_w C_D D_h, Vn = V - (V.t) t, t = r'/|r'|.
+    q = C |r'| |Vn| Vn with C = 1/2 rho_w C_D D_h (``sec``), Vn = V - (V.t) t, t = r'/|r'|.
     Writes q [N/m] and its derivatives dq/dr' [N/m] (nd x nd) and dq/dx [N/m2];
     returns False (and writes nothing) when there is no drag at this point.
     ``work`` is scratch space of at least 15 floats.
@@ -101,7 +101,7 @@ def drag_force(model, nd, x, rp, q, dq_drp, dq_dx, work):
     u, du = current_speed(props, model.table, x)
     if u == 0.0:
         return False
-    c = props[L.DRAG] * cf
+    c = sec[L.S_DRAG] * cf
     ey = props[L.CUR_EY]
     ez = props[L.CUR_EZ]
     t = work[0:nd]

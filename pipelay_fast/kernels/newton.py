@@ -48,7 +48,7 @@ mesh : :data:`.types.Mesh`: s_el (nel,) element lengths [m], updated with the
     boundaries' arc lengths s_bd (nbnd,) [m], updated; bnodes (nbnd,) int64,
     the boundaries' nodes (-1: not an unknown).
 model : :data:`.types.Model`: props (N_PROPS,), the current table, factors
-    (N_FACTORS,).
+    (N_FACTORS,), section (nel, N_SECTION).
 sup : :data:`.types.Supports`: fix_mask (ndof,) int8, 1 where the unknown
     (nodal frame) is prescribed, fix_val (ndof,) its value; phi_r, phi_rp (nn,)
     the nodal frames' angles for r and r' [rad], rewritten each iteration;
@@ -235,7 +235,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         elif slot < 2 * nd:
             scale[i] = href
         else:
-            scale[i] = props[L.EI] / (href * href)
+            scale[i] = props[L.EI_REF] / (href * href)
     return Work(
         np.zeros((n, rows_ab)).T, np.zeros((n, rows_ab)).T, np.zeros(n, dtype=np.int64),
         np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n, dtype=np.bool_),

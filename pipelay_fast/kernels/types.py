@@ -6,8 +6,10 @@ for node indices) or a scalar; numba compiles one specialisation per tuple
 type, and the tuples are rebuilt by the Python layer for every call (cheap:
 they hold references, not copies).
 
-* :data:`Model`: what an element reads, the case's data (``props``, the
-  current ``table``) and the load path's ``factors`` (:mod:`.layout`, ``F_*``).
+* :data:`Model`: what an element reads, the case's data (the scene's
+  ``props``, the current ``table``), the load path's ``factors``
+  (:mod:`.layout`, ``F_*``) and the pipe's ``section``, a row per element
+  ((n_elements, N_SECTION), layout ``S_*``).
 * :data:`Mesh`: the element lengths and the mesh's map onto the contact
   boundaries (node i at s_a[i] + sum_b s_b[b, i] s_bd[b]; ``bnodes[b]`` the
   node on boundary b, -1 none).
@@ -34,7 +36,7 @@ import numpy as np
 
 from . import layout as L
 
-Model = namedtuple("Model", ["props", "table", "factors"])
+Model = namedtuple("Model", ["props", "table", "factors", "section"])
 Mesh = namedtuple("Mesh", ["s_el", "s_a", "s_b", "s_bd", "bnodes"])
 Supports = namedtuple("Supports", ["fix_mask", "fix_val", "phi_r", "phi_rp", "bed_active",
                                    "stinger", "st_active", "points", "fric", "y_held"])
