@@ -299,20 +299,16 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
     state interpolated onto it.
 
-    Laid pipe is prepended when touchdown came closer to the lower end than one
-    flexural length (to two of them), or to ``laid`` [m] behind touchdown when
-    that is given; with ``total`` [m], laid pipe is added or cut at the lower
-    end to that length of pipe (but for the flexural length kept). The mesh
+    Laid pipe is prepended to ``laid`` [m] behind touchdown when that is
+    given (:func:`.solver.more_laid`); with ``total`` [m], laid pipe is added
+    or cut at the lower end to that length of pipe. The mesh
     follows the boundaries in zones (:meth:`Problem.follow`,
     for boundaries that are still to be found) or, with ``grading`` (graded at
     boundaries found), as its grading moves with them
     (:meth:`Problem.follow_rates`), the zones kept for the current's path.
     """
     nd, ndn = pb.nd, pb.ndn
-    lam = pb.stats["flexural_length"]
     extra = 0.0 if total is None else total - pb.s[-1]
-    if case.lay.pipe_length is None and s_tdp + extra < lam:
-        extra = 2.0 * lam - s_tdp
     if laid is not None:
         extra = max(extra, laid - s_tdp)
     total = pb.s[-1] + extra
@@ -320,9 +316,9 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     held = [f + extra for f in stinger_foci]
     foci = [focus, total, *held]
     over = over_rollers(pb) + extra  # nodes, ungraded there
-    source = (f"remeshed, {extra:.4g} m of it prepended to keep two flexural lengths "
-              f"sqrt(EI/T) = {lam:.4g} m behind touchdown, which a lower tension T there "
-              "lengthens")
+    source = (f"remeshed, {extra:.4g} m of it prepended: the laid pipe doubled as touchdown "
+              "ran toward the modelled lower end (a case with no touchdown runs on), or "
+              "with friction not holding the laid pipe before it")
     s = graded_nodes(total, foci, pb.stats["h_max"], pb.stats["h_min"],
                      check=lambda n: check_mesh_size(case, n, total, focus, source), nodes=over)
     u = interpolate_state(pb.s + extra, pb.u, nd, s)
