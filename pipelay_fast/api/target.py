@@ -192,7 +192,7 @@ def _root(miss, lo: float, hi: float, tol: float) -> float:
         return off
 
     try:
-        return brentq(miss_or_met, lo, hi, xtol=1e-12 * (abs(lo) + abs(hi)), maxiter=200)
+        return brentq(miss_or_met, lo, hi)  # (scipy's tolerances: the miss ends it first)
     except _Met as met:
         return met.args[0]
 

@@ -55,8 +55,8 @@ def _guess(case: Case, laid: float | None = None):
     given = laid if laid is not None else case.solver.laid_length
 
     def laid_of(cat):
-        return given or (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
-                         + friction_laid_length(case, cat))
+        lam = math.sqrt(case.pipe.bending_stiffness / cat.h)
+        return given or (2.0 * T.LAID_LENGTHS * lam + 5.0 * h_max + friction_laid_length(case, cat))
 
     return first_guess(case, laid_of)
 
@@ -207,8 +207,8 @@ def _laid_source(case: Case, cat, lam: float, laid: float | None = None) -> str:
                 "the laid pipe before its modelled lower end")
     if case.solver.laid_length is not None:
         return f"solver.laid_length = {case.solver.laid_length!r} m"
-    text = (f"the default of solver.laid_length: two flexural lengths sqrt(EI/T) = {lam:.4g} m "
-            "at touchdown, five elements")
+    text = (f"the default of solver.laid_length: twice {T.LAID_LENGTHS:g} flexural length "
+            f"sqrt(EI/T) = {lam:.4g} m at touchdown, five elements")
     slip = friction_laid_length(case, cat)
     if slip > 0.0:
         text += (f" and {slip:.4g} m for seabed friction to take up the lateral drag "
