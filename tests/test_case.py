@@ -153,6 +153,28 @@ def test_stinger_curve_passes_through_ends_with_curvature_2a(a, lower, upper):
     np.testing.assert_allclose(stinger.angle(z), np.degrees(np.arctan(central)), atol=1e-6)
 
 
+@pytest.mark.parametrize(("a", "lower", "upper"), [
+    (-0.0012, (41.5, 265.0), (72.0, 400.0)),
+    (0.0, (10.0, 0.0), (20.0, 50.0)),
+    (-0.02, (5.0, 100.0), (30.0, 120.0)),
+])
+def test_stinger_arc_length_is_the_integral_and_z_at_arc_its_inverse(a, lower, upper):
+    """arc_length in closed form against adaptive quadrature of sqrt(1 + x'^2);
+    z_at_arc returns the z whose arc is asked, both ways along the curve."""
+    from scipy.integrate import quad
+
+    stinger = Stinger(a, lower, upper)
+    z0, z1 = lower[1], upper[1]
+    zs = np.linspace(z0, z1, 6)
+    exact = [quad(lambda z: math.sqrt(1.0 + float(stinger.slope(z)) ** 2), z0, z,
+                  epsabs=0.0, epsrel=1e-13)[0] for z in zs]
+    np.testing.assert_allclose(stinger.arc_length(z0, zs), exact, rtol=1e-12, atol=1e-12)
+    assert float(stinger.arc_length(z1, z0)) == pytest.approx(-exact[-1], rel=1e-12)
+    np.testing.assert_allclose(stinger.z_at_arc(z0, exact), zs, rtol=0.0, atol=1e-10)
+    np.testing.assert_allclose(stinger.z_at_arc(z1, -exact[-1] + np.array(exact)), zs,
+                               rtol=0.0, atol=1e-10)
+
+
 def test_s67_stinger_coefficients(s67):
     stinger = s67.lay.stinger
     b = (72.0 - 41.5) / (400.0 - 265.0) + 0.0012 * (400.0 + 265.0)

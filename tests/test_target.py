@@ -67,6 +67,9 @@ def test_unreachable_target_names_the_values_at_the_bounds(s67):
     (({"tip_clearance": 0.3}, "lay.method", (6e5, 1.2e6)), "vary = 'lay.method' is not a numeric"),
     (({"tip_clearance": 0.3}, "lay.bottom_tension", (6e5, 1.2e6)), "is not a numeric key"),
     (({"tip_clearance": 0.3}, "lay.top_tension", (1.2e6, 6e5)), "lo < hi"),
+    # inputs the summary repeats are not targets
+    (({"stinger_radius": 300.0}, "lay.top_tension", (6e5, 1.2e6)), "not a numeric summary column"),
+    (({"roller_shift": 0.1}, "lay.top_tension", (6e5, 1.2e6)), "not a numeric summary column"),
 ])
 def test_bad_target_arguments_are_refused(s67, args, message):
     with pytest.raises(ValueError, match=message):

@@ -43,11 +43,13 @@ class _Met(Exception):
 
 def target_columns() -> tuple[str, ...]:
     """The summary columns a target may name: the numeric ones with a unit,
-    but ``a``, ``water_depth``, ``current_speed``, ``current_heading_deg``
-    (inputs) and ``solve_seconds``."""
+    but the inputs the summary repeats (``a``, ``stinger_radius``,
+    ``roller_shift``, ``water_depth``, ``current_speed``,
+    ``current_heading_deg``) and ``solve_seconds``."""
     return tuple(name for name, unit in SUMMARY_UNITS.items()
-                 if unit and name not in ("a", "water_depth", "current_speed",
-                                          "current_heading_deg", "solve_seconds"))
+                 if unit and name not in ("a", "stinger_radius", "roller_shift", "water_depth",
+                                          "current_speed", "current_heading_deg",
+                                          "solve_seconds"))
 
 
 def solve_for(case: Case, target: Mapping[str, float], vary: str,
@@ -192,7 +194,7 @@ def _root(miss, lo: float, hi: float, tol: float) -> float:
         return off
 
     try:
-        return brentq(miss_or_met, lo, hi, xtol=1e-12 * (abs(lo) + abs(hi)), maxiter=200)
+        return brentq(miss_or_met, lo, hi)  # (scipy's tolerances: the miss ends it first)
     except _Met as met:
         return met.args[0]
 

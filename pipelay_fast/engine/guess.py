@@ -101,7 +101,7 @@ def free_span(case: Case) -> Catenary:
             f"lay.pipe_length = {length:g} m cannot reach the top {lay.top} from a lower end "
             "at (0, 0): it is shorter than the straight line or much longer than a slack catenary"
         )
-    return Catenary(brentq(gap, lo, hi, xtol=1e-10 * w1), w1, w2, depth, x_top)
+    return Catenary(brentq(gap, lo, hi), w1, w2, depth, x_top)
 
 
 def slay_liftoff(case: Case, bottom_tension: float | None = None):
@@ -145,15 +145,15 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     past = None
     if change.size:
         k = change[-1]
-        z_c = brentq(mismatch, zs[k], zs[k + 1], xtol=1e-10)
+        z_c = brentq(mismatch, zs[k], zs[k + 1])
         # a stiff pipe leaves about one flexural length sqrt(EI/Te) further up
         # the stinger (boundary-layer asymptotics, EI -> 0)
-        lam = math.sqrt(case.pipe.bending_stiffness / max(tension(float(st.height(z_c))), 1e-9))
-        z_arc, arc = st.arc(z_c, z_u)
-        z_s = float(np.interp(lam, arc, z_arc))
+        t_c = tension(float(st.height(z_c)))
+        lam = math.sqrt(case.pipe.bending_stiffness / t_c) if t_c > 0.0 else math.inf
+        z_s = float(st.z_at_arc(z_c, min(lam, float(st.arc_length(z_c, z_u)))))
         z_lo = max(z_s, z_l)
         if z_s < z_l:
-            past = float(st.arc(z_s, z_l)[1][-1])
+            past = float(st.arc_length(z_s, z_l))
             if past < T.GUESS_LIFTOFF_ERROR * lam:
                 past = None  # within the guess's error of the tip: Newton decides
     x_lo = float(st.height(z_lo))
@@ -173,8 +173,7 @@ def _slay_span(case: Case, bottom_tension=None):
     st = case.lay.stinger
     z_lo, h, past = slay_liftoff(case, bottom_tension)
     cat = Catenary(h, w1, w2, case.environment.water_depth, float(st.height(z_lo)))
-    _, arc = st.arc(z_lo, st.upper[1])
-    return z_lo, cat, float(arc[-1]), past
+    return z_lo, cat, float(st.arc_length(z_lo, st.upper[1])), past
 
 
 def _slay_bottom_tension(case: Case) -> float:
@@ -193,7 +192,7 @@ def _slay_bottom_tension(case: Case) -> float:
         raise ValueError(
             f"lay.pipe_length = {length:g} m cannot reach the vessel {case.lay.top} over the "
             "stinger from a lower end at (0, 0)")
-    return brentq(gap, lo, hi, xtol=1e-10 * w1)
+    return brentq(gap, lo, hi)
 
 
 def first_guess(case: Case, laid_of) -> Guess:
@@ -237,9 +236,9 @@ def shape(case: Case, g: Guess, s):
     kappa = np.where(on_bed, 0.0, np.cos(th) ** 2 * np.asarray(case.effective_weight(x)) / cat.h)
     if g.s_liftoff is not None:
         st = lay.stinger
-        zs, arc = st.arc(g.liftoff_z, st.upper[1])
         on_st = s >= g.s_liftoff
-        zz = np.interp(s[on_st] - g.s_liftoff, arc, zs)
+        along = np.minimum(s[on_st] - g.s_liftoff, float(st.arc_length(g.liftoff_z, st.upper[1])))
+        zz = np.asarray(st.z_at_arc(g.liftoff_z, along))
         slope = np.asarray(st.slope(zz))
         z[on_st] = zz
         x[on_st] = np.asarray(st.height(zz))

@@ -55,8 +55,8 @@ def _guess(case: Case, laid: float | None = None):
     given = laid if laid is not None else case.solver.laid_length
 
     def laid_of(cat):
-        return given or (2.0 * math.sqrt(case.pipe.bending_stiffness / cat.h) + 5.0 * h_max
-                         + friction_laid_length(case, cat))
+        lam = math.sqrt(case.pipe.bending_stiffness / cat.h)
+        return given or (2.0 * T.LAID_LENGTHS * lam + 5.0 * h_max + friction_laid_length(case, cat))
 
     return first_guess(case, laid_of)
 
@@ -207,8 +207,8 @@ def _laid_source(case: Case, cat, lam: float, laid: float | None = None) -> str:
                 "the laid pipe before its modelled lower end")
     if case.solver.laid_length is not None:
         return f"solver.laid_length = {case.solver.laid_length!r} m"
-    text = (f"the default of solver.laid_length: two flexural lengths sqrt(EI/T) = {lam:.4g} m "
-            "at touchdown, five elements")
+    text = (f"the default of solver.laid_length: twice {T.LAID_LENGTHS:g} flexural length "
+            f"sqrt(EI/T) = {lam:.4g} m at touchdown, five elements")
     slip = friction_laid_length(case, cat)
     if slip > 0.0:
         text += (f" and {slip:.4g} m for seabed friction to take up the lateral drag "
@@ -301,20 +301,16 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
     state interpolated onto it.
 
-    Laid pipe is prepended when touchdown came closer to the lower end than one
-    flexural length (to two of them), or to ``laid`` [m] behind touchdown when
-    that is given; with ``total`` [m], laid pipe is added or cut at the lower
-    end to that length of pipe (but for the flexural length kept). The mesh
+    Laid pipe is prepended to ``laid`` [m] behind touchdown when that is
+    given (:func:`.solver.more_laid`); with ``total`` [m], laid pipe is added
+    or cut at the lower end to that length of pipe. The mesh
     follows the boundaries in zones (:meth:`Problem.follow`,
     for boundaries that are still to be found) or, with ``grading`` (graded at
     boundaries found), as its grading moves with them
     (:meth:`Problem.follow_rates`), the zones kept for the current's path.
     """
     nd, ndn = pb.nd, pb.ndn
-    lam = pb.stats["flexural_length"]
     extra = 0.0 if total is None else total - pb.s[-1]
-    if case.lay.pipe_length is None and s_tdp + extra < lam:
-        extra = 2.0 * lam - s_tdp
     if laid is not None:
         extra = max(extra, laid - s_tdp)
     total = pb.s[-1] + extra
@@ -322,9 +318,9 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     held = [f + extra for f in stinger_foci]
     foci = [focus, total, *held]
     over = over_rollers(pb) + extra  # nodes, ungraded there
-    source = (f"remeshed, {extra:.4g} m of it prepended to keep two flexural lengths "
-              f"sqrt(EI/T) = {lam:.4g} m behind touchdown, which a lower tension T there "
-              "lengthens")
+    source = (f"remeshed, {extra:.4g} m of it prepended: the laid pipe doubled as touchdown "
+              "ran toward the modelled lower end (a case with no touchdown runs on), or "
+              "with friction not holding the laid pipe before it")
     s = graded_nodes(total, foci, pb.stats["h_max"], pb.stats["h_min"],
                      check=lambda n: check_mesh_size(case, n, total, focus, source), nodes=over)
     u = interpolate_state(pb.s + extra, pb.u, nd, s)

@@ -56,7 +56,9 @@ from .warm import warm_problem
 def solve_problem(case: Case, warm: Problem | None = None):
     """Solve with enough laid pipe: when the lower end, held laterally, carries
     more than tuning.LOWER_END_SHARE of the laid pipe's lateral force (friction has not
-    taken it all up), the laid length is doubled and the case solved again.
+    taken it all up), the laid length is doubled (:func:`more_laid`) and the case
+    solved again, until solver.max_elements refuses the mesh (a current the
+    friction cannot hold: the error says so).
     ``warm``: the solved problem of a neighbouring case to start from. All
     the passes share one budget of solver.max_iterations_total iterations.
 
@@ -68,12 +70,14 @@ def solve_problem(case: Case, warm: Problem | None = None):
     SolveError
         When no equilibrium is found within the budget, or the answer lifts
         off below the stinger's tip (:func:`.boundaries.check_final_regime`).
+    ValueError
+        When the laid pipe, doubled, would exceed solver.max_elements.
     """
     t0 = time.perf_counter()
     laid = None  # the case's
     budget = IterationBudget(case.solver.max_iterations_total)
     meshes = 0
-    for _ in range(T.MAX_LAID_DOUBLINGS + 1):
+    while True:  # ended by the budget, or by solver.max_elements as the laid pipe doubles
         pb, react, stats, s_t, s_l = _solve_mesh(case, warm, budget, laid)
         warm = None
         meshes += stats["meshes"]
@@ -83,14 +87,7 @@ def solve_problem(case: Case, warm: Problem | None = None):
             stats["seconds"] = time.perf_counter() - t0
             check_final_regime(case, pb)
             return pb, _solution(pb, react, stats, s_t, s_l)
-        # twice what this mesh modelled behind touchdown
-        laid = 2.0 * (s_t + pb.stats["flexural_length"])
-    raise SolveError(
-        f"case {case.name!r}: seabed friction does not hold the laid pipe before its "
-        f"modelled lower end even with {laid:.0f} m of it (the current "
-        "on the laid pipe may exceed the friction); check seabed.lateral_friction and the "
-        "current profile, or set solver.laid_length"
-    )
+        laid = more_laid(pb, s_t)
 
 
 def _lower_end_holds(pb: Problem, react) -> bool:
@@ -137,8 +134,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
     while True:
         s_t = touchdown_position(pb)
         foci = stinger_foci(case, pb)
-        lam = pb.stats["flexural_length"]
-        short_laid = case.lay.pipe_length is None and s_t < 0.5 * lam
+        short = laid_short(case, pb, s_t)
         # the mesh follows the boundaries: graded anew at them until it is
         # graded where they are, and when laid pipe is short; ungraded, it
         # follows them with its one mesh, but for the lateral hold's start in
@@ -151,7 +147,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         total = pb.stats.get("cold_total")
         cold_length = total is None or abs(total - pb.s[-1]) <= T.REL_ROUNDOFF * total
         if (one_mesh or passes >= T.MAX_MESH_PASSES
-                or (graded_on_boundaries(case, pb) and not short_laid and cold_length)):
+                or (graded_on_boundaries(case, pb) and not short and cold_length)):
             if pb.settings.tolerance is not None:  # on to the tolerance, this mesh
                 pb.settings.tolerance = None
                 pb.settings.in_balance = True  # the loose pass's solution, refined
@@ -160,7 +156,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
                 s_t = touchdown_position(pb)
                 foci = stinger_foci(case, pb)
             break
-        pb = remesh(case, pb, s_t, foci, grading=True, total=total)
+        pb = remesh(case, pb, s_t, foci, grading=True, total=total,
+                    laid=more_laid(pb, s_t) if short else None)
         if total is not None and abs(pb.s[-1] - total) > T.REL_ROUNDOFF * total:
             pb.stats.pop("cold_total")  # laid pipe added (short), as the cold start would
         pb.settings.tolerance = None  # graded at the boundaries: to the tolerance
@@ -245,32 +242,46 @@ def _solve_gravity(case: Case, pb: Problem, budget: IterationBudget):
     was prepended to, "laid_added").
     """
     used = budget.used
-    for added in range(T.MAX_LAID_DOUBLINGS + 1):
+    added = 0
+    while True:  # ended by the budget, or by solver.max_elements as the laid pipe doubles
         try:
             react, stats = newton_with_fallback(case, pb, budget)
         except ShortLaid:
             pb = _with_more_laid(case, pb)
+            added += 1
             continue
         stats["iterations"] = budget.used - used  # the stopped calls' too
         stats["laid_added"] = added  # meshes with laid pipe prepended
         return pb, react, stats
-    raise SolveError(f"case {case.name!r}: touchdown still runs toward the lower end with "
-                     f"{touchdown_position(pb):.4g} m of laid pipe modelled after "
-                     f"{T.MAX_LAID_DOUBLINGS} doublings of it; the case may have no touchdown")
+
+
+def laid_short(case: Case, pb: Problem, s_t: float) -> bool:
+    """Whether the mesh models too little laid pipe behind touchdown at
+    ``s_t`` [m]: less than tuning.LAID_LENGTHS flexural lengths (never with a
+    given pipe length, which has no more pipe). The one rule for laid pipe
+    with :func:`more_laid`: the regrading passes, Newton stopping as
+    touchdown runs toward the lower end (SHORT_LAID, :func:`_with_more_laid`)
+    and the lower end carrying friction's force (:func:`solve_problem`)."""
+    return case.lay.pipe_length is None and s_t < T.LAID_LENGTHS * pb.stats["flexural_length"]
+
+
+def more_laid(pb: Problem, s_t: float) -> float:
+    """The laid pipe [m] to model behind touchdown at ``s_t`` [m] when there
+    is too little: twice what the mesh has, and at least twice
+    tuning.LAID_LENGTHS flexural lengths."""
+    return 2.0 * max(s_t, T.LAID_LENGTHS * pb.stats["flexural_length"])
 
 
 def _with_more_laid(case: Case, pb: Problem) -> Problem:
-    """The mesh with its laid pipe doubled (at least two flexural lengths):
-    touchdown ran toward the lower end. A given pipe length has no more pipe:
-    SolveError."""
+    """The mesh with :func:`more_laid` laid pipe: touchdown ran toward the
+    lower end. A given pipe length has no more pipe: SolveError."""
     s_t = touchdown_position(pb)
     if case.lay.pipe_length is not None:
         raise SolveError(f"case {case.name!r}: touchdown runs into the lower end, held at "
                          f"lay.pipe_length = {case.lay.pipe_length!r} m (the pipe is too "
                          "short to reach the seabed and lie on it)")
-    lam = pb.stats["flexural_length"]
     pb.stats.pop("cold_total", None)  # a warm start's too: laid pipe added, as the cold start would
-    return remesh(case, pb, s_t, stinger_foci(case, pb), laid=max(2.0 * lam, 2.0 * s_t))
+    return remesh(case, pb, s_t, stinger_foci(case, pb), laid=more_laid(pb, s_t))
 
 
 def _solution(pb: Problem, react, stats: dict, s_t: float, s_l: float | None) -> Solution:

@@ -314,7 +314,7 @@ class Problem:
         ends = [None, None]
         for state in self.path.warm_path or ():
             for k, lev in enumerate((prev, level)):
-                if abs(state["level"] - lev) <= 1e-12:
+                if state["level"] == lev:  # both sums of the same binary fractions
                     ends[k] = state
         if ends[0] is None or ends[1] is None:
             if len(self.path.current_path) < 2:

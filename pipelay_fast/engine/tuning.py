@@ -80,11 +80,13 @@ LOOSE_TOLERANCE = 1e-3
 ROLLER_PROJECTIONS = 2
 ROLLER_ON = 1e-6
 
-# --- laid pipe ---------------------------------------------------------------------
-# Doublings of the laid pipe (friction not holding it) and prepends of laid pipe
-# (touchdown running to the lower end) a solve may make: 2^6 = 64 times the
-# first laid length.
-MAX_LAID_DOUBLINGS = 6
+# --- laid pipe (:func:`.solver.laid_short`, :func:`.solver.more_laid`) ----------------
+# The laid pipe a mesh models behind touchdown: at least one flexural length
+# sqrt(EI/T) (the boundary layer over which the pipe leaves the seabed),
+# doubled to at least two when short. The first mesh has two and five
+# elements (:func:`.problem.build_problem`); a solve adds laid pipe until the
+# mesh would exceed solver.max_elements.
+LAID_LENGTHS = 1.0
 # The largest share of the laid pipe's lateral force the held lower end may
 # carry before the laid pipe is doubled: measured, the shares left with the
 # sticking zone of DECAY_LENGTHS on the 3D grid, bench_contact.py part 1.

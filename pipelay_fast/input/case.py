@@ -32,7 +32,7 @@ import numpy as np
 from .checks import Checks, check_inputs
 from .environment import Current, Environment, Seabed
 from .lay import Lay, RollerStinger, Stinger
-from .limits import check_case
+from .limits import ROUNDOFF, check_case
 from .pipe import Pipe
 from .validate import (
     assign,
@@ -64,7 +64,6 @@ __all__ = [
 ]
 
 DIMENSIONS = ("auto", "2d", "3d")
-_PLANAR_TOL = 1e-12
 
 
 # --------------------------------------------------------------------------- tables
@@ -270,7 +269,7 @@ class Case:
     def is_planar(self) -> bool:
         """True when every load lies in the x-z plane (the 2D reduction is exact)."""
         lateral_current = (self.environment.current.speed > 0.0
-                           and abs(self.current_direction[0]) >= _PLANAR_TOL)
+                           and abs(self.current_direction[0]) >= ROUNDOFF)
         mx, _, mz = self.lay.distributed_moment
         return not lateral_current and self.lay.torque == 0.0 and mx == 0.0 and mz == 0.0
 

@@ -337,7 +337,8 @@ def collapse_pressure(pipe, checks: Checks) -> float:
     The cubic (p_c - p_el)(p_c^2 - p_p^2) = p_c p_el p_p f0 D/t, written
     p^3 - p_el p^2 - (p_p^2 + p_el p_p f0 D/t) p + p_el p_p^2 = 0, has three
     real roots; p_c is the one below both p_el and p_p (the cubic is positive
-    at 0 and negative at min(p_el, p_p)), found by bisection to 1e-14.
+    at 0 and negative at min(p_el, p_p)), found by bisection down to
+    neighbouring floats.
     """
     return _collapse_pressure(pipe.outer_diameter, pipe.wall_thickness,
                               pipe.smys * checks.alpha_U, pipe.youngs_modulus,
@@ -356,15 +357,14 @@ def _collapse_pressure(d, t, fy, youngs_modulus, poisson_ratio, fabrication_fact
         return ((p - p_el) * p - c1) * p + p_el * p_p**2
 
     lo, hi = 0.0, min(p_el, p_p)
-    for _ in range(200):
+    while True:
         mid = 0.5 * (lo + hi)
+        if not lo < mid < hi:  # the bracket is two neighbouring floats
+            return mid
         if cubic(mid) > 0.0:
             lo = mid
         else:
             hi = mid
-        if hi - lo <= 1e-14 * hi:
-            break
-    return 0.5 * (lo + hi)
 
 
 def design_load_effects(checks: Checks, combination, moment, tension, functional=None):

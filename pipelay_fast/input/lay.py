@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .limits import MAX_STINGER_TURN, ROUNDOFF
 from .validate import (
     assign,
     choice,
@@ -22,7 +23,6 @@ from .validate import (
 )
 
 METHODS = ("S", "J")
-MAX_STINGER_TURN = 90.0  # deg, the most a stinger may turn the pipe (Stinger)
 
 
 @dataclass(frozen=True, slots=True)
@@ -105,25 +105,47 @@ class Stinger:
         return vectorised(
             z, lambda z: 2.0 * self.a / (1.0 + (2.0 * self.a * z + self.b) ** 2) ** 1.5)
 
-    def arc(self, z0: float, z1: float, n: int = 401):
-        """(z samples from z0 to z1 [m], the curve's arc length from z0 [m]
-        at each, by the trapezoidal rule on ``n`` samples)."""
-        z = np.linspace(z0, z1, n)
-        ds = np.sqrt(1.0 + self.slope(z) ** 2)
-        return z, np.concatenate(([0.0], np.cumsum(0.5 * (ds[1:] + ds[:-1]) * np.diff(z))))
+    def arc_length(self, z0: float, z1):
+        """The curve's arc length [m] from z0 to z1 [m], negative when z1 < z0;
+        in closed form (with p = 2 a z + b, 4 a s = [p sqrt(1 + p^2) +
+        asinh p] between the ends); vectorised in z1."""
+        z1 = np.asarray(z1, dtype=float)
+        if self.a == 0.0:
+            return math.sqrt(1.0 + self.b**2) * (z1 - z0)
+
+        def primitive(p):
+            return p * np.sqrt(1.0 + p * p) + np.arcsinh(p)
+
+        return (primitive(self.slope(z1)) - primitive(self.slope(z0))) / (4.0 * self.a)
+
+    def z_at_arc(self, z0: float, s):
+        """z [m] where the curve's arc length from z0 [m] is ``s`` [m]
+        (negative: towards lower z): the inverse of :meth:`arc_length`, by
+        Newton from the chord along the tangent at z0 (ds/dz = sqrt(1 + p^2)
+        >= 1, so the iteration converges quadratically) until its step stops
+        shrinking, at round-off; vectorised in s."""
+        s = np.asarray(s, dtype=float)
+        z = z0 + s / math.sqrt(1.0 + float(self.slope(z0)) ** 2)
+        last = math.inf
+        while True:
+            dz = (self.arc_length(z0, z) - s) / np.sqrt(1.0 + self.slope(z) ** 2)
+            z = z - dz
+            step = float(np.max(np.abs(dz), initial=0.0))
+            if not step < last:
+                return z
+            last = step
 
     def roller_positions(self, spacing: float) -> list[list[float]]:
         """Rollers on this curve for a roller stinger's ``rollers``: evenly
         along its arc from the upper end down, about ``spacing`` [m] apart
         (the arc divided into the nearest whole number of spans), the last
-        on the tip; (x, z) [m] pairs, from the vessel down. The arc is
-        :meth:`arc`'s, on 200 000 intervals."""
+        on the tip; (x, z) [m] pairs, from the vessel down."""
         if not spacing > 0.0:
             fail("spacing", spacing, "must be positive")
-        z, arc = self.arc(self.upper[1], self.lower[1], 200001)
-        arc = -arc  # (z falls from the vessel down: the arc from the upper end)
-        n = max(1, round(arc[-1] / spacing))
-        zr = np.interp(arc[-1] / n * np.arange(1, n + 1), arc, z)
+        total = float(self.arc_length(self.lower[1], self.upper[1]))
+        n = max(1, round(total / spacing))
+        zr = self.z_at_arc(self.upper[1], -total / n * np.arange(1, n + 1))
+        zr[-1] = self.lower[1]  # the last on the tip, exactly
         return [[float(a), float(b)] for a, b in zip(self.height(zr), zr, strict=True)]
 
 
@@ -243,7 +265,7 @@ class RollerStinger:
         if self.rollers is not None:
             return len(self.rollers)
         length = self.straight_length + self.arc_length
-        return int(math.floor(length / self.spacing * (1.0 + 1e-12)))
+        return int(math.floor(length / self.spacing * (1.0 + ROUNDOFF)))
 
     def positions(self, top, top_angle) -> np.ndarray:
         """(n, 2) roller positions (x, z) [m]: ``rollers``, or placed on the
@@ -364,7 +386,8 @@ class Lay:
             upper = self.stinger.upper
             if self.top is not None:
                 top = vector("lay.top", self.top, 2)
-                if not all(math.isclose(t, u, rel_tol=1e-12, abs_tol=1e-9)
+                scale = ROUNDOFF * max(map(abs, upper))
+                if not all(math.isclose(t, u, rel_tol=ROUNDOFF, abs_tol=scale)
                            for t, u in zip(top, upper, strict=True)):
                     fail("lay.top", top, f"must be the stinger upper end "
                          f"lay.stinger.upper = {upper!r} for S-lay (or be omitted)")

@@ -38,6 +38,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+# The input layer's tuning constants.
+# Relative difference [-] below which two numbers that a few float operations
+# make from the user's are the same (1e-12 = 4500 ulps of 2.2e-16): a stinger's
+# end against lay.top, a count of roller spacings, a unit current direction's
+# lateral component (planar below it: sin(0) of a heading in degrees is 1.2e-16).
+ROUNDOFF = 1e-12
+# The most a stinger may turn the pipe between its ends [deg]: beyond it the
+# stinger overhangs, its tip pointing back under the pipe from the vessel.
+MAX_STINGER_TURN = 90.0
+
 __all__ = ["IterationBudget", "check_case", "check_mesh_size", "strain_beyond_line",
            "stinger_bending_strain"]
 

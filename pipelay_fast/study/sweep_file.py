@@ -68,6 +68,7 @@ from pathlib import Path
 
 from ..api.target import target_columns
 from ..input.case import Case, load_case
+from ..input.limits import ROUNDOFF
 from ..input.validate import fail, from_toml, get_path, reject_unknown
 from .sweep import (
     AXES,
@@ -317,7 +318,7 @@ def _values(path, spec) -> tuple[float, ...]:
             if step == 0 or (stop - start) * step < 0:
                 fail(f"{path}.step", step, f"must be non-zero and lead from {start!r} to {stop!r}")
             count = (stop - start) / step
-            num = math.floor(count + 1e-9) + 1
+            num = math.floor(count * (1.0 + ROUNDOFF)) + 1
             values = [start + step * i for i in range(num)]
         values = [round(v, 15) for v in values]
     elif isinstance(spec, list):
