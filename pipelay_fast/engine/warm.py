@@ -8,7 +8,7 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
-from ..kernels.layout import B_LO, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
+from ..kernels.layout import B_LO, ST_A, ST_B, ST_C, ST_ZL, ST_ZU
 from .boundaries import touchdown_position
 from .guess import guide_case
 from .model import dimension_of
@@ -25,10 +25,10 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     nd = dimension_of(case)
     if nd != old.nd:
         raise ValueError(f"warm: a {old.nd}D solution cannot start a {nd}D case")
-    if (old.stinger[ST_ON] != 0.0) != (case.lay.curve is not None):
+    if old.has_curve != (case.lay.curve is not None):
         raise ValueError(f"warm: lay.method {case.lay.method!r} or its stinger differs from the "
                          "warm case's")
-    if old.stinger[ST_ON] == 0.0 and len(old.contacts.points) != case.lay.roller_count:
+    if not old.has_curve and len(old.contacts.points) != case.lay.roller_count:
         raise ValueError(f"warm: the case has {case.lay.roller_count} rollers, the warm case "
                          f"{len(old.contacts.points)}")
     # (the map with it: where the neighbour's tip switched regime along the
@@ -69,7 +69,8 @@ def warm_problem(case: Case, old: Problem) -> Problem:
             rates = new.mesh.grade_b.copy()
             rates[B_LO] = new.mesh.zone_b[B_LO]
             new.mesh.follow_rates(new.bnodes, rates)
-    _onto_stinger(new, old.stinger)
+    if old.has_curve:
+        _onto_stinger(new, old.stinger)
     new.path.warm_path = old.path.current_path
     return new
 
@@ -84,7 +85,7 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
     from a neighbour 2e-5 away: 186 -> 175 iterations over 36 solves; 1.5e-4
     away: 331 -> 247 (the residual the warm state starts with: S67 at 2 m,
     a = -0.0021, 20 -> 0.26 reference forces)."""
-    if pb.stinger[ST_ON] == 0.0 or old_stinger[ST_ON] == 0.0:
+    if not pb.has_curve:
         return
     nd, ndn = pb.nd, pb.ndn
     z = pb.u[nd - 1::ndn].copy()
