@@ -26,9 +26,10 @@ from ..input.errors import SolveError
 from ..kernels import layout as L
 from ..kernels.constraints import point_gaps
 from ..kernels.contact import tip_geometry
-from ..kernels.layout import B_LO, ST_ZL
+from ..kernels.layout import B_LO
 from . import tuning as T
 from .mesh import graded_nodes
+from .supports import line_span
 
 if TYPE_CHECKING:
     from ..input.case import Case
@@ -199,7 +200,7 @@ def check_final_regime(case: Case, pb: Problem):
     if pb.lo_node < 0:
         return
     z_lo = float(pb.u[pb.lo_node * pb.ndn + pb.nd - 1])
-    z_tip = float(pb.stinger[ST_ZL])
+    z_tip = line_span(*pb.curve_support)[0]
     if z_lo < z_tip:
         raise SolveError(
             f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "

@@ -31,6 +31,7 @@ from .guess import first_guess, shape
 from .mesh import graded_nodes, grading_rates
 from .model import build_props, dimension_of, pin_jump
 from .state import EndConditions, Problem, interpolate_state, make_problem
+from .supports import line_height
 
 
 def _mesh_sizes(case: Case, lam: float):
@@ -288,8 +289,8 @@ def _points(case: Case, curve) -> np.ndarray:
     if curve is None:
         return np.zeros((0, L.N_PT))
     pts = np.zeros((1, L.N_PT))
-    a, b, c, z_l = curve[L.ST_A], curve[L.ST_B], curve[L.ST_C], curve[L.ST_ZL]
-    pts[0, L.PT_X] = (a * z_l + b) * z_l + c
+    z_l = curve[L.ST_ZL]
+    pts[0, L.PT_X] = line_height(L.SUP_CURVE, curve, z_l)[0]
     pts[0, L.PT_Z] = z_l
     return pts
 

@@ -42,6 +42,26 @@ def support_table(nn: int, curve=None, points=None):
     return kind, geom, np.zeros((n_sup, nn), dtype=np.int8)
 
 
+
+def line_height(kind: int, g, z):
+    """(x, dx/dz) of line support ``kind`` with parameters ``g`` at z [m]
+    (NumPy: an array or a scalar), for the Python layer: the arithmetic of
+    :func:`pipelay_fast.kernels.supports.support_height`, to the bit."""
+    if kind == L.SUP_CURVE:
+        return (g[L.ST_A] * z + g[L.ST_B]) * z + g[L.ST_C], 2.0 * g[L.ST_A] * z + g[L.ST_B]
+    if kind == L.SUP_FLAT_SEABED:
+        return g[L.SB_LEVEL] + 0.0 * z, 0.0 * z
+    raise ValueError(f"line_height: support kind {kind} is not a line")
+
+
+def line_span(kind: int, g) -> tuple[float, float]:
+    """(z_low, z_high) [m] the line support holds, as
+    :func:`pipelay_fast.kernels.supports.support_span` (a curve's lower end is
+    the stinger's tip)."""
+    if kind == L.SUP_CURVE:
+        return float(g[L.ST_ZL]), float(g[L.ST_ZU])
+    return -np.inf, np.inf
+
 @dataclass
 class Contacts:
     """The contact sets and the states of the contacts, which the Newton
