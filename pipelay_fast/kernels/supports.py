@@ -22,14 +22,16 @@ path in the iteration:
   otherwise free (lift-off's equation).
 
 The flat seabed keeps its own branch where the general form with f' = 0 would
-round differently (x' against x' - 0 z').
+round differently (x' against x' - 0 z'). The small ones are phases
+(:func:`._jit.phase`, inlined into their callers), so that they add no
+kernel of their own to compile.
 """
 
 from __future__ import annotations
 
 import math
 
-from ._jit import jit
+from ._jit import jit, phase
 from .layout import (
     PT_X,
     PT_Z,
@@ -45,7 +47,7 @@ from .layout import (
 )
 
 
-@jit(_nrt=False)
+@phase
 def support_height(kind, g, z):
     """(f, f', f'') of support ``kind`` with parameters ``g`` at z [m]: its
     height x [m], dx/dz [-], d2x/dz2 [1/m]; a point's: its height, 0, 0."""
@@ -57,7 +59,7 @@ def support_height(kind, g, z):
     return g[SB_LEVEL], 0.0, 0.0
 
 
-@jit(_nrt=False)
+@phase
 def support_angle(kind, g, z):
     """Angle [rad] of the support's tangent above horizontal at z [m]."""
     if kind == SUP_CURVE:
@@ -65,7 +67,7 @@ def support_angle(kind, g, z):
     return 0.0
 
 
-@jit(_nrt=False)
+@phase
 def support_span(kind, g):
     """(z_low, z_high) [m]: the z range the support holds (a curve's lower
     end is the stinger's tip; the seabed's is unbounded)."""
@@ -76,7 +78,7 @@ def support_span(kind, g):
     return -math.inf, math.inf
 
 
-@jit(_nrt=False)
+@phase
 def support_gap(kind, g, x, z, phi):
     """Clearance [m] of the position (x, z) above the support: x - f(z) for
     a line support; for a point, along the normal of a frame turned by
@@ -88,14 +90,14 @@ def support_gap(kind, g, x, z, phi):
     return x - g[SB_LEVEL]
 
 
-@jit(_nrt=False)
+@phase
 def in_curve_coords(kind):
     """Whether the support's contact nodes are held in its curve
     coordinates x = f(z) + c, x' = f'(z) z' + c' (c = c' = 0 held)."""
     return kind == SUP_CURVE
 
 
-@jit(_nrt=False)
+@phase
 def holds_laterally(kind):
     """Whether the support holds the pipe on its plane (y = 0, y' = 0, 3D)
     over its z range (:func:`.contact.lateral_hold`)."""
