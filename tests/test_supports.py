@@ -36,13 +36,13 @@ def table():
 
 def test_the_table_rows_are_the_boundaries_supports():
     kind, geom, active = table()
-    assert kind.dtype == np.int64 and geom.shape == (L.S_PT + 2, L.N_GEOM)
-    assert active.shape == (L.S_PT + 2, 6) and active.dtype == np.int8 and not active.any()
-    assert (L.S_BED, L.S_CURVE, L.S_PT) == (L.B_TD, L.B_LO, L.B_PT)
+    assert kind.dtype == np.int64 and geom.shape == (L.ROW_PT + 2, L.N_GEOM)
+    assert active.shape == (L.ROW_PT + 2, 6) and active.dtype == np.int8 and not active.any()
+    assert (L.ROW_BED, L.ROW_CURVE, L.ROW_PT) == (L.B_TD, L.B_LO, L.B_PT)
     assert kind.tolist() == [L.SUP_FLAT_SEABED, L.SUP_CURVE, L.SUP_POINT, L.SUP_POINT]
-    assert geom[L.S_BED, L.SB_LEVEL] == 0.0
-    np.testing.assert_array_equal(geom[L.S_CURVE], CURVE)
-    np.testing.assert_array_equal(geom[L.S_PT:], POINTS)
+    assert geom[L.ROW_BED, L.SB_LEVEL] == 0.0
+    np.testing.assert_array_equal(geom[L.ROW_CURVE], CURVE)
+    np.testing.assert_array_equal(geom[L.ROW_PT:], POINTS)
     none, _g, _a = support_table(4)  # J-lay: no curve, no points
     assert none.tolist() == [L.SUP_FLAT_SEABED, L.SUP_NONE]
 
@@ -51,35 +51,35 @@ def test_the_table_rows_are_the_boundaries_supports():
 def test_heights_and_angles_by_kind(z):
     kind, geom, _active = table()
     a, b, c = CURVE[:3]
-    assert support_height(kind[L.S_BED], geom[L.S_BED], z) == (0.0, 0.0, 0.0)
-    f, fp, fpp = support_height(kind[L.S_CURVE], geom[L.S_CURVE], z)
+    assert support_height(kind[L.ROW_BED], geom[L.ROW_BED], z) == (0.0, 0.0, 0.0)
+    f, fp, fpp = support_height(kind[L.ROW_CURVE], geom[L.ROW_CURVE], z)
     assert (f, fp, fpp) == pytest.approx((a * z * z + b * z + c, 2 * a * z + b, 2 * a),
                                          rel=1e-14, abs=1e-12)
-    assert support_angle(kind[L.S_BED], geom[L.S_BED], z) == 0.0
-    assert support_angle(kind[L.S_CURVE], geom[L.S_CURVE], z) == pytest.approx(
+    assert support_angle(kind[L.ROW_BED], geom[L.ROW_BED], z) == 0.0
+    assert support_angle(kind[L.ROW_CURVE], geom[L.ROW_CURVE], z) == pytest.approx(
         math.atan(2 * a * z + b), rel=1e-14)
-    assert support_height(kind[L.S_PT], geom[L.S_PT], z)[0] == POINTS[0, L.PT_X]
+    assert support_height(kind[L.ROW_PT], geom[L.ROW_PT], z)[0] == POINTS[0, L.PT_X]
 
 
 @pytest.mark.parametrize(("x", "z"), list(zip(X, Z, strict=True)))
 def test_gaps_by_kind(x, z):
     kind, geom, _active = table()
     a, b, c = CURVE[:3]
-    assert support_gap(kind[L.S_BED], geom[L.S_BED], x, z, 0.3) == x  # the seabed is x = 0
-    assert support_gap(kind[L.S_CURVE], geom[L.S_CURVE], x, z, 0.0) == pytest.approx(
+    assert support_gap(kind[L.ROW_BED], geom[L.ROW_BED], x, z, 0.3) == x  # the seabed is x = 0
+    assert support_gap(kind[L.ROW_CURVE], geom[L.ROW_CURVE], x, z, 0.0) == pytest.approx(
         x - (a * z * z + b * z + c), rel=1e-13, abs=1e-10)
     for j, phi in ((0, 0.0), (1, 0.4)):
         normal = np.array([math.cos(phi), -math.sin(phi)])  # (x, z) of the frame's normal
         ref = normal @ (np.array([x, z]) - POINTS[j, [L.PT_X, L.PT_Z]])
-        got = support_gap(kind[L.S_PT + j], geom[L.S_PT + j], x, z, phi)
+        got = support_gap(kind[L.ROW_PT + j], geom[L.ROW_PT + j], x, z, phi)
         assert got == pytest.approx(ref, rel=1e-13, abs=1e-11)
 
 
 def test_spans_and_holds_by_kind():
     kind, geom, _active = table()
-    assert support_span(kind[L.S_BED], geom[L.S_BED]) == (-math.inf, math.inf)
-    assert support_span(kind[L.S_CURVE], geom[L.S_CURVE]) == (265.0, 400.0)
-    assert support_span(kind[L.S_PT + 1], geom[L.S_PT + 1]) == (280.0, 280.0)
+    assert support_span(kind[L.ROW_BED], geom[L.ROW_BED]) == (-math.inf, math.inf)
+    assert support_span(kind[L.ROW_CURVE], geom[L.ROW_CURVE]) == (265.0, 400.0)
+    assert support_span(kind[L.ROW_PT + 1], geom[L.ROW_PT + 1]) == (280.0, 280.0)
     assert [bool(in_curve_coords(k)) for k in kind] == [False, True, False, False]
     assert [bool(holds_laterally(k)) for k in kind] == [False, True, False, False]
     assert not in_curve_coords(L.SUP_NONE) and not holds_laterally(L.SUP_NONE)
@@ -96,8 +96,8 @@ def test_tangency_by_kind(nd):
     base = node * ndn
     u[base + nd - 1] = 310.0  # z on the curve's range
     a, b = CURVE[:2]
-    for k, ref in ((L.S_BED, lambda v: v[base + nd]),
-                   (L.S_CURVE, lambda v: v[base + nd]
+    for k, ref in ((L.ROW_BED, lambda v: v[base + nd]),
+                   (L.ROW_CURVE, lambda v: v[base + nd]
                     - (2 * a * v[base + nd - 1] + b) * v[base + 2 * nd - 1])):
         row = np.zeros(u.size)
         value = tangency(nd, u, kind[k], geom[k], node, row)

@@ -199,17 +199,17 @@ class Problem:
     def stinger(self) -> np.ndarray:
         """The stinger's curve (N_STINGER,): its row of the supports' table
         (layout ``ST_*``), a view; zeros without one (:attr:`has_curve`)."""
-        return self.contacts.geom[L.S_CURVE, :L.N_STINGER]
+        return self.contacts.geom[L.ROW_CURVE, :L.N_STINGER]
 
     @property
     def curve_support(self) -> tuple:
         """(kind, parameters) of the stinger curve's row of the supports' table."""
-        return int(self.contacts.kind[L.S_CURVE]), self.contacts.geom[L.S_CURVE]
+        return int(self.contacts.kind[L.ROW_CURVE]), self.contacts.geom[L.ROW_CURVE]
 
     @property
     def has_curve(self) -> bool:
         """Whether the stinger is a curve (S-lay with a quadratic stinger)."""
-        return bool(self.contacts.kind[L.S_CURVE] == L.SUP_CURVE)
+        return bool(self.contacts.kind[L.ROW_CURVE] == L.SUP_CURVE)
 
     def kernel_ends(self, g_off) -> Ends:
         """The Newton kernel's ends, with the residual's offset ``g_off`` (nn ndn,) [N]."""
@@ -410,9 +410,9 @@ def make_problem(*, nd: int, s, props, table, u, ends: EndConditions, fref: floa
     kind, geom, active = support_table(nn, curve, points)
     nb = kind.size
     if bed_active is not None:
-        active[L.S_BED] = bed_active
+        active[L.ROW_BED] = bed_active
     if st_active is not None:
-        active[L.S_CURVE] = st_active
+        active[L.ROW_CURVE] = st_active
 
     def zeros(value, dtype=float):
         return np.zeros(nn, dtype=dtype) if value is None else value

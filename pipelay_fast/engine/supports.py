@@ -1,13 +1,13 @@
 """The supports of a problem as one table, built here only: one row per
 support, in the order of the contact boundaries (:mod:`pipelay_fast.kernels.layout`
-``S_*``: row b is boundary b's support), each a kind (``SUP_*``), its
+``ROW_*``: row b is boundary b's support), each a kind (``SUP_*``), its
 parameters (a row of N_GEOM floats) and the nodes it holds (int8 per node).
 
-* row ``S_BED``: the flat seabed at x = 0 (``SUP_FLAT_SEABED``, ``SB_LEVEL``
+* row ``ROW_BED``: the flat seabed at x = 0 (``SUP_FLAT_SEABED``, ``SB_LEVEL``
   0; its elastic stiffness is ``props[SEABED_K]``), touchdown's support;
-* row ``S_CURVE``: the quadratic stinger (``SUP_CURVE``, ``ST_*``),
+* row ``ROW_CURVE``: the quadratic stinger (``SUP_CURVE``, ``ST_*``),
   lift-off's; an empty row (``SUP_NONE``) in J-lay and on a roller stinger;
-* rows ``S_PT + j``: the rigid points (``SUP_POINT``, ``PT_*``: the quadratic
+* rows ``ROW_PT + j``: the rigid points (``SUP_POINT``, ``PT_*``: the quadratic
   stinger's tip, or a roller stinger's rollers), point j's boundary B_PT + j.
 
 The kernels read a support's geometry through :mod:`pipelay_fast.kernels.supports`.
@@ -28,17 +28,17 @@ def support_table(nn: int, curve=None, points=None):
     zU; None: none) and the rigid points ``points`` (n_points, N_PT; None:
     none), no node held yet."""
     n_pt = 0 if points is None else len(points)
-    n_sup = L.S_PT + n_pt
+    n_sup = L.ROW_PT + n_pt
     kind = np.full(n_sup, L.SUP_NONE, dtype=np.int64)
     geom = np.zeros((n_sup, L.N_GEOM))
-    kind[L.S_BED] = L.SUP_FLAT_SEABED
-    geom[L.S_BED, L.SB_LEVEL] = 0.0
+    kind[L.ROW_BED] = L.SUP_FLAT_SEABED
+    geom[L.ROW_BED, L.SB_LEVEL] = 0.0
     if curve is not None:
-        kind[L.S_CURVE] = L.SUP_CURVE
-        geom[L.S_CURVE, :L.N_STINGER] = curve
+        kind[L.ROW_CURVE] = L.SUP_CURVE
+        geom[L.ROW_CURVE, :L.N_STINGER] = curve
     if n_pt:
-        kind[L.S_PT:] = L.SUP_POINT
-        geom[L.S_PT:, :L.N_PT] = points
+        kind[L.ROW_PT:] = L.SUP_POINT
+        geom[L.ROW_PT:, :L.N_PT] = points
     return kind, geom, np.zeros((n_sup, nn), dtype=np.int8)
 
 
@@ -90,12 +90,12 @@ class Contacts:
 
     @property
     def bed_active(self) -> np.ndarray:
-        return self.active[L.S_BED]
+        return self.active[L.ROW_BED]
 
     @property
     def st_active(self) -> np.ndarray:
-        return self.active[L.S_CURVE]
+        return self.active[L.ROW_CURVE]
 
     @property
     def points(self) -> np.ndarray:
-        return self.geom[L.S_PT:]
+        return self.geom[L.ROW_PT:]

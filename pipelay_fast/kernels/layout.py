@@ -76,15 +76,15 @@ B_PT = 2  # the first rigid point (the stinger's tip first); point j is boundary
 # parameters (a row of ``geom``, N_GEOM columns, named per kind below) and the
 # nodes it holds (a row of ``active``, int8 per node). Row b is contact
 # boundary b's support: touchdown's the seabed, lift-off's the stinger's curve,
-# point j's (boundary B_PT + j) row S_PT + j.
+# point j's (boundary B_PT + j) row ROW_PT + j.
 SUP_NONE = 0  # an empty row: holds nothing (the curve's row of a J-lay or a roller stinger)
 SUP_FLAT_SEABED = 1  # the flat seabed x = level, held in the global frame; friction springs
 SUP_CURVE = 2  # the quadratic stinger x = a z^2 + b z + c on [zL, zU], held in curve coordinates
 SUP_POINT = 3  # a rigid point in the lay plane (the stinger's tip, a roller), held at
 #                its boundary's node by a unilateral contact
-S_BED = B_TD  # the seabed's row
-S_CURVE = B_LO  # the stinger curve's row
-S_PT = B_PT  # the first rigid point's row
+ROW_BED = B_TD  # the seabed's row
+ROW_CURVE = B_LO  # the stinger curve's row
+ROW_PT = B_PT  # the first rigid point's row
 N_GEOM = 5  # columns of ``geom``
 
 # the flat seabed's row

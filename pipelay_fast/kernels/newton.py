@@ -53,7 +53,7 @@ sup : :data:`.types.Supports`: fix_mask (ndof,) int8, 1 where the unknown
     (nodal frame) is prescribed, fix_val (ndof,) its value; phi_r, phi_rp (nn,)
     the nodal frames' angles for r and r' [rad], rewritten each iteration;
     the supports' table, row b boundary b's support (:mod:`.layout`
-    ``SUP_*``, ``S_*``): kind (n_sup,) int64, geom (n_sup, N_GEOM) their
+    ``SUP_*``, ``ROW_*``): kind (n_sup,) int64, geom (n_sup, N_GEOM) their
     parameters (the rigid points' branch and reaction updated), active
     (n_sup, nn) int8 the nodes each holds (the seabed's and the curve's
     contacts); fric (nn, N_FRIC) the friction springs (``FR_*``), anchors moved
@@ -108,8 +108,8 @@ from .layout import (
     I_STATUS,
     I_TOP_RES,
     N_INFO,
-    S_BED,
-    S_CURVE,
+    ROW_BED,
+    ROW_CURVE,
     SUP_NONE,
 )
 from .step import _hold_boundaries, _line_search, _start_step, _take_step
@@ -383,10 +383,10 @@ def _newton_kernel(nd):
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)
-            friction_track(nd, u, react, model.props, sup.active[S_BED], sup.fric, w.s_nd)
+            friction_track(nd, u, react, model.props, sup.active[ROW_BED], sup.fric, w.s_nd)
             changed = _points_update(nd, u, mesh, sup, react, settings) > 0
             trial_converged = accepted and not changed and m1 <= settings.tol * settings.tol
-            if changed and sup.kind[S_CURVE] != SUP_NONE:
+            if changed and sup.kind[ROW_CURVE] != SUP_NONE:
                 # the stinger's tip changes branch again with the residual no
                 # lower than at its last change: the branches cycle, there is
                 # no bearing solution (a roller has no other regime: its
@@ -400,7 +400,7 @@ def _newton_kernel(nd):
             # forces joined to the reactions; slipping springs' anchors follow
             w.fr_out[:] = 0.0
             node_arcs(mesh.s_el, w.s_nd)
-            bed = sup.active[S_BED]
+            bed = sup.active[ROW_BED]
             for node in range(sup.phi_r.shape[0]):
                 sup.fric[node, L.FR_W] = normal_force(nd, w.g, bed, sup.fric, node)
             friction_forces(nd, u, w.g, w.no_ab, 0, model, bed, sup.fric, w.fr_out,

@@ -25,7 +25,7 @@ from .constraints import (
     mesh_lengths,
 )
 from .contact import friction_step, node_arcs
-from .layout import B_LO, B_PT, B_TD, S_BED
+from .layout import B_LO, B_PT, B_TD, ROW_BED
 from .supports import support_span
 from .system import _evaluate, _solves_tb, _to_nodal_frames, _weighted_max
 
@@ -183,7 +183,7 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     has_bnd = _has_boundaries(mesh)
     tb_old = ends.tb[0]
     alpha_lim = alpha
-    alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.active[S_BED], sup.fric,
+    alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.active[ROW_BED], sup.fric,
                           w.fr_stop, alpha)
     if alpha < alpha_lim:
         best = alpha

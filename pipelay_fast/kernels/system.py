@@ -39,7 +39,7 @@ from ._jit import jit, phase
 from .assembly import assemble, curve_node, distribute_torque, rotate_node
 from .constraints import _bnd_equation, _free_moment
 from .contact import friction_forces, friction_length_derivative, node_arcs
-from .layout import B_LO, B_TD, S_BED, SUP_POINT
+from .layout import B_LO, B_TD, ROW_BED, SUP_POINT
 from .supports import in_curve_coords, support_height
 
 
@@ -95,7 +95,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, want_tangent, mesh.s_b,
             bnodes, w.bcols)
     node_arcs(mesh.s_el, w.s_nd)
-    friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model, sup.active[S_BED],
+    friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model, sup.active[ROW_BED],
                     sup.fric, w.fr_out, w.s_nd)
     te_top = 0.0
     if _solves_tb(ends):
@@ -108,7 +108,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
             if bnodes[b] >= 0:
                 # the springs' anchors are read at material points, which move
                 # with the boundary too (:func:`.contact.anchor_at`)
-                friction_length_derivative(nd, u, g, model, sup.active[S_BED], sup.fric, w.s_nd,
+                friction_length_derivative(nd, u, g, model, sup.active[ROW_BED], sup.fric, w.s_nd,
                                            mesh.s_b[b], w.bcols[b])
                 w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
     m_td = 0.0
