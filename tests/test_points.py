@@ -1,4 +1,4 @@
-"""Rigid point contacts as a list (``Supports.points``, layout ``PT_*``).
+"""Rigid point contacts, rows of the supports' table (``SUP_POINT``, layout ``PT_*``).
 
 Each point holds the pipe from below: a node follows the material point
 over it (a boundary unknown of Newton) and the complementarity

@@ -26,9 +26,10 @@ from ..input.errors import SolveError
 from ..kernels import layout as L
 from ..kernels.constraints import point_gaps
 from ..kernels.contact import tip_geometry
-from ..kernels.layout import B_LO, ST_ON, ST_ZL
+from ..kernels.layout import B_LO
 from . import tuning as T
 from .mesh import graded_nodes
+from .supports import line_span
 
 if TYPE_CHECKING:
     from ..input.case import Case
@@ -92,7 +93,7 @@ def lateral_hold_start(case: Case, pb: Problem):
     node then begins the hold, that close to the tip)."""
     if pb.nd != 3 or case.is_planar or pb.lo_node < 0 or pb.tip_node >= 0:
         return None
-    found, _gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger)
+    found, _gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, *pb.curve_support)
     if not found or s_tip > pb.s[pb.lo_node] - T.HOLD_SPLIT * pb.stats["h_min"]:
         return None
     return float(s_tip)
@@ -115,7 +116,7 @@ def conform_end(pb: Problem):
 
 def tip_position(pb: Problem):
     """Arc length [m] of the material point on the stinger's tip when it bears."""
-    if pb.stinger[ST_ON] == 0.0 or pb.tip[0] == 0.0 or pb.tip_node < 0:
+    if not pb.has_curve or pb.tip[0] == 0.0 or pb.tip_node < 0:
         return None
     return float(pb.s[pb.tip_node])
 
@@ -134,7 +135,7 @@ def liftoff_position(case: Case, pb: Problem):
     if case.lay.has_rollers:
         j = last_roller_in_contact(pb)
         return float(pb.s[pb.roller_nodes[j]]) if j >= 0 else float(pb.s[-1])
-    if pb.stinger[ST_ON] == 0.0:
+    if not pb.has_curve:
         return None
     s_tip = tip_position(pb)
     if s_tip is not None:
@@ -157,7 +158,7 @@ def passes_below_tip(pb: Problem) -> bool:
     the stinger's tip (the complementarity at the tip then asks it to bear)."""
     if pb.lo_node < 0 or pb.tip_node >= 0:
         return False
-    found, gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, pb.stinger)
+    found, gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, *pb.curve_support)
     return bool(found and s_tip < pb.s[pb.lo_node] and gap < -T.REL_ROUNDOFF * pb.settings.href)
 
 
@@ -199,7 +200,7 @@ def check_final_regime(case: Case, pb: Problem):
     if pb.lo_node < 0:
         return
     z_lo = float(pb.u[pb.lo_node * pb.ndn + pb.nd - 1])
-    z_tip = float(pb.stinger[ST_ZL])
+    z_tip = line_span(*pb.curve_support)[0]
     if z_lo < z_tip:
         raise SolveError(
             f"case {case.name!r}: the pipe bears on the stinger's tip (its lift-off, "

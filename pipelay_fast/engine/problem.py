@@ -16,7 +16,7 @@ import numpy as np
 from ..input.case import Case
 from ..input.limits import check_mesh_size
 from ..kernels import layout as L
-from ..kernels.layout import B_PT, N_STINGER, ST_A, ST_B, ST_C, ST_ON, ST_ZL
+from ..kernels.layout import B_PT
 from . import tuning as T
 from .boundaries import (
     bear_on_tip,
@@ -31,6 +31,7 @@ from .guess import first_guess, shape
 from .mesh import graded_nodes, grading_rates
 from .model import build_props, dimension_of, pin_jump, section_array, sections_of
 from .state import EndConditions, Problem, interpolate_state, make_problem
+from .supports import line_height
 
 
 def _mesh_sizes(case: Case, lam: float):
@@ -233,12 +234,12 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
     for i, val in enumerate((x_top, 0.0, z_top) if nd == 3 else (x_top, z_top)):
         fix_mask[base + i] = 1
         fix_val[base + i] = val
-    stinger = np.zeros(N_STINGER)
+    curve = None
     st = lay.curve  # (a roller stinger is its points)
     pinned = lay.top_angle == "pinned"
     top_angle = None if pinned else lay.top_angle
     if st is not None:
-        stinger[:] = (st.a, st.b, st.c, st.lower[1], st.upper[1], 1.0)
+        curve = np.array([st.a, st.b, st.c, st.lower[1], st.upper[1]], dtype=float)
         if top_angle is None:
             # the firing line, and below a pinned top (the pipe conforms up to
             # the pin, model.pin_jump): held along the stinger's tangent
@@ -270,15 +271,15 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
     ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target)
     section = section_array(s, sections_of(case))
     return make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
-                        fref=fref, href=stats["h_max"], points=_points(case, stinger),
-                        stinger=stinger, tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp,
-                        stats=stats)
+                        fref=fref, href=stats["h_max"], points=_points(case, curve), curve=curve,
+                        tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats)
 
 
-def _points(case: Case, stinger: np.ndarray) -> np.ndarray:
-    """The rigid points of a case (rows ``L.PT_*``): the quadratic stinger's
-    tip (x_L, z_L), a roller stinger's rollers (each holding the pipe
-    laterally or not), none in J-lay."""
+def _points(case: Case, curve) -> np.ndarray:
+    """The rigid points of a case (rows ``L.PT_*``): the tip (x_L, z_L) of
+    the quadratic stinger ``curve`` (a, b, c, zL, zU; None: none), a roller
+    stinger's rollers (each holding the pipe laterally or not), none in
+    J-lay."""
     rollers = case.lay.roller_positions()
     if rollers is not None:
         pts = np.zeros((len(rollers), L.N_PT))
@@ -286,11 +287,11 @@ def _points(case: Case, stinger: np.ndarray) -> np.ndarray:
         pts[:, L.PT_Z] = rollers[:, 1]
         pts[:, L.PT_HOLD] = case.lay.stinger.lateral_hold()
         return pts
-    if stinger[ST_ON] == 0.0:
+    if curve is None:
         return np.zeros((0, L.N_PT))
     pts = np.zeros((1, L.N_PT))
-    z_l = stinger[ST_ZL]
-    pts[0, L.PT_X] = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
+    z_l = curve[L.ST_ZL]
+    pts[0, L.PT_X] = line_height(L.SUP_CURVE, curve, z_l)[0]
     pts[0, L.PT_Z] = z_l
     return pts
 

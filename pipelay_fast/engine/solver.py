@@ -33,7 +33,6 @@ from ..input.errors import SolveError
 from ..input.limits import IterationBudget
 from ..kernels import layout as L
 from ..kernels.contact import friction_track
-from ..kernels.layout import ST_ON
 from . import tuning as T
 from .boundaries import (
     check_final_regime,
@@ -290,9 +289,9 @@ def _solution(pb: Problem, react, stats: dict, s_t: float, s_l: float | None) ->
     lengths [m]."""
     c = pb.contacts
     tip = None
-    if pb.stinger[ST_ON] != 0.0 and pb.tip[0] != 0.0:  # bearing: a node follows the tip
+    if pb.has_curve and pb.tip[0] != 0.0:  # bearing: a node follows the tip
         tip = (int(pb.tip_node), float(pb.tip[1]))
-    rollers = pb.stinger[ST_ON] == 0.0 and len(c.points) > 0
+    rollers = not pb.has_curve and len(c.points) > 0
     return Solution(
         nd=pb.nd, s=pb.s, u=pb.u,
         bottom_tension=float(pb.tb[0]) if pb.ends.slide_dof >= 0 else None,

@@ -23,8 +23,9 @@ import numpy as np
 from ..kernels import layout as L
 from ..kernels.geometry import hermite_state
 from ..kernels.grading import boundary_map
-from ..kernels.layout import B_PT, N_STINGER, ST_ON
+from ..kernels.layout import B_PT
 from ..kernels.types import Ends, Model, Supports, load_factors
+from .supports import Contacts, support_table
 
 
 @dataclass
@@ -101,30 +102,6 @@ class MeshMap:
 
 
 @dataclass
-class Contacts:
-    """The contact sets and the states of the contacts, which the Newton
-    kernel updates (and :mod:`.boundaries` at a switch of regime at the
-    stinger's tip).
-
-    ``bed_active``, ``st_active`` (nn,) int8: the seabed and stinger
-    contact sets; ``points`` (n_points, N_PT): the rigid points (the tip,
-    rollers; layout ``PT_*``: position [m], bearing, reaction [N], lateral
-    hold); ``fric`` (nn, N_FRIC): the friction springs (layout ``FR_*``);
-    ``phi_r``, ``phi_rp`` (nn,) [rad]: the nodal frames' rotations of r and
-    r' (a node on the stinger: its tangent); ``y_held`` (nn,) bool: the
-    nodes the stinger held laterally in the last Newton call.
-    """
-
-    bed_active: np.ndarray
-    st_active: np.ndarray
-    points: np.ndarray
-    fric: np.ndarray
-    phi_r: np.ndarray
-    phi_rp: np.ndarray
-    y_held: np.ndarray
-
-
-@dataclass
 class EndConditions:
     """The prescribed unknowns and the loads at the ends, fixed for a
     problem (:mod:`.problem` builds them).
@@ -194,18 +171,15 @@ class Problem:
     ``layout`` (SI units); ``table`` (n, 2): the current table [[x m, speed
     m/s], ...]; ``section`` (nn - 1, N_SECTION): the pipe's section, a row
     per element of this mesh (layout ``S_*``; its node count is fixed: a new
-    mesh is a new problem, :func:`.model.section_array`); ``stinger``
-    (N_STINGER,): the quadratic stinger's coefficients and ends (contact
-    ``ST_*``; ``ST_ON`` 0 without one); the unknowns ``u`` (nn ndn,): x,
-    (y), z [m], r' [-], lambda [N] node by node, and ``tb`` (1,) [N]: the
-    bottom tension.
+    mesh is a new problem, :func:`.model.section_array`); the unknowns ``u``
+    (nn ndn,): x, (y), z [m], r' [-], lambda [N] node by node, and ``tb``
+    (1,) [N]: the bottom tension.
     """
 
     nd: int
     props: np.ndarray
     table: np.ndarray
     section: np.ndarray
-    stinger: np.ndarray
     u: np.ndarray
     tb: np.ndarray
     mesh: MeshMap
@@ -221,8 +195,24 @@ class Problem:
     def kernel_supports(self) -> Supports:
         """The Newton kernel's constraints and contacts (arrays shared, not copied)."""
         c, e = self.contacts, self.ends
-        return Supports(e.fix_mask, e.fix_val, c.phi_r, c.phi_rp, c.bed_active,
-                        self.stinger, c.st_active, c.points, c.fric, c.y_held)
+        return Supports(e.fix_mask, e.fix_val, c.phi_r, c.phi_rp, c.kind, c.geom, c.active,
+                        c.fric, c.y_held)
+
+    @property
+    def stinger(self) -> np.ndarray:
+        """The stinger's curve (N_STINGER,): its row of the supports' table
+        (layout ``ST_*``), a view; zeros without one (:attr:`has_curve`)."""
+        return self.contacts.geom[L.ROW_CURVE, :L.N_STINGER]
+
+    @property
+    def curve_support(self) -> tuple:
+        """(kind, parameters) of the stinger curve's row of the supports' table."""
+        return int(self.contacts.kind[L.ROW_CURVE]), self.contacts.geom[L.ROW_CURVE]
+
+    @property
+    def has_curve(self) -> bool:
+        """Whether the stinger is a curve (S-lay with a quadratic stinger)."""
+        return bool(self.contacts.kind[L.ROW_CURVE] == L.SUP_CURVE)
 
     def kernel_ends(self, g_off) -> Ends:
         """The Newton kernel's ends, with the residual's offset ``g_off`` (nn ndn,) [N]."""
@@ -260,7 +250,7 @@ class Problem:
     def tip_node(self) -> int:
         """The node over the quadratic stinger's tip, the first rigid point
         (-1: none; a roller stinger has no curve, and no tip of one)."""
-        if self.stinger[ST_ON] == 0.0 or self.mesh.bnodes.size <= B_PT:
+        if not self.has_curve or self.mesh.bnodes.size <= B_PT:
             return -1
         return int(self.mesh.bnodes[B_PT])
 
@@ -268,7 +258,7 @@ class Problem:
     def roller_nodes(self) -> np.ndarray:
         """The nodes over a roller stinger's rollers, one per roller (-1:
         none); empty without rollers."""
-        if self.stinger[ST_ON] != 0.0:
+        if self.has_curve:
             return self.mesh.bnodes[:0]
         return self.mesh.bnodes[B_PT:]
 
@@ -410,26 +400,29 @@ class Solution:
 
 
 def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, fref: float,
-                 href: float, points=None, stinger=None, tb: float = 0.0, bed_active=None,
+                 href: float, points=None, curve=None, tb: float = 0.0, bed_active=None,
                  st_active=None, fric=None, phi_r=None, phi_rp=None, stats: dict | None = None,
                  factors=None) -> Problem:
     """A :class:`Problem` on nodes ``s`` [m] with unknowns ``u`` and the
     elements' ``section`` (nn - 1, N_SECTION), its mesh not yet mapped onto
-    boundaries (every boundary node -1); the parts' arrays
-    not given are empty: no rigid points, no stinger (``ST_ON`` 0), no
-    contacts, no nodal frames, the friction springs unanchored, the load
-    factors full current without friction."""
+    boundaries (every boundary node -1); the parts' arrays not given are
+    empty: no rigid points (``points``, rows ``PT_*``), no stinger's
+    ``curve`` (a, b, c, zL, zU), no contacts, no nodal frames, the friction
+    springs unanchored, the load factors full current without friction. The
+    supports' table is :func:`.supports.support_table`'s."""
     nn = s.size
-    if points is None:
-        points = np.zeros((0, L.N_PT))
-    nb = B_PT + len(points)
+    kind, geom, active = support_table(nn, curve, points)
+    nb = kind.size
+    if bed_active is not None:
+        active[L.ROW_BED] = bed_active
+    if st_active is not None:
+        active[L.ROW_CURVE] = st_active
 
     def zeros(value, dtype=float):
         return np.zeros(nn, dtype=dtype) if value is None else value
 
-    contacts = Contacts(zeros(bed_active, np.int8), zeros(st_active, np.int8), points,
-                        np.zeros((nn, L.N_FRIC)) if fric is None else fric, zeros(phi_r),
-                        zeros(phi_rp), np.zeros(nn, dtype=np.bool_))
+    contacts = Contacts(kind, geom, active, np.zeros((nn, L.N_FRIC)) if fric is None else fric,
+                        zeros(phi_r), zeros(phi_rp), np.zeros(nn, dtype=np.bool_))
     settings = Settings(fref, href)
     if factors is not None:
         settings.factors = factors
@@ -437,10 +430,8 @@ def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, f
         raise ValueError(f"section {section.shape}: one row of {L.N_SECTION} per element of "
                          f"{nn - 1} expected")
     section = np.ascontiguousarray(section, dtype=np.float64)  # one type: one compile
-    return Problem(nd, props, table, section,
-                   np.zeros(N_STINGER) if stinger is None else stinger, u,
-                   np.array([float(tb)]), MeshMap(s, np.full(nb, -1, dtype=np.int64),
-                                                  np.zeros(nb)),
+    return Problem(nd, props, table, section, u, np.array([float(tb)]),
+                   MeshMap(s, np.full(nb, -1, dtype=np.int64), np.zeros(nb)),
                    contacts, ends, settings, Path({} if stats is None else stats))
 
 

@@ -8,12 +8,13 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
-from ..kernels.layout import B_LO, ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
+from ..kernels.layout import B_LO
 from .boundaries import touchdown_position
 from .guess import guide_case
 from .model import dimension_of
 from .problem import _guess, _mesh_stats, _problem, _reference_force
 from .state import MAP, STATE, Problem, snapshot
+from .supports import line_height, line_span
 
 
 def warm_problem(case: Case, old: Problem) -> Problem:
@@ -25,10 +26,10 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     nd = dimension_of(case)
     if nd != old.nd:
         raise ValueError(f"warm: a {old.nd}D solution cannot start a {nd}D case")
-    if (old.stinger[ST_ON] != 0.0) != (case.lay.curve is not None):
+    if old.has_curve != (case.lay.curve is not None):
         raise ValueError(f"warm: lay.method {case.lay.method!r} or its stinger differs from the "
                          "warm case's")
-    if old.stinger[ST_ON] == 0.0 and len(old.contacts.points) != case.lay.roller_count:
+    if not old.has_curve and len(old.contacts.points) != case.lay.roller_count:
         raise ValueError(f"warm: the case has {case.lay.roller_count} rollers, the warm case "
                          f"{len(old.contacts.points)}")
     # (the map with it: where the neighbour's tip switched regime along the
@@ -69,12 +70,13 @@ def warm_problem(case: Case, old: Problem) -> Problem:
             rates = new.mesh.grade_b.copy()
             rates[B_LO] = new.mesh.zone_b[B_LO]
             new.mesh.follow_rates(new.bnodes, rates)
-    _onto_stinger(new, old.stinger)
+    if old.has_curve:
+        _onto_stinger(new, old.curve_support)
     new.path.warm_path = old.path.current_path
     return new
 
 
-def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
+def _onto_stinger(pb: Problem, old_curve: tuple):
     """Carry a warm state over to a changed stinger: every node over the
     stinger's z range moves in x by the change of the curve there (which
     vanishes at both ends when only ``a`` changed), its slope with it, so the
@@ -84,28 +86,29 @@ def _onto_stinger(pb: Problem, old_stinger: np.ndarray):
     from a neighbour 2e-5 away: 186 -> 175 iterations over 36 solves; 1.5e-4
     away: 331 -> 247 (the residual the warm state starts with: S67 at 2 m,
     a = -0.0021, 20 -> 0.26 reference forces)."""
-    if pb.stinger[ST_ON] == 0.0 or old_stinger[ST_ON] == 0.0:
+    if not pb.has_curve:
         return
     nd, ndn = pb.nd, pb.ndn
     z = pb.u[nd - 1::ndn].copy()
     zp = pb.u[2 * nd - 1::ndn].copy()
-    over = (z >= pb.stinger[ST_ZL]) & (z <= pb.stinger[ST_ZU])
+    new_curve = pb.curve_support
+    z_l, z_u = line_span(*new_curve)
+    over = (z >= z_l) & (z <= z_u)
 
-    def curve(st, zz):
-        return (st[ST_A] * zz + st[ST_B]) * zz + st[ST_C], 2.0 * st[ST_A] * zz + st[ST_B]
+    def curve(kind_g, zz):
+        return line_height(*kind_g, zz)
 
-    x_new, dx_new = curve(pb.stinger, z[over])
-    x_old, dx_old = curve(old_stinger, z[over])
+    x_new, dx_new = curve(new_curve, z[over])
+    x_old, dx_old = curve(old_curve, z[over])
     shift, slope = x_new - x_old, dx_new - dx_old
     # below the tip, down to touchdown: a cubic shift that continues the
     # slope change at the tip and vanishes at touchdown with its slope (no
     # kink at the tip nor at touchdown: the parabola's kink there was a
     # residual of 15 reference forces on the node above touchdown)
-    z_l = pb.stinger[ST_ZL]
     z_td = float(np.interp(touchdown_position(pb), pb.s, z))
     span = (z < z_l) & (z > z_td)
     if span.any() and z_l > z_td:
-        k = curve(pb.stinger, np.array([z_l]))[1][0] - curve(old_stinger, np.array([z_l]))[1][0]
+        k = curve(new_curve, np.array([z_l]))[1][0] - curve(old_curve, np.array([z_l]))[1][0]
         t, span_z = z[span] - z_td, z_l - z_td
         shift = np.concatenate([shift, k * t * t * (t - span_z) / span_z**2])
         slope = np.concatenate([slope, k * t * (3.0 * t - 2.0 * span_z) / span_z**2])

@@ -22,7 +22,7 @@ import math
 
 from ._jit import jit, phase
 from .banded import band_factor, band_solve_many
-from .contact import stinger_angle
+from .supports import in_curve_coords, support_angle
 from .system import _to_global
 
 
@@ -183,19 +183,23 @@ def _reactions(nd, w, nb, react):
 
 
 @jit(_nrt=False)
-def _curve_reactions(nd, u, stinger, st_active, phi_r, phi_rp, react):
-    """Reactions of the stinger contacts in the rotated frame the results read:
-    in curve coordinates the support's force is G_x (1, -f'), so its normal
-    component is G_x / cos(psi), psi the stinger's angle (and likewise for the
+def _curve_reactions(nd, u, sup, react):
+    """Reactions of the contacts of the supports in curve coordinates, in the
+    rotated frame the results read: in curve coordinates the support's force
+    is G_x (1, -f'), so its normal component is G_x / cos(psi), psi the
+    support's angle (:func:`.supports.support_angle`; and likewise for the
     slope's); the frames are set to psi."""
     ndn = 2 * nd + 1
-    for node in range(st_active.shape[0]):
-        if st_active[node] == 0:
+    for k in range(sup.kind.shape[0]):
+        if not in_curve_coords(sup.kind[k]):
             continue
-        base = node * ndn
-        psi = stinger_angle(stinger, u[base + nd - 1])
-        phi_r[node] = psi
-        phi_rp[node] = psi
-        c = math.cos(psi)
-        react[base] /= c
-        react[base + nd] /= c
+        for node in range(sup.active.shape[1]):
+            if sup.active[k, node] == 0:
+                continue
+            base = node * ndn
+            psi = support_angle(sup.kind[k], sup.geom[k], u[base + nd - 1])
+            sup.phi_r[node] = psi
+            sup.phi_rp[node] = psi
+            c = math.cos(psi)
+            react[base] /= c
+            react[base + nd] /= c

@@ -19,8 +19,8 @@ condition:
 * touchdown: on the seabed, tangent to it, no moment on the free side (the
   free element's nodal residual at the slope unknown, :func:`_free_moment`);
 * lift-off (or re-contact above a bearing tip): on the stinger, its node's
-  slope free and the pipe tangent to the stinger there (:func:`_tangency`),
-  which leaves its curvature continuous;
+  slope free and the pipe tangent to the stinger there
+  (:func:`.supports.tangency`), which leaves its curvature continuous;
 * a rigid point (the quadratic stinger's tip, or each roller of a roller
   stinger): a node follows the material point over the point, t . (r -
   r_p) = 0 (:func:`_over_point`), and its normal contact is chosen by the
@@ -42,24 +42,29 @@ from . import layout as L
 from ._jit import jit, phase
 from .assembly import element_forces
 from .element_shapes import WORK_SIZE, hermite
-from .layout import B_LO, B_PT, B_TD, ST_A, ST_B, ST_C, ST_ON
+from .layout import B_LO, B_TD, SUP_FLAT_SEABED, SUP_POINT
+from .supports import in_curve_coords, support_gap, support_height, tangency
 
 
 @phase
 def _nodal_frames(nd, u, mesh, sup, ends):
-    """The nodal frames of the iteration: none on the stinger's contacts (they
-    are in curve coordinates) and, over each rigid point, the pipe's (normal,
-    tangent)."""
+    """The nodal frames of the iteration: none on the contacts of a support
+    held in curve coordinates (with one, every node's frame but the top's is
+    cleared: :func:`.condensation._curve_reactions` left its contacts' there)
+    and, over each rigid point, the pipe's (normal, tangent)."""
     ndn = 2 * nd + 1
     nn = sup.phi_r.shape[0]
-    if sup.stinger[ST_ON] != 0.0:
+    curved = False
+    for k in range(sup.kind.shape[0]):
+        curved = curved or in_curve_coords(sup.kind[k])
+    if curved:
         for node in range(1, nn):
             if node != ends.top_node:
                 sup.phi_r[node] = 0.0
                 sup.phi_rp[node] = 0.0
-    for b in range(B_PT, mesh.bnodes.shape[0]):
+    for b in range(mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
-        if kt >= 0:
+        if kt >= 0 and sup.kind[b] == SUP_POINT:
             base = kt * ndn
             sup.phi_r[kt] = math.atan2(u[base + nd], u[base + 2 * nd - 1])
 
@@ -97,8 +102,6 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
     nn = sup.phi_r.shape[0]
     n = u.shape[0]
     fix_mask = sup.fix_mask
-    stinger = sup.stinger
-    has_stinger = stinger[ST_ON] != 0.0
     for i in range(n):
         w.cmask[i] = fix_mask[i] != 0
         w.delta[i] = 0.0
@@ -109,43 +112,20 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
             if fix_mask[i] != 0:
                 w.delta[i] = sup.fix_val[i] - _local_value(nd, u, node, slot, sup.phi_r,
                                                            sup.phi_rp)
-        if sup.bed_active[node] != 0 and fix_mask[base] == 0:
-            w.cmask[base] = True
-            w.delta[base] = -_local_value(nd, u, node, 0, sup.phi_r, sup.phi_rp)
-        # a pipe lying on the flat seabed is tangent to it: the slope is held
-        # at every contact node, touchdown's included, and at the lower end
-        # (resting on a rigid seabed, or on an elastic one's foundation)
-        on_bed = sup.bed_active[node] != 0 or node == 0
-        if on_bed and fix_mask[base + nd] == 0:
-            w.cmask[base + nd] = True
-            w.delta[base + nd] = -u[base + nd]
-        if has_stinger and node != ends.top_node and fix_mask[base] == 0:
-            x_n = u[base]
-            z_n = u[base + nd - 1]
-            if sup.st_active[node] != 0:
-                # on the stinger: on the curve, and tangent to it except at
-                # lift-off (the contact node with free pipe below it), whose
-                # tangency is lift-off's equation
-                fp = 2.0 * stinger[ST_A] * z_n + stinger[ST_B]
-                w.cmask[base] = True
-                w.delta[base] = -(x_n - ((stinger[ST_A] * z_n + stinger[ST_B]) * z_n
-                                         + stinger[ST_C]))
-                if node > 0 and sup.st_active[node - 1] != 0:
-                    w.cmask[base + nd] = True
-                    w.delta[base + nd] = -(u[base + nd] - fp * u[base + 2 * nd - 1])
-            if sup.y_held[node]:  # on the stinger's plane and tangent to it
-                w.cmask[base + 1] = True
-                w.delta[base + 1] = -u[base + 1]
-                w.cmask[base + nd + 1] = True
-                w.delta[base + nd + 1] = -u[base + nd + 1]
-    for b in range(B_PT, mesh.bnodes.shape[0]):
+        for k in range(sup.kind.shape[0]):
+            _hold_on_line(nd, u, sup, k, node, ends.top_node, w)
+        if sup.y_held[node]:  # on the stinger's plane and tangent to it
+            w.cmask[base + 1] = True
+            w.delta[base + 1] = -u[base + 1]
+            w.cmask[base + nd + 1] = True
+            w.delta[base + nd + 1] = -u[base + nd + 1]
+    for b in range(mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
-        point = sup.points[b - B_PT]
-        if kt >= 0 and point[L.PT_BEAR] != 0.0:
+        if kt >= 0 and sup.kind[b] == SUP_POINT and sup.geom[b, L.PT_BEAR] != 0.0:
             # bearing on a point: the node on it along the pipe's normal
             w.cmask[kt * ndn] = True
-            w.delta[kt * ndn] = -_point_gap(nd, u, point, kt, sup.phi_r[kt])
-            if nd == 3 and point[L.PT_HOLD] != 0.0:  # a V roller: laterally too
+            w.delta[kt * ndn] = -_point_gap(nd, u, sup.geom[b], kt, sup.phi_r[kt])
+            if nd == 3 and sup.geom[b, L.PT_HOLD] != 0.0:  # a V roller: laterally too
                 w.cmask[kt * ndn + 1] = True
                 w.delta[kt * ndn + 1] = -u[kt * ndn + 1]
     max_delta = 0.0
@@ -157,27 +137,37 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
 
 
 @jit(_nrt=False)
-def _tangency(nd, u, stinger, b, node, row):
-    """The pipe tangent to its support at a boundary node whose slope is
-    otherwise free: lift-off's equation (b = 1), c' = x' - f'(z) z' = 0 on the
-    stinger x = f(z) (b = 0: x' = 0 on the seabed). ``row`` gets its
-    derivative d/du (global frame); an empty ``row``: the value alone."""
+def _hold_on_line(nd, u, sup, k, node, top_node, w):
+    """Node ``node`` held on line support ``k`` where it holds it (``w.cmask``,
+    ``w.delta``, as :func:`_constraint_set`). The flat seabed: on it (in the
+    node's frame) at its contacts, and tangent to it at every contact node,
+    touchdown's included, and at the lower end (resting on a rigid seabed, or
+    on an elastic one's foundation). A support in curve coordinates: on it
+    (c = 0) and tangent to it (c' = 0) at its contacts, but at the lowest, the
+    contact node with free pipe below it (lift-off), whose tangency is
+    lift-off's equation; the held top excepted."""
+    kind = sup.kind[k]
     ndn = 2 * nd + 1
     base = node * ndn
-    want = row.shape[0] > 0
-    if want:
-        for i in range(row.shape[0]):
-            row[i] = 0.0
-        row[base + nd] = 1.0
-    if b == 0:
-        return u[base + nd]
-    fpp = 2.0 * stinger[ST_A]
-    fp = fpp * u[base + nd - 1] + stinger[ST_B]
-    zp = u[base + 2 * nd - 1]
-    if want:
-        row[base + nd - 1] = -fpp * zp
-        row[base + 2 * nd - 1] = -fp
-    return u[base + nd] - fp * zp
+    on = sup.active[k, node] != 0
+    fix_mask = sup.fix_mask
+    if kind == SUP_FLAT_SEABED:
+        if on and fix_mask[base] == 0:
+            w.cmask[base] = True
+            w.delta[base] = -support_gap(kind, sup.geom[k],
+                                         _local_value(nd, u, node, 0, sup.phi_r, sup.phi_rp),
+                                         u[base + nd - 1], 0.0)
+        if (on or node == 0) and fix_mask[base + nd] == 0:
+            w.cmask[base + nd] = True
+            w.delta[base + nd] = -u[base + nd]
+    elif in_curve_coords(kind) and on and node != top_node and fix_mask[base] == 0:
+        z_n = u[base + nd - 1]
+        _f, fp, _fpp = support_height(kind, sup.geom[k], z_n)
+        w.cmask[base] = True
+        w.delta[base] = -support_gap(kind, sup.geom[k], u[base], z_n, 0.0)
+        if node > 0 and sup.active[k, node - 1] != 0:
+            w.cmask[base + nd] = True
+            w.delta[base + nd] = -(u[base + nd] - fp * u[base + 2 * nd - 1])
 
 
 @jit(by_dimension=True, _nrt=True)
@@ -243,13 +233,14 @@ def _over_point(nd, u, point, node, row):
 
 @phase
 def _bnd_equation(nd, u, sup, b, node, row):
-    """The equation of boundary b >= B_LO at its node: lift-off's tangency
-    (:func:`_tangency`) or a point's (:func:`_over_point`); ``row`` gets its
+    """The equation of boundary b >= B_LO at its node, by the kind of its
+    support (row b): over a point (:func:`_over_point`), else tangent to the
+    support (:func:`.supports.tangency`, lift-off's); ``row`` gets its
     derivative d/du. (Touchdown's, a moment, comes from
     :func:`.system._evaluate`, :func:`_free_moment`.)"""
-    if b == B_LO:
-        return _tangency(nd, u, sup.stinger, b, node, row)
-    return _over_point(nd, u, sup.points[b - B_PT], node, row)
+    if sup.kind[b] == SUP_POINT:
+        return _over_point(nd, u, sup.geom[b], node, row)
+    return tangency(nd, u, sup.kind[b], sup.geom[b], node, row)
 
 
 @jit(_nrt=False)
@@ -263,12 +254,11 @@ def _bnd_scale(b, fref, href):
 
 @jit(_nrt=False)
 def _point_gap(nd, u, point, node, phi):
-    """Clearance [m] of node ``node`` from the rigid point ``point`` (a row of
-    ``sup.points``) along the normal of a frame turned by ``phi`` (the pipe's,
-    see :func:`_over_point`)."""
+    """Clearance [m] of node ``node`` from the rigid point ``point`` (its row
+    of ``sup.geom``) along the normal of a frame turned by ``phi`` (the
+    pipe's, see :func:`_over_point`; :func:`.supports.support_gap`)."""
     base = node * (2 * nd + 1)
-    return (math.cos(phi) * (u[base] - point[L.PT_X])
-            - math.sin(phi) * (u[base + nd - 1] - point[L.PT_Z]))
+    return support_gap(SUP_POINT, point, u[base], u[base + nd - 1], phi)
 
 
 @jit(entry=True, _nrt=False)
@@ -292,11 +282,11 @@ def _points_update(nd, u, mesh, sup, react, settings):
     node's normal row [N], g its gap [m]). Returns how many branches changed."""
     ndn = 2 * nd + 1
     changes = 0
-    for b in range(B_PT, mesh.bnodes.shape[0]):
+    for b in range(mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
-        if kt < 0:
+        if kt < 0 or sup.kind[b] != SUP_POINT:
             continue
-        point = sup.points[b - B_PT]
+        point = sup.geom[b]
         bearing = point[L.PT_BEAR] != 0.0
         r_n = react[kt * ndn] if bearing else 0.0
         g_n = _point_gap(nd, u, point, kt, sup.phi_r[kt])
@@ -367,23 +357,28 @@ def _pipe_at(nd, u_old, s_old, e, xi, sh, value, rate):
 
 
 @jit(_nrt=False)
-def _onto_curve(nd, u, u_old, dv, alpha, stinger, st_active):
-    """State at ``u_old`` + ``alpha`` ``dv`` for the stinger contact nodes, whose
-    increments ``dv`` are in curve coordinates (c, z, c', z'): z and z' move
-    linearly, x = f(z) + c and x' = f'(z) z' + c' follow the curve exactly."""
+def _onto_curves(nd, u, u_old, dv, alpha, sup):
+    """State at ``u_old`` + ``alpha`` ``dv`` for the contact nodes of the
+    supports in curve coordinates, whose increments ``dv`` are in curve
+    coordinates (c, z, c', z'): z and z' move linearly, x = f(z) + c and
+    x' = f'(z) z' + c' follow the curve exactly."""
     ndn = 2 * nd + 1
-    a = stinger[ST_A]
-    b = stinger[ST_B]
-    cc = stinger[ST_C]
-    for node in range(st_active.shape[0]):
-        if st_active[node] == 0:
+    for k in range(sup.kind.shape[0]):
+        kind = sup.kind[k]
+        if not in_curve_coords(kind):
             continue
-        p = node * ndn
-        q = p + nd - 1
-        z0 = u_old[q]
-        c0 = u_old[p] - ((a * z0 + b) * z0 + cc)
-        cp0 = u_old[p + nd] - (2.0 * a * z0 + b) * u_old[q + nd]
-        z1 = u[q]  # u_old + alpha dv, or where a boundary's move carried it
-        zp1 = u[q + nd]
-        u[p] = (a * z1 + b) * z1 + cc + c0 + alpha * dv[p]
-        u[p + nd] = (2.0 * a * z1 + b) * zp1 + cp0 + alpha * dv[p + nd]
+        g = sup.geom[k]
+        for node in range(sup.active.shape[1]):
+            if sup.active[k, node] == 0:
+                continue
+            p = node * ndn
+            q = p + nd - 1
+            z0 = u_old[q]
+            f0, fp0, _c0 = support_height(kind, g, z0)
+            c0 = u_old[p] - f0
+            cp0 = u_old[p + nd] - fp0 * u_old[q + nd]
+            z1 = u[q]  # u_old + alpha dv, or where a boundary's move carried it
+            zp1 = u[q + nd]
+            f1, fp1, _c1 = support_height(kind, g, z1)
+            u[p] = f1 + c0 + alpha * dv[p]
+            u[p + nd] = fp1 * zp1 + cp0 + alpha * dv[p + nd]

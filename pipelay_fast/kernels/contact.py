@@ -21,28 +21,21 @@ top). This module carries:
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from . import layout as L
 from ._jit import jit
 from .element_shapes import hermite_crossing
-from .layout import ST_A, ST_B, ST_C, ST_ON, ST_ZL, ST_ZU
+from .supports import holds_laterally, support_height, support_span
 
 
 @jit(_nrt=False)
-def stinger_angle(stinger, z):
-    """Angle of the stinger tangent above horizontal at z [rad]."""
-    return math.atan(2.0 * stinger[ST_A] * z + stinger[ST_B])
-
-
-@jit(_nrt=False)
-def lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, held):
+def lateral_hold(nd, s_el, u, sup, top_node, held):
     """Mark in ``held`` the nodes the stinger holds laterally (3D): those over
-    its z range, the held top and fixed nodes excepted. They are held on the
-    stinger's plane and tangent to it (y = 0 and y' = 0), so the free span
-    below the tip is clamped laterally there.
+    the z range of a support that holds laterally
+    (:func:`.supports.holds_laterally`), the held top and fixed nodes
+    excepted. They are held on the stinger's plane and tangent to it (y = 0
+    and y' = 0), so the free span below the tip is clamped laterally there.
 
     A node the mesh put on the tip sits on either side of z_L as it slides
     between iterations: within 5 % of its elements of the tip it is held too,
@@ -52,24 +45,29 @@ def lateral_hold(nd, s_el, u, stinger, top_node, fix_mask, held):
     ndn = 2 * nd + 1
     for node in range(nn):
         held[node] = False
-        if nd != 3 or stinger[ST_ON] == 0.0 or node == top_node or fix_mask[node * ndn] != 0:
+        if nd != 3 or node == top_node or sup.fix_mask[node * ndn] != 0:
             continue
-        h_near = s_el[min(node, nn - 2)]
-        if node > 0:
-            h_near = min(h_near, s_el[node - 1])
-        z_n = u[node * ndn + nd - 1]
-        held[node] = stinger[ST_ZL] - 0.05 * h_near <= z_n <= stinger[ST_ZU]
+        for k in range(sup.kind.shape[0]):
+            if not holds_laterally(sup.kind[k]):
+                continue
+            h_near = s_el[min(node, nn - 2)]
+            if node > 0:
+                h_near = min(h_near, s_el[node - 1])
+            z_n = u[node * ndn + nd - 1]
+            z_lo, z_hi = support_span(sup.kind[k], sup.geom[k])
+            held[node] = held[node] or z_lo - 0.05 * h_near <= z_n <= z_hi
 
 
 @jit(entry=True, _nrt=False)
-def tip_geometry(nd, s_el, u, stinger):
-    """The pipe over the stinger tip (x_L, z_L): the material point whose z
-    equals z_L (on the element spanning it). Returns (found, the vertical
-    clearance x - x_L there [m], its arc length [m])."""
+def tip_geometry(nd, s_el, u, kind, g):
+    """The pipe over the stinger tip (x_L, z_L), the lower end of the support
+    ``kind`` with parameters ``g`` (the stinger's curve): the material point
+    whose z equals z_L (on the element spanning it). Returns (found, the
+    vertical clearance x - x_L there [m], its arc length [m])."""
     ndn = 2 * nd + 1
     nel = s_el.shape[0]
-    z_l = stinger[ST_ZL]
-    x_l = (stinger[ST_A] * z_l + stinger[ST_B]) * z_l + stinger[ST_C]
+    z_l, _z_u = support_span(kind, g)
+    x_l, _fp, _fpp = support_height(kind, g, z_l)
     zi = nd - 1
     e = -1
     for k in range(nel):

@@ -75,34 +75,51 @@ FR_Z = 4  # axial anchor z [m]
 FR_S = 5  # arc length [m] of the material point the anchors belong to
 N_FRIC = 6
 
-# --- rigid point contacts (rows of ``Supports.points``) ------------------------
-# A rigid point in the lay plane (the stinger's tip, or a roller) holds
-# the pipe from below by a unilateral contact: a node follows the material
-# point over it (a boundary unknown of Newton, :mod:`.constraints`) and its normal
-# contact is chosen by the complementarity min(R, c g) = 0.
+# --- contact boundaries that can be unknowns of Newton ---------------------
+# (entries of ``Mesh.bnodes``, rows of ``Mesh.s_b``, entries of ``Mesh.s_bd``)
+B_TD = 0  # touchdown
+B_LO = 1  # lift-off from the stinger (or re-contact above a bearing tip)
+B_PT = 2  # the first rigid point (the stinger's tip first); point j is boundary
+#           B_PT + j: the material point over it
+
+# --- the supports: rows of ``Supports.kind``, ``geom`` and ``active`` ------------
+# Each support holds the pipe from below: its kind (``kind``, SUP_*), its
+# parameters (a row of ``geom``, N_GEOM columns, named per kind below) and the
+# nodes it holds (a row of ``active``, int8 per node). Row b is contact
+# boundary b's support: touchdown's the seabed, lift-off's the stinger's curve,
+# point j's (boundary B_PT + j) row ROW_PT + j.
+SUP_NONE = 0  # an empty row: holds nothing (the curve's row of a J-lay or a roller stinger)
+SUP_FLAT_SEABED = 1  # the flat seabed x = level, held in the global frame; friction springs
+SUP_CURVE = 2  # the quadratic stinger x = a z^2 + b z + c on [zL, zU], held in curve coordinates
+SUP_POINT = 3  # a rigid point in the lay plane (the stinger's tip, a roller), held at
+#                its boundary's node by a unilateral contact
+ROW_BED = B_TD  # the seabed's row
+ROW_CURVE = B_LO  # the stinger curve's row
+ROW_PT = B_PT  # the first rigid point's row
+N_GEOM = 5  # columns of ``geom``
+
+# the flat seabed's row
+SB_LEVEL = 0  # its height x [m] (0: the seabed is the origin of x)
+
+# the stinger curve's row: x = a z^2 + b z + c on [zL, zU], x the height and z
+# the lay direction [m]
+ST_A = 0  # a [1/m]
+ST_B = 1  # b [-]
+ST_C = 2  # c [m]
+ST_ZL = 3  # zL [m], the tip (its lower end)
+ST_ZU = 4  # zU [m]
+N_STINGER = 5
+
+# a rigid point's row: a node follows the material point over it (a boundary
+# unknown of Newton, :mod:`.constraints`) and its normal contact is chosen by
+# the complementarity min(R, c g) = 0 (columns PT_BEAR and PT_R its state,
+# which the Newton kernel updates).
 PT_X = 0  # the point's x [m] (the vertical, as the nodal unknown x)
 PT_Z = 1  # the point's z [m]
 PT_BEAR = 2  # 1 while the pipe bears on it, else 0 (the complementarity's branch)
 PT_R = 3  # its normal reaction [N] while it bears
 PT_HOLD = 4  # 1: while it bears it holds the pipe laterally, y = 0 (a V roller; 3D)
 N_PT = 5
-
-# --- the stinger's curve (the vector ``Supports.stinger``) ---------------------
-# x = a z^2 + b z + c on [zL, zU], x the height and z the lay direction [m]
-ST_A = 0  # a [1/m]
-ST_B = 1  # b [-]
-ST_C = 2  # c [m]
-ST_ZL = 3  # zL [m], the tip (its lower end)
-ST_ZU = 4  # zU [m]
-ST_ON = 5  # 1.0 when the stinger is this curve, 0.0 when it is none (or its rollers only)
-N_STINGER = 6
-
-# --- contact boundaries that can be unknowns of Newton ---------------------
-# (entries of ``Mesh.bnodes``, rows of ``Mesh.s_b``, entries of ``Mesh.s_bd``)
-B_TD = 0  # touchdown
-B_LO = 1  # lift-off from the stinger (or re-contact above a bearing tip)
-B_PT = 2  # the first rigid point (``Supports.points`` row 0, the stinger's tip first);
-#           point j is boundary B_PT + j: the material point over it
 
 # --- the Newton kernel's report (the vector ``info``) -----------------------
 I_STATUS = 0  # status code (below)

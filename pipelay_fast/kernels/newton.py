@@ -52,10 +52,11 @@ model : :data:`.types.Model`: props (N_PROPS,), the current table, factors
 sup : :data:`.types.Supports`: fix_mask (ndof,) int8, 1 where the unknown
     (nodal frame) is prescribed, fix_val (ndof,) its value; phi_r, phi_rp (nn,)
     the nodal frames' angles for r and r' [rad], rewritten each iteration;
-    bed_active (nn,) int8 the seabed contacts; stinger (N_STINGER,) the
-    curve (``ST_*``); st_active (nn,) int8 the stinger contacts; points
-    (n_points, N_PT) the rigid points (``PT_*``), branch and reaction
-    updated; fric (nn, N_FRIC) the friction springs (``FR_*``), anchors moved
+    the supports' table, row b boundary b's support (:mod:`.layout`
+    ``SUP_*``, ``ROW_*``): kind (n_sup,) int64, geom (n_sup, N_GEOM) their
+    parameters (the rigid points' branch and reaction updated), active
+    (n_sup, nn) int8 the nodes each holds (the seabed's and the curve's
+    contacts); fric (nn, N_FRIC) the friction springs (``FR_*``), anchors moved
     by the return mapping when the call converges; y_held (nn,) bool,
     output: the nodes the stinger holds laterally (3D), the converged set on
     OK.
@@ -98,7 +99,19 @@ from .contact import (
     node_arcs,
     normal_force,
 )
-from .layout import B_LO, I_DELTA, I_ITER, I_PAST, I_RES, I_STATUS, I_TOP_RES, N_INFO, ST_ON
+from .layout import (
+    B_LO,
+    I_DELTA,
+    I_ITER,
+    I_PAST,
+    I_RES,
+    I_STATUS,
+    I_TOP_RES,
+    N_INFO,
+    ROW_BED,
+    ROW_CURVE,
+    SUP_NONE,
+)
 from .step import _hold_boundaries, _line_search, _start_step, _take_step
 from .system import (
     _evaluate,
@@ -316,8 +329,7 @@ def _newton_kernel(nd):
             want_tangent = not trial_converged
             while True:
                 # the nodes the stinger holds laterally: those over it now
-                lateral_hold(nd, mesh.s_el, u, sup.stinger, ends.top_node, sup.fix_mask,
-                             sup.y_held)
+                lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
                 _nodal_frames(nd, u, mesh, sup, ends)
                 te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, want_tangent)
                 if want_tangent:
@@ -363,18 +375,18 @@ def _newton_kernel(nd):
                 if stop == L.PAST_TIP:  # how far past the tip; the step taken up to it
                     info[I_PAST] = abs(w.d_bnd[B_LO]) * (1.0 - alpha)
                     if alpha > 0.0:
-                        _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active,
-                                   ends.tb, ends.tb[0], dtb, _has_boundaries(mesh), mesh, w)
+                        _take_step(nd, alpha, u, w.u_old, w.du_free, sup, ends.tb, ends.tb[0],
+                                   dtb, _has_boundaries(mesh), mesh, w)
                 break
             accepted, m1, last_step, r_max = _line_search(nd, u, mesh, model, sup, ends, w,
                                                           settings, hold, dtb, alpha, merit0)
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)
-            friction_track(nd, u, react, model.props, sup.bed_active, sup.fric, w.s_nd)
+            friction_track(nd, u, react, model.props, sup.active[ROW_BED], sup.fric, w.s_nd)
             changed = _points_update(nd, u, mesh, sup, react, settings) > 0
             trial_converged = accepted and not changed and m1 <= settings.tol * settings.tol
-            if changed and sup.stinger[ST_ON] != 0.0:
+            if changed and sup.kind[ROW_CURVE] != SUP_NONE:
                 # the stinger's tip changes branch again with the residual no
                 # lower than at its last change: the branches cycle, there is
                 # no bearing solution (a roller has no other regime: its
@@ -388,15 +400,15 @@ def _newton_kernel(nd):
             # forces joined to the reactions; slipping springs' anchors follow
             w.fr_out[:] = 0.0
             node_arcs(mesh.s_el, w.s_nd)
+            bed = sup.active[ROW_BED]
             for node in range(sup.phi_r.shape[0]):
-                sup.fric[node, L.FR_W] = normal_force(nd, w.g, sup.bed_active, sup.fric, node)
-            friction_forces(nd, u, w.g, w.no_ab, 0, model, sup.bed_active, sup.fric, w.fr_out,
+                sup.fric[node, L.FR_W] = normal_force(nd, w.g, bed, sup.fric, node)
+            friction_forces(nd, u, w.g, w.no_ab, 0, model, bed, sup.fric, w.fr_out,
                             w.s_nd)
             for i in range(u.shape[0]):
                 react[i] += w.fr_out[i]
-            friction_commit(nd, u, model, sup.bed_active, sup.fric, w.s_nd)
-        if sup.stinger[ST_ON] != 0.0:
-            _curve_reactions(nd, u, sup.stinger, sup.st_active, sup.phi_r, sup.phi_rp, react)
+            friction_commit(nd, u, model, bed, sup.fric, w.s_nd)
+        _curve_reactions(nd, u, sup, react)
         info[I_STATUS] = status
         info[I_ITER] = it
         return status

@@ -20,13 +20,13 @@ from .constraints import (
     _bnd_scale,
     _element_at,
     _has_boundaries,
-    _onto_curve,
+    _onto_curves,
     _pipe_at,
-    _tangency,
     mesh_lengths,
 )
 from .contact import friction_step, node_arcs
-from .layout import B_LO, B_PT, B_TD, ST_ZL
+from .layout import B_LO, B_PT, B_TD, ROW_BED
+from .supports import support_span
 from .system import _evaluate, _solves_tb, _to_nodal_frames, _weighted_max
 
 # The boundaries move once the pipe's imbalance is below INNER_RATIO times
@@ -67,7 +67,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     w.cmask[j_lo] = True  # as held: lift-off's slope constrained
     res_eq, _rs = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
     if res_eq > INNER_RATIO * own:
-        w.delta[j_lo] = -_tangency(nd, u, sup.stinger, B_LO, mesh.bnodes[B_LO], w.no_row)
+        w.delta[j_lo] = -_bnd_equation(nd, u, sup, B_LO, mesh.bnodes[B_LO], w.no_row)
         return True
     w.cmask[j_lo] = keep
     return False
@@ -133,7 +133,7 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
         gap_s = s_bd[B_LO] - s_bd[B_PT]
         d_gap_s = (d_bnd[B_LO] - d_bnd[B_PT]) * alpha
         if d_gap_s < -0.5 * gap_s:
-            if gap_s < href and sup.points[0, L.PT_BEAR] != 0.0:
+            if gap_s < href and sup.geom[B_PT, L.PT_BEAR] != 0.0:
                 # Bearing, the span's square goes like a - a_switch: from
                 # d0 Newton asks d0 / 2 + (a - a_switch) / (2 k d0), so a
                 # step that more than halves the span says there is no
@@ -147,10 +147,11 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
         elif d_gap_s > gap_s:
             alpha *= gap_s / d_gap_s
     if has_lo and not hold:
-        # lift-off stays above the tip (the curve continued past it is no
-        # support)
+        # lift-off stays above the tip, its support's lower end (the curve
+        # continued past it is no support)
         base = bnodes[B_LO] * ndn
-        room = u[base + nd - 1] - sup.stinger[ST_ZL]
+        z_tip, _z_top = support_span(sup.kind[B_LO], sup.geom[B_LO])
+        room = u[base + nd - 1] - z_tip
         dz_lo = w.du_free[base + nd - 1]  # the node's own z slides it along the curve
         if room < 1e-3 * href and dz_lo < 0.0:
             return merit0, 0.0, L.PAST_TIP
@@ -182,7 +183,7 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     has_bnd = _has_boundaries(mesh)
     tb_old = ends.tb[0]
     alpha_lim = alpha
-    alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.bed_active, sup.fric,
+    alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.active[ROW_BED], sup.fric,
                           w.fr_stop, alpha)
     if alpha < alpha_lim:
         best = alpha
@@ -214,8 +215,8 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
             break
         alpha *= 0.5
     if not accepted:
-        _take_step(nd, alpha0, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-                   tb_old, dtb, has_bnd, mesh, w)
+        _take_step(nd, alpha0, u, w.u_old, w.du_free, sup, ends.tb, tb_old, dtb, has_bnd,
+                   mesh, w)
     ndn = 2 * nd + 1
     last_step = 0.0
     r_max = 0.0
@@ -233,8 +234,8 @@ def _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
     (:func:`_trial_merit`). A kernel, not a phase: it has two callers, and
     inlined it would compile :func:`.system._evaluate` into the Newton
     kernel three times (``benchmarks/bench_compile.py``)."""
-    _take_step(nd, alpha, u, w.u_old, w.du_free, sup.stinger, sup.st_active, ends.tb,
-               tb_old, dtb, has_bnd, mesh, w)
+    _take_step(nd, alpha, u, w.u_old, w.du_free, sup, ends.tb, tb_old, dtb, has_bnd, mesh,
+               w)
     te_t, m_t = _evaluate(nd, u, mesh, model, sup, ends, w, w.g_trial, False)
     return _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_t, m_t)
 
@@ -281,10 +282,11 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
 
 
 @jit(_nrt=False)
-def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has_bnd, mesh, w):
+def _take_step(nd, alpha, u, u_old, du, sup, tb, tb_old, dtb, has_bnd, mesh, w):
     """The state a fraction ``alpha`` along the Newton step: nodal unknowns
-    (stinger contacts along their curve), bottom tension and boundary arc
-    lengths (from ``w.bnd_old`` by ``w.d_bnd``) with the element lengths they give.
+    (the contacts of supports in curve coordinates along their curve), bottom
+    tension and boundary arc lengths (from ``w.bnd_old`` by ``w.d_bnd``) with
+    the element lengths they give.
 
     A node that the stinger's boundaries (lift-off or re-contact, the tip's
     point) move along the pipe by sigma is carried along the pipe's present
@@ -298,7 +300,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
     the tension). Touchdown's zone is not carried: where touchdown moves,
     suspended pipe comes to lie on the seabed."""
     ndn = 2 * nd + 1
-    nn = st_active.shape[0]
+    nn = sup.phi_r.shape[0]
     for i in range(u.shape[0]):
         u[i] = u_old[i] + alpha * du[i]
     if has_bnd:
@@ -317,7 +319,7 @@ def _take_step(nd, alpha, u, u_old, du, stinger, st_active, tb, tb_old, dtb, has
             base = node * ndn
             for i in range(ndn):
                 u[base + i] += w.at[i] - u_old[base + i] - alpha * w.at_rate[i] * rate
-    _onto_curve(nd, u, u_old, du, alpha, stinger, st_active)
+    _onto_curves(nd, u, u_old, du, alpha, sup)
     tb[0] = tb_old + alpha * dtb
     if has_bnd:
         for b in range(mesh.s_bd.shape[0]):

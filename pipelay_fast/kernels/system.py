@@ -39,7 +39,8 @@ from ._jit import jit, phase
 from .assembly import assemble, curve_node, distribute_torque, rotate_node
 from .constraints import _bnd_equation, _free_moment
 from .contact import friction_forces, friction_length_derivative, node_arcs
-from .layout import B_LO, B_PT, B_TD, ST_A, ST_B
+from .layout import B_LO, B_TD, ROW_BED, SUP_POINT
+from .supports import in_curve_coords, support_height
 
 
 @jit(by_dimension=True, _nrt=True)
@@ -94,7 +95,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, want_tangent, mesh.s_b,
             bnodes, w.bcols)
     node_arcs(mesh.s_el, w.s_nd)
-    friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model, sup.bed_active,
+    friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model, sup.active[ROW_BED],
                     sup.fric, w.fr_out, w.s_nd)
     te_top = 0.0
     if _solves_tb(ends):
@@ -107,7 +108,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
             if bnodes[b] >= 0:
                 # the springs' anchors are read at material points, which move
                 # with the boundary too (:func:`.contact.anchor_at`)
-                friction_length_derivative(nd, u, g, model, sup.bed_active, sup.fric, w.s_nd,
+                friction_length_derivative(nd, u, g, model, sup.active[ROW_BED], sup.fric, w.s_nd,
                                            mesh.s_b[b], w.bcols[b])
                 w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
     m_td = 0.0
@@ -177,7 +178,7 @@ def _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td):
     kl = 4 * nd + 1
     _rotate_all(nd, w.ab, kl, kl, w.g, sup.phi_r, sup.phi_rp, True)
     _frame_turn(nd, w.ab, kl, w.g, u, mesh, sup)
-    _curve_all(nd, w.ab, kl, kl, w.g, u, sup.stinger, sup.st_active, True)
+    _curve_all(nd, w.ab, kl, kl, w.g, u, sup, True)
     w.res_bnd[0] = m_td
     return _border(nd, u, mesh, sup, ends, w, te_top)
 
@@ -200,7 +201,7 @@ def _to_nodal_frames(nd, v, u, sup, w):
     coordinates. (A kernel: it has five callers.)"""
     kl = 4 * nd + 1
     _rotate_all(nd, w.no_ab, kl, kl, v, sup.phi_r, sup.phi_rp, False)
-    _curve_all(nd, w.no_ab, kl, kl, v, u, sup.stinger, sup.st_active, False)
+    _curve_all(nd, w.no_ab, kl, kl, v, u, sup, False)
 
 
 @jit(_nrt=False)
@@ -226,18 +227,22 @@ def _zero_at(v, start, count):
 
 
 @jit(_nrt=False)
-def _curve_all(nd, ab, kl, ku, g, u, stinger, st_active, want_tangent):
-    """Express every stinger contact node in the stinger's curve coordinates
-    (:func:`.assembly.curve_node`)."""
+def _curve_all(nd, ab, kl, ku, g, u, sup, want_tangent):
+    """Express the contact nodes of every support held in curve coordinates
+    in them (:func:`.supports.in_curve_coords`, :func:`.assembly.curve_node`)."""
     ndn = 2 * nd + 1
-    fpp = 2.0 * stinger[ST_A]
-    for node in range(st_active.shape[0]):
-        if st_active[node] != 0:
-            base = node * ndn
-            if not want_tangent and _zero_at(g, base, 2 * nd):
-                continue
-            fp = fpp * u[base + nd - 1] + stinger[ST_B]
-            curve_node(nd, ab, kl, ku, g, node, fp, fpp, u[base + 2 * nd - 1], want_tangent)
+    for k in range(sup.kind.shape[0]):
+        kind = sup.kind[k]
+        if not in_curve_coords(kind):
+            continue
+        for node in range(sup.active.shape[1]):
+            if sup.active[k, node] != 0:
+                base = node * ndn
+                if not want_tangent and _zero_at(g, base, 2 * nd):
+                    continue
+                _f, fp, fpp = support_height(kind, sup.geom[k], u[base + nd - 1])
+                curve_node(nd, ab, kl, ku, g, node, fp, fpp, u[base + 2 * nd - 1],
+                           want_tangent)
 
 
 @jit(_nrt=False)
@@ -248,9 +253,9 @@ def _frame_turn(nd, ab, kl, g, u, mesh, sup):
     times dphi/dr' (the normal's reaction G_n turns into the tangent's row)."""
     ndn = 2 * nd + 1
     kv = 2 * kl
-    for b in range(B_PT, mesh.bnodes.shape[0]):
+    for b in range(mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
-        if kt < 0:
+        if kt < 0 or sup.kind[b] != SUP_POINT:
             continue
         base = kt * ndn
         xp = u[base + nd]

@@ -14,11 +14,14 @@ they hold references, not copies).
   boundaries (node i at s_a[i] + sum_b s_b[b, i] s_bd[b]; ``bnodes[b]`` the
   node on boundary b, -1 none).
 * :data:`Supports`: the constraints and contacts: prescribed unknowns, nodal
-  frames, the seabed and stinger contact sets, the rigid points (the
-  stinger's tip; ``points`` rows, :mod:`.layout` ``PT_*``), the friction springs,
-  and the lateral hold (bool per node) the Newton kernel writes: the nodes
-  the stinger held on its plane in the last iteration (the converged set when
-  it returns OK, which the results read).
+  frames, the supports' table (one row per support, row b contact boundary
+  b's: ``kind`` (n_sup,) int64, :mod:`.layout` ``SUP_*``; ``geom`` (n_sup,
+  N_GEOM) its parameters, ``SB_*``, ``ST_*``, ``PT_*``, a rigid point's
+  branch and reaction among them; ``active`` (n_sup, nn) int8 the nodes it
+  holds; its geometry read through :mod:`.supports`), the friction springs
+  (the seabed's), and the lateral hold (bool per node) the Newton kernel
+  writes: the nodes the stinger held on its plane in the last iteration (the
+  converged set when it returns OK, which the results read).
 * :data:`Ends`: the nodal loads, the load path's residual offset, and the ends'
   tensions: the bottom tension (an unknown when the top tension is given) and
   the top's target.
@@ -38,8 +41,8 @@ from . import layout as L
 
 Model = namedtuple("Model", ["props", "table", "factors", "section"])
 Mesh = namedtuple("Mesh", ["s_el", "s_a", "s_b", "s_bd", "bnodes"])
-Supports = namedtuple("Supports", ["fix_mask", "fix_val", "phi_r", "phi_rp", "bed_active",
-                                   "stinger", "st_active", "points", "fric", "y_held"])
+Supports = namedtuple("Supports", ["fix_mask", "fix_val", "phi_r", "phi_rp", "kind", "geom",
+                                   "active", "fric", "y_held"])
 Ends = namedtuple("Ends", ["f_node", "g_off", "tb", "slide_dof", "top_node", "top_target"])
 Settings = namedtuple("Settings", ["tol", "fref", "href", "maxit", "hold", "bstep"])
 

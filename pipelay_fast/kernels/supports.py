@@ -1,0 +1,126 @@
+"""The supports' geometry as kernels: each support a kind (:mod:`.layout`
+``SUP_*``) and its row of parameters ``g`` (a row of ``Supports.geom``,
+columns named per kind: ``SB_*``, ``ST_*``, ``PT_*``).
+
+The Newton kernel reaches a support's geometry only through these
+functions, each a branch per kind, so a new kind is a new branch here (and
+its row in :func:`pipelay_fast.engine.supports.support_table`), not a new
+path in the iteration:
+
+* :func:`support_height`: a line support's height x = f(z) [m] and its
+  derivatives (a point's: its own height);
+* :func:`support_angle`: its tangent's angle above horizontal [rad], the
+  frame its reactions are reported in;
+* :func:`support_span`: the z range it holds [m] (a curve's lower end is the
+  stinger's tip);
+* :func:`support_gap`: a position's clearance above it [m] (a point's along
+  the normal of a frame turned by ``phi``);
+* :func:`in_curve_coords`, :func:`holds_laterally`: whether its contact
+  nodes are held in curve coordinates x = f(z) + c (:mod:`.system`), and
+  on the stinger's plane (3D);
+* :func:`tangency`: the pipe tangent to it at a boundary node whose slope is
+  otherwise free (lift-off's equation).
+
+The flat seabed keeps its own branch where the general form with f' = 0 would
+round differently (x' against x' - 0 z'). The small ones are phases
+(:func:`._jit.phase`, inlined into their callers), so that they add no
+kernel of their own to compile.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ._jit import jit, phase
+from .layout import (
+    PT_X,
+    PT_Z,
+    SB_LEVEL,
+    ST_A,
+    ST_B,
+    ST_C,
+    ST_ZL,
+    ST_ZU,
+    SUP_CURVE,
+    SUP_FLAT_SEABED,
+    SUP_POINT,
+)
+
+
+@phase
+def support_height(kind, g, z):
+    """(f, f', f'') of support ``kind`` with parameters ``g`` at z [m]: its
+    height x [m], dx/dz [-], d2x/dz2 [1/m]; a point's: its height, 0, 0."""
+    if kind == SUP_CURVE:
+        fpp = 2.0 * g[ST_A]
+        return (g[ST_A] * z + g[ST_B]) * z + g[ST_C], fpp * z + g[ST_B], fpp
+    if kind == SUP_POINT:
+        return g[PT_X], 0.0, 0.0
+    return g[SB_LEVEL], 0.0, 0.0
+
+
+@phase
+def support_angle(kind, g, z):
+    """Angle [rad] of the support's tangent above horizontal at z [m]."""
+    if kind == SUP_CURVE:
+        return math.atan(2.0 * g[ST_A] * z + g[ST_B])
+    return 0.0
+
+
+@phase
+def support_span(kind, g):
+    """(z_low, z_high) [m]: the z range the support holds (a curve's lower
+    end is the stinger's tip; the seabed's is unbounded)."""
+    if kind == SUP_CURVE:
+        return g[ST_ZL], g[ST_ZU]
+    if kind == SUP_POINT:
+        return g[PT_Z], g[PT_Z]
+    return -math.inf, math.inf
+
+
+@phase
+def support_gap(kind, g, x, z, phi):
+    """Clearance [m] of the position (x, z) above the support: x - f(z) for
+    a line support; for a point, along the normal of a frame turned by
+    ``phi`` [rad] (the pipe's, :func:`.constraints._over_point`)."""
+    if kind == SUP_POINT:
+        return math.cos(phi) * (x - g[PT_X]) - math.sin(phi) * (z - g[PT_Z])
+    if kind == SUP_CURVE:
+        return x - ((g[ST_A] * z + g[ST_B]) * z + g[ST_C])
+    return x - g[SB_LEVEL]
+
+
+@phase
+def in_curve_coords(kind):
+    """Whether the support's contact nodes are held in its curve
+    coordinates x = f(z) + c, x' = f'(z) z' + c' (c = c' = 0 held)."""
+    return kind == SUP_CURVE
+
+
+@phase
+def holds_laterally(kind):
+    """Whether the support holds the pipe on its plane (y = 0, y' = 0, 3D)
+    over its z range (:func:`.contact.lateral_hold`)."""
+    return kind == SUP_CURVE
+
+
+@jit(_nrt=False)
+def tangency(nd, u, kind, g, node, row):
+    """The pipe tangent to its support at node ``node``: x' - f'(z) z' = 0
+    (x' = 0 on the flat seabed); lift-off's equation. ``row`` gets its
+    derivative d/du (global frame); an empty ``row``: the value alone."""
+    ndn = 2 * nd + 1
+    base = node * ndn
+    want = row.shape[0] > 0
+    if want:
+        for i in range(row.shape[0]):
+            row[i] = 0.0
+        row[base + nd] = 1.0
+    if kind == SUP_FLAT_SEABED:
+        return u[base + nd]
+    _f, fp, fpp = support_height(kind, g, u[base + nd - 1])
+    zp = u[base + 2 * nd - 1]
+    if want:
+        row[base + nd - 1] = -fpp * zp
+        row[base + 2 * nd - 1] = -fp
+    return u[base + nd] - fp * zp
