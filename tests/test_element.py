@@ -337,3 +337,29 @@ def test_residual_matches_a_numpy_quadrature_of_the_weak_form(nd, kw, x_mid):
         for rows in kinds:
             scale = np.abs(ref[rows]).max()
             assert np.max(np.abs(fe[rows] - ref[rows])) <= 1e-11 * scale
+
+
+def test_power_law_current_and_its_derivative_are_one_smooth_profile():
+    """current_speed for the power law V0 (x/d)^p: the profile itself above
+    POWER_FLOOR d; below, a quadratic that vanishes at the seabed and meets the
+    power law with its value and slope; its derivative is that of the values
+    (central differences) on both sides of the floor."""
+    from pipelay_fast.kernels.loads import POWER_FLOOR, current_speed
+
+    props, _sec = make_props()
+    table = np.zeros((1, 2))
+    d, v0, p = props[L.DEPTH], props[L.CUR_SPEED], props[L.CUR_EXP]
+    xs = POWER_FLOOR * d
+    for x in (0.3 * d, 1e-4 * d, 2.0 * xs):
+        v, dv = current_speed(props, table, x)
+        assert v == pytest.approx(v0 * (x / d) ** p, rel=1e-14)
+        assert dv == pytest.approx(p * v0 * (x / d) ** p / x, rel=1e-14)
+    assert current_speed(props, table, 0.0)[0] == 0.0
+    below, above = current_speed(props, table, xs * (1 - 1e-12)), current_speed(props, table, xs)
+    assert below[0] == pytest.approx(above[0], rel=1e-9)
+    assert below[1] == pytest.approx(above[1], rel=1e-9)
+    for x in (0.3 * xs, 0.7 * xs, 1.5 * xs, 10.0 * xs):
+        h = 1e-4 * xs
+        up, down = current_speed(props, table, x + h)[0], current_speed(props, table, x - h)[0]
+        fd = (up - down) / (2 * h)
+        assert current_speed(props, table, x)[1] == pytest.approx(fd, rel=1e-6)

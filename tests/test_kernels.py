@@ -394,8 +394,9 @@ def test_friction_tangent_is_the_derivative_of_its_forces():
     the present state, not the last iteration's), the x row of the elements'
     tangent times mu clip(d / d_slip). Checked on the solved J125 3D answer
     under a lateral current, its springs set to stick and slide."""
-    # a linear current profile, whose drag's tangent is exact at the seabed
-    # (the power law's dV/dx, infinite there, is a secant in the elements)
+    # a linear current profile, whose drag's tangent is smooth at the seabed
+    # (the power law's, exact too, is steep in its lowest POWER_FLOOR of the
+    # depth, beyond a central difference's step there)
     case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes(
         {"seabed.axial_friction": 0.3, "environment.current.profile": "linear"})
     pb = pf.solve(case).state

@@ -184,17 +184,13 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
     Newton's residual offset (ndof,); with ``predict`` it may also move the
     state towards the step's answer (a warm start's neighbour's increment,
     or the path's own last increment, :meth:`.Problem.start_step`) and
-    returns whether it did. A predicted start gets at most twice the
-    iterations of the path's hardest converged call so far (within
-    solver.max_iterations). A step that
-    fails from such a start is solved again from the last converged state
-    before it is halved, so a warm start takes the cold start's steps (S125
-    3D, pipe length fixed, at 2 m, a = -0.0015 from -0.0014: the step to 0.75
-    from the neighbour's increment switched regime at the tip twice and was
-    halved, and the warm answer followed another slip path, 3.7e-5 from the
-    cold peak stress); a step from such a start that would switch regime
-    at the tip is solved again too (switching, that step ended bearing
-    again, 1.8e-4 off: friction and the tip's contact both path dependent).
+    returns whether it did. A predicted start gets at most
+    tuning.PREDICTED_CAP times the iterations of the path's hardest converged
+    call so far (within solver.max_iterations). A step that fails from such a
+    start, or that would switch regime at the tip from it, is solved again
+    from the last converged state before it is halved, so that a warm start
+    takes the cold start's steps (friction and the tip's contact are both
+    path dependent: another sequence of steps may end on another answer).
     A step cut below ``smallest``, or ``max_steps``
     steps taken, raises SolveError naming the load path ``name``, the level
     and why. Returns the last reactions and {"iterations", "load_steps",
@@ -214,12 +210,9 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
                   "that solver.max_load_steps sets")
         saved = snapshot(pb)  # (with the boundaries' map: a switch of regime replaces it)
         g_off, predicted = load(trial, True)
-        # a predicted start that takes twice the iterations of the path's
-        # hardest converged call so far (within solver.max_iterations) is
-        # not nearer: the step is solved from the last converged state
-        # instead (uncapped, a secant start on random 3D case 26 of
-        # bench_contact ran Newton's 100 iterations, and 2 its 100; capped
-        # at once, the paper's 3D scenes lost half the gain)
+        # a predicted start that takes PREDICTED_CAP times the iterations of
+        # the path's hardest converged call so far is not nearer: the step is
+        # solved from the last converged state instead
         cap = (min(T.PREDICTED_CAP * hardest, case.solver.max_iterations)
                if predicted and hardest > 0
                else None)
@@ -267,8 +260,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     budget = budget or IterationBudget(case.solver.max_iterations_total)
     zero = np.zeros_like(pb.u)
     # (the boundaries start where the guess puts them; the kernel holds
-    # them until the pipe is in equilibrium there: an explicit solve with
-    # them held first cost S67 2 to 5 more iterations)
+    # them until the pipe is in equilibrium there)
     status, react, info, iters, start = newton_in_regime(
         case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
@@ -298,11 +290,8 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
     The converged steps are recorded (``pb.path.current_path``, from the state
     before the current); a warm start begins each step from its neighbour's
     increment over it, and past the first step a step without one from this
-    path's last increment (:meth:`.Problem.start_step`).
-
-    Steps of 0.5 save a quarter of the iterations and give the same answer on
-    meshes of 1 m and coarser, but on S125 3D at 0.05 m they follow another
-    slip path (slipping length 25 m against 15.6 m, peak stress 0.5 % lower).
+    path's last increment (:meth:`.Problem.start_step`). Steps of at most
+    tuning.CURRENT_LARGEST: the friction's slip path depends on them.
     """
     budget = budget or IterationBudget(case.solver.max_iterations_total)
     zero = np.zeros_like(pb.u)

@@ -9,7 +9,7 @@ in order:
    frames (stinger contacts in curve coordinates), the rows and columns of
    the bordered unknowns; the constraint set (:mod:`.constraints`); the
    test: converged when the weighted residual is below the tolerance (or at
-   its round-off floor, or the step has stalled), the constraints and the
+   its round-off floor), the constraints and the
    boundaries' equations hold and no rigid point changed branch;
 2. condense and solve (:mod:`.condensation`): every constrained unknown
    gets its increment prescribed, the free ones are solved from the band
@@ -76,6 +76,7 @@ Returns the status code (also ``info[I_STATUS]``).
 
 from __future__ import annotations
 
+import math
 from collections import namedtuple
 
 import numpy as np
@@ -129,11 +130,6 @@ RUNAWAY = 1e6
 # (:func:`.system._roundoff_ratio`): at the floor the ratio is of order 1,
 # one Newton step before it two orders more.
 ROUNDOFF_RATIO = 10.0
-# So is one (below 1e-4) whose Newton step no longer moves a position by
-# more than STALL_STEP eps |r|: where the tangent is not exact (a power-law
-# current's dV/dx at the seabed is a secant) the residual stalls above the
-# tolerance but above its floor.
-STALL_STEP = 1e3
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
@@ -264,18 +260,17 @@ def _work(nd, n, nn, nel, nbnd, props, href):
 
 
 @phase
-def _test(nd, it, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, changed,
-          last_step, r_max):
+def _test(nd, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, changed):
     """The residuals the test reads and the test. Returns (the free rows'
     largest weighted residual and sum of squares, the top tension's relative
     residual, the boundaries' largest scaled residual, whether converged).
 
     Converged: the residuals below the tolerance, or every free row at its
     round-off floor (:func:`.system._roundoff_ratio`, which reads the
-    tangent: a fine mesh far from the origin cannot reach every tolerance),
-    or the Newton step stalled (``last_step`` [m] against the largest
-    position ``r_max`` [m]); the constraints held (``max_delta``); no rigid
-    point changed branch (``changed``)."""
+    tangent: a fine mesh far from the origin cannot reach every tolerance);
+    the constraints held (``max_delta``); no rigid point changed branch
+    (``changed``: True at a call's first evaluation, so that every call
+    takes a step, whose solve gives the reactions)."""
     res_max, res_ssq = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
     top_res = 0.0
     if _solves_tb(ends):
@@ -286,13 +281,9 @@ def _test(nd, it, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, c
             bnd_res = max(bnd_res, abs(w.res_bnd[b]) / _bnd_scale(b, settings.fref,
                                                                   settings.href))
     tol = settings.tol
-    # (the stall's test first: the floor's is a pass over the band)
-    at_roundoff = (it > 1 and res_max > tol
-                   and ((last_step <= STALL_STEP * 2.2e-16 * (r_max + settings.href)
-                         and res_max <= 1e-4)
-                        or (want_tangent
-                            and _roundoff_ratio(nd, u, w.ab, w.g, w.cmask) <= ROUNDOFF_RATIO)))
-    converged = (it > 1 and (res_max <= tol or at_roundoff) and max_delta <= tol
+    at_roundoff = (res_max > tol and want_tangent
+                   and _roundoff_ratio(nd, u, w.ab, w.g, w.cmask) <= ROUNDOFF_RATIO)
+    converged = ((res_max <= tol or at_roundoff) and max_delta <= tol
                  and (top_res <= tol or at_roundoff)
                  and (bnd_res <= tol or at_roundoff) and not changed)
     return res_max, res_ssq, top_res, bnd_res, converged
@@ -319,8 +310,6 @@ def _newton_kernel(nd):
         changed = True  # a rigid point changed branch in the last iteration
         res_change = np.inf  # the residual when the stinger's tip last changed branch
         it = 0
-        last_step = np.inf  # the last step's largest move of a position [m]
-        r_max = 0.0  # the largest position [m]
         res_start = 1.0
         moved = False  # the last step moved the boundaries and lowered the merit
         trial_converged = False  # the last trial passed the test on its own constraints
@@ -338,14 +327,13 @@ def _newton_kernel(nd):
                     _to_nodal_residual(nd, u, mesh, sup, w, m_td)
                 max_delta = _constraint_set(nd, u, mesh, sup, ends, w, href)
                 res_max, res_ssq, top_res, bnd_res, converged = _test(
-                    nd, it, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, changed,
-                    last_step, r_max)
-                if want_tangent or converged or not (res_max < 1e300 and res_ssq < 1e300):
+                    nd, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, changed)
+                finite = math.isfinite(res_ssq)  # (max() skips NaN; the sum does not)
+                if want_tangent or converged or not finite:
                     break
                 want_tangent = True
-            # ---- test (max() skips NaN; the sum does not)
-            if not (res_max < 1e300 and res_ssq < 1e300) or (
-                    it > 1 and res_max > RUNAWAY * res_start):
+            # ---- test
+            if not finite or (it > 1 and res_max > RUNAWAY * res_start):
                 status = L.NOT_FINITE
                 break
             if it == 1:
@@ -378,7 +366,7 @@ def _newton_kernel(nd):
                         _take_step(nd, alpha, u, w.u_old, w.du_free, sup, ends.tb, ends.tb[0],
                                    dtb, _has_boundaries(mesh), mesh, w)
                 break
-            accepted, m1, last_step, r_max = _line_search(nd, u, mesh, model, sup, ends, w,
+            accepted, m1 = _line_search(nd, u, mesh, model, sup, ends, w,
                                                           settings, hold, dtb, alpha, merit0)
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state

@@ -165,8 +165,7 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
 @phase
 def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0):
     """The step taken from ``w.u_old``; returns (accepted, the last trial's
-    merit, the step's largest move of a position [m], the largest position
-    [m]: the stall test's scale), u, the bottom tension and the mesh left at
+    merit); u, the bottom tension and the mesh left at
     the step taken.
 
     The limited step ``alpha`` is cut where a sliding friction spring would
@@ -211,20 +210,13 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
         if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
             accepted = True
             break
-        if not (m1 < 1e300) and alpha < 1e-3:
+        if not np.isfinite(m1) and alpha < 1e-3:
             break
         alpha *= 0.5
     if not accepted:
         _take_step(nd, alpha0, u, w.u_old, w.du_free, sup, ends.tb, tb_old, dtb, has_bnd,
                    mesh, w)
-    ndn = 2 * nd + 1
-    last_step = 0.0
-    r_max = 0.0
-    for i in range(u.shape[0]):
-        if i % ndn < nd:
-            last_step = max(last_step, abs(u[i] - w.u_old[i]))
-            r_max = max(r_max, abs(u[i]))
-    return accepted, m1, last_step, r_max
+    return accepted, m1
 
 
 @jit(by_dimension=True, _nrt=False)
@@ -277,8 +269,9 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
     magnitude across good steps, and cut, the span crept."""
     has_bnd = _has_boundaries(mesh)
     has_lo = mesh.bnodes[B_LO] >= 0
-    return (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < tol * tol or m1 < 1e-300
-            or (has_bnd and m1 <= MERIT_RISE * merit0) or (has_lo and not hold and m1 < 1e300))
+    return (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < tol * tol
+            or (has_bnd and m1 <= MERIT_RISE * merit0)
+            or (has_lo and not hold and np.isfinite(m1)))
 
 
 @jit(_nrt=False)
