@@ -27,6 +27,7 @@ from . import layout as L
 from ._jit import jit
 from .element_shapes import hermite_crossing
 from .supports import holds_laterally, support_height, support_span
+from .tuning import LATERAL_HYSTERESIS, SLIP_ROUNDOFF
 
 
 @jit(_nrt=False)
@@ -38,8 +39,8 @@ def lateral_hold(nd, s_el, u, sup, top_node, held):
     and y' = 0), so the free span below the tip is clamped laterally there.
 
     A node the mesh put on the tip sits on either side of z_L as it slides
-    between iterations: within 5 % of its elements of the tip it is held too,
-    so that it does not flip between held and free.
+    between iterations: within LATERAL_HYSTERESIS of its elements of the tip
+    it is held too, so that it does not flip between held and free.
     """
     nn = held.shape[0]
     ndn = 2 * nd + 1
@@ -55,7 +56,7 @@ def lateral_hold(nd, s_el, u, sup, top_node, held):
                 h_near = min(h_near, s_el[node - 1])
             z_n = u[node * ndn + nd - 1]
             z_lo, z_hi = support_span(sup.kind[k], sup.geom[k])
-            held[node] = held[node] or z_lo - 0.05 * h_near <= z_n <= z_hi
+            held[node] = held[node] or z_lo - LATERAL_HYSTERESIS * h_near <= z_n <= z_hi
 
 
 @jit(entry=True, _nrt=False)
@@ -373,7 +374,7 @@ def friction_commit(nd, u, model, bed_active, fric, s):
                 continue
             pos = u[node * ndn + slot]
             d = pos - fric[node, col]
-            if abs(d) >= d_slip * (1.0 - 1e-9):
+            if abs(d) >= d_slip * (1.0 - SLIP_ROUNDOFF):
                 sgn = 1.0 if d > 0.0 else -1.0
                 fric[node, col] = pos - sgn * d_slip
                 fric[node, dcol] = -sgn

@@ -15,6 +15,7 @@ import numpy as np
 
 from . import layout as L
 from ._jit import jit, phase
+from .tuning import CROSSING_STEPS, CROSSING_TOL
 
 _G = np.sqrt(3.0 / 7.0 - 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
 _H = np.sqrt(3.0 / 7.0 + 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
@@ -60,7 +61,7 @@ def hermite_crossing(xa, pa, xb, pb, le, level):
     if fa * fb >= 0.0:
         return -1.0
     xi = fa / (fa - fb)
-    for _ in range(30):
+    for _ in range(CROSSING_STEPS):
         xi2 = xi * xi
         xi3 = xi2 * xi
         f = ((1.0 - 3.0 * xi2 + 2.0 * xi3) * xa + le * (xi - 2.0 * xi2 + xi3) * pa
@@ -73,7 +74,7 @@ def hermite_crossing(xa, pa, xb, pb, le, level):
         xi -= step
         if xi <= 0.0 or xi >= 1.0:
             return fa / (fa - fb)
-        if abs(step) < 1e-14:
+        if abs(step) < CROSSING_TOL:
             break
     return xi
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 from ._jit import jit
+from .tuning import FOOT_TOL
 
 
 @jit(_nrt=False)
@@ -75,7 +76,7 @@ def point_clearance(r, rp, s, tip, up, samples, steps, gap, slope, curve):
             if not rate > 0.0:
                 break
             new = min(max(x - dot / rate, 0.0), 1.0)
-            done = abs(new - x) < 1e-13
+            done = abs(new - x) < FOOT_TOL
             x = new
             if done:
                 break

@@ -10,12 +10,7 @@ import math
 
 from . import layout as L
 from ._jit import jit
-
-# The power-law current is continued by a quadratic below POWER_FLOOR times
-# the depth (:func:`current_speed`). Measured on bench_contact's 3D grid
-# against the power law itself (with a secant tangent): the peak stress moved
-# 3.8e-4 at 1e-3, 3.4e-6 at 1e-6, 2.7e-8 at 1e-9 (the solve's tolerance).
-POWER_FLOOR = 1e-9
+from .tuning import POWER_FLOOR
 
 
 @jit(_nrt=False)

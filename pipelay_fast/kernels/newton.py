@@ -122,14 +122,7 @@ from .system import (
     _to_nodal_system,
     _weighted_max,
 )
-
-# A weighted residual above RUNAWAY times the larger of its start and 1 has
-# diverged (forces a million times the reference force).
-RUNAWAY = 1e6
-# A residual within ROUNDOFF_RATIO times its round-off floor is converged
-# (:func:`.system._roundoff_ratio`): at the floor the ratio is of order 1,
-# one Newton step before it two orders more.
-ROUNDOFF_RATIO = 10.0
+from .tuning import ROUNDOFF_RATIO, RUNAWAY
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",

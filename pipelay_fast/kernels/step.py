@@ -28,13 +28,18 @@ from .contact import friction_step, node_arcs
 from .layout import B_LO, B_PT, B_TD, ROW_BED
 from .supports import support_span
 from .system import _evaluate, _solves_tb, _to_nodal_frames, _weighted_max
-
-# The boundaries move once the pipe's imbalance is below INNER_RATIO times
-# theirs (:func:`_hold_boundaries`).
-INNER_RATIO = 1.0
-# With the boundaries unknowns, the largest rise of the merit a step may
-# bring (:func:`_accepts`).
-MERIT_RISE = 1e8
+from .tuning import (
+    ARMIJO,
+    BACKTRACK,
+    INNER_RATIO,
+    LINE_SEARCH_TRIALS,
+    MERIT_RISE,
+    MIN_ELEMENT_SHARE,
+    NON_FINITE_FRACTION,
+    SHORT_LAID_SHARE,
+    SPAN_GROWTH,
+    TIP_ROOM,
+)
 
 
 @phase
@@ -121,18 +126,18 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
             rate = 0.0
             for b in range(nbnd):
                 rate += (s_b[b, e + 1] - s_b[b, e]) * d_bnd[b]
-            if rate < -0.9 * s_el[e]:
-                alpha = min(alpha, 0.9 * s_el[e] / abs(rate))
+            if rate < -(1.0 - MIN_ELEMENT_SHARE) * s_el[e]:
+                alpha = min(alpha, (1.0 - MIN_ELEMENT_SHARE) * s_el[e] / abs(rate))
     for b in range(nbnd):
         if abs(d_bnd[b]) * alpha > bstep:
             alpha = bstep / abs(d_bnd[b])
     if has_td and not hold and d_bnd[B_TD] < 0.0:
-        if -d_bnd[B_TD] * alpha > 0.5 * (s_bd[B_TD] - mesh.s_a[0]):
+        if -d_bnd[B_TD] * alpha > SHORT_LAID_SHARE * (s_bd[B_TD] - mesh.s_a[0]):
             return merit0, alpha, L.SHORT_LAID
     if has_lo and has_tipn and not hold:
         gap_s = s_bd[B_LO] - s_bd[B_PT]
         d_gap_s = (d_bnd[B_LO] - d_bnd[B_PT]) * alpha
-        if d_gap_s < -0.5 * gap_s:
+        if d_gap_s < -gap_s / SPAN_GROWTH:
             if gap_s < href and sup.geom[B_PT, L.PT_BEAR] != 0.0:
                 # Bearing, the span's square goes like a - a_switch: from
                 # d0 Newton asks d0 / 2 + (a - a_switch) / (2 k d0), so a
@@ -143,9 +148,9 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
                 # by less than the mesh resolves: the pipe lifts off
                 # above the tip.
                 return merit0, alpha, L.SPAN_CLOSED
-            alpha *= 0.5 * gap_s / -d_gap_s
-        elif d_gap_s > gap_s:
-            alpha *= gap_s / d_gap_s
+            alpha *= gap_s / (SPAN_GROWTH * -d_gap_s)
+        elif d_gap_s > (SPAN_GROWTH - 1.0) * gap_s:
+            alpha *= (SPAN_GROWTH - 1.0) * gap_s / d_gap_s
     if has_lo and not hold:
         # lift-off stays above the tip, its support's lower end (the curve
         # continued past it is no support)
@@ -153,7 +158,7 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
         z_tip, _z_top = support_span(sup.kind[B_LO], sup.geom[B_LO])
         room = u[base + nd - 1] - z_tip
         dz_lo = w.du_free[base + nd - 1]  # the node's own z slides it along the curve
-        if room < 1e-3 * href and dz_lo < 0.0:
+        if room < TIP_ROOM * href and dz_lo < 0.0:
             return merit0, 0.0, L.PAST_TIP
         if dz_lo * alpha < -room:
             if room > 0.0:  # from above the tip, the step would take it past
@@ -204,15 +209,15 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
         alpha = best
     alpha0 = alpha
     accepted = False
-    for _ls in range(12):
+    for _ls in range(LINE_SEARCH_TRIALS):
         m1 = _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
                     has_bnd)
         if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
             accepted = True
             break
-        if not np.isfinite(m1) and alpha < 1e-3:
+        if not np.isfinite(m1) and alpha < NON_FINITE_FRACTION:
             break
-        alpha *= 0.5
+        alpha *= BACKTRACK
     if not accepted:
         _take_step(nd, alpha0, u, w.u_old, w.du_free, sup, ends.tb, tb_old, dtb, has_bnd,
                    mesh, w)
@@ -269,7 +274,7 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
     magnitude across good steps, and cut, the span crept."""
     has_bnd = _has_boundaries(mesh)
     has_lo = mesh.bnodes[B_LO] >= 0
-    return (m1 <= (1.0 - 1e-4 * alpha) * merit0 or merit0 < tol * tol
+    return (m1 <= (1.0 - ARMIJO * alpha) * merit0 or merit0 < tol * tol
             or (has_bnd and m1 <= MERIT_RISE * merit0)
             or (has_lo and not hold and np.isfinite(m1)))
 

@@ -41,6 +41,7 @@ from .constraints import _bnd_equation, _free_moment
 from .contact import friction_forces, friction_length_derivative, node_arcs
 from .layout import B_LO, B_TD, ROW_BED, SUP_POINT
 from .supports import in_curve_coords, support_height
+from .tuning import EPS
 
 
 @jit(by_dimension=True, _nrt=True)
@@ -387,7 +388,7 @@ def _roundoff_ratio(nd, u, ab, g, cmask):
         acc = 0.0
         for j in range(max(0, i - kl), min(n - 1, i + kl) + 1):
             acc += abs(ab[kv + i - j, j] * u[j])
-        ratio = abs(g[i]) / (2.2e-16 * acc) if acc > 0.0 else np.inf
+        ratio = abs(g[i]) / (EPS * acc) if acc > 0.0 else np.inf
         if ratio > worst:
             worst = ratio
     return worst

@@ -1,0 +1,83 @@
+"""Every tuning constant of the kernels, each with the reason for its value.
+
+A value is a derivation (stated), a measurement (the benchmark that makes it;
+its figures are in that benchmark's report) or a standard choice (named). The
+engine's are :mod:`pipelay_fast.engine.tuning`'s, the input layer's
+:mod:`pipelay_fast.input.limits`'.
+"""
+
+from __future__ import annotations
+
+# --- round-off --------------------------------------------------------------------
+# Double precision's unit round-off, 2^-52 (not a choice).
+EPS = 2.220446049250313e-16
+# A parameter in [0, 1] found by Newton (a level's crossing in an element,
+# :func:`.element_shapes.hermite_crossing`; the foot of the normal to an
+# element, :func:`.geometry.tip_clearance_kernel`) is converged when a step
+# moves it by less than these (a few hundred ulps of 1), within at most
+# CROSSING_STEPS steps (Newton on a cubic from its chord converges in a few;
+# bisection would reach 1e-14 in 47).
+CROSSING_TOL = 1e-14
+FOOT_TOL = 1e-13
+CROSSING_STEPS = 30
+# A friction spring whose displacement is within this share of its
+# mobilising displacement slides (:func:`.contact.friction_commit`): the
+# displacement is a difference of positions of order 1e3 m, so a few
+# million ulps of a slip of 1e-2 m.
+SLIP_ROUNDOFF = 1e-9
+
+# --- the Newton iteration (:mod:`.newton`) --------------------------------------------
+# A residual within ROUNDOFF_RATIO times its round-off floor is converged
+# (:func:`.system._roundoff_ratio`): at the floor the ratio is of order 1,
+# one Newton step before it two orders more.
+ROUNDOFF_RATIO = 10.0
+# A weighted residual above RUNAWAY times the larger of its start and 1 has
+# diverged (forces a million times the reference force): the line search
+# takes rising merits while boundaries move (MERIT_RISE).
+RUNAWAY = 1e6
+
+# --- step control (:mod:`.step`) ----------------------------------------------------
+# The boundaries move once the pipe's imbalance is below INNER_RATIO times
+# theirs (:func:`.step._hold_boundaries`): the two measured in their own
+# scaled equations.
+INNER_RATIO = 1.0
+# Armijo's sufficient decrease of the merit (the textbook c1 = 1e-4,
+# Nocedal and Wright, Numerical Optimization, 2006, Sec. 3.1), the step
+# halved (BACKTRACK) up to LINE_SEARCH_TRIALS trials (down to 2^-11 of it),
+# a non-finite trial's search ended below NON_FINITE_FRACTION of the step.
+ARMIJO = 1e-4
+BACKTRACK = 0.5
+LINE_SEARCH_TRIALS = 12
+NON_FINITE_FRACTION = 1e-3
+# With the boundaries unknowns, the largest rise of the merit a step may
+# bring (:func:`.step._accepts`): the weighted residual rises across good
+# steps as the element lengths move with the boundaries (measured:
+# bench_contact.py parts 1 and 6; Armijo alone cut steps to 1/8 to 1/32).
+MERIT_RISE = 1e8
+# No element of a boundary's zone shrinks below MIN_ELEMENT_SHARE of its
+# length in one step (the elements stay positive, the mesh does not fold).
+MIN_ELEMENT_SHARE = 0.1
+# Touchdown may move at most SHORT_LAID_SHARE of the way to the modelled
+# lower end in one step; more, and Newton stops (SHORT_LAID) for more laid
+# pipe (:func:`pipelay_fast.engine.solver.laid_short`).
+SHORT_LAID_SHARE = 0.5
+# The span from re-contact to a bearing tip at most halves or grows by
+# SPAN_GROWTH times in a step: its square is linear in the load past the
+# change of regime, so the span itself follows a logarithmic step.
+SPAN_GROWTH = 2.0
+# Lift-off within TIP_ROOM href of the tip and moving down has reached it
+# (PAST_TIP): a tenth of a millimetre at a metre's elements.
+TIP_ROOM = 1e-3
+
+# --- contacts (:mod:`.contact`) --------------------------------------------------------
+# A node within LATERAL_HYSTERESIS of its elements below the stinger's span
+# is held laterally too: held and free would flip between iterations as a
+# node crosses the tip.
+LATERAL_HYSTERESIS = 0.05
+
+# --- loads (:mod:`.loads`) ---------------------------------------------------------------
+# The power-law current is continued by a quadratic below POWER_FLOOR times
+# the depth (:func:`.loads.current_speed`). Measured on bench_contact's 3D
+# grid against the power law itself (with a secant tangent): the peak stress
+# moved 3.8e-4 at 1e-3, 3.4e-6 at 1e-6, 2.7e-8 at 1e-9 (the tolerance's).
+POWER_FLOOR = 1e-9
