@@ -123,13 +123,9 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     tangent from the nearest node; ungraded there), graded at the answer's
     touchdown, the state interpolated. The rollers it passes on or below
     bear (Newton's first step lifts the pipe onto those it passes below:
-    from this equilibrium, where the reactions mean something, that step
-    was cheaper than moving the rollers onto their places in load steps
-    from where the answer passes them: 277 against 316 iterations over 24
-    cold cases with the guide then fitted through the last roller, the tip
-    rollers raised up to 1 m among them; from the first guess itself,
-    0.2 m below the last rollers of S67 on 12 m spacing, the contacts swung
-    for 5 to 30 iterations and 1.5 m spacing diverged)."""
+    from this equilibrium the reactions mean something; measured against
+    moving the rollers onto their places in load steps:
+    benchmarks/bench_rollers.py)."""
     nd, ndn = guide.nd, guide.ndn
     rollers = case.lay.roller_positions()
     stats = dict(guide.stats)

@@ -162,10 +162,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         pb.settings.tolerance = None  # graded at the boundaries: to the tolerance
         if path:
             pb.on_gravity_path()
-        # interpolated, the state is near balance, bearing on the tip too
-        # (held there, the first iteration cost 2 more a solve: full grid,
-        # S67 2D 4742 -> 4480 iterations, S125 2D 5770 -> 5131, none more;
-        # it once kept re-contact from a start one flexural length off)
+        # interpolated, the state is near balance, bearing on the tip too:
+        # the first iteration need not hold the boundaries
         pb.settings.in_balance = True
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
@@ -212,11 +210,9 @@ def _from_guide(case: Case, budget: IterationBudget, laid: float | None = None):
     """A roller stinger's start: its guide (the quadratic stinger through the
     rollers, :func:`.guess.guide_case`) solved under gravity on its first
     mesh to tuning.LOOSE_TOLERANCE, then the roller problem built from that answer
-    (:func:`.problem.roller_problem`). From the first guess itself the
-    rollers' contacts swung for 5 to 30 iterations while the pipe found its
-    balance (S67 2D at 1 to 8 m elements, rollers on the paper's curve every
-    1.5 to 12 m; 1.5 m diverged); the curve's single boundary does not, and
-    from its answer the rollers take 3 to 6 more (the grid: 7 to 9 in all).
+    (:func:`.problem.roller_problem`): from the first guess itself the
+    rollers' contacts swing while the pipe finds its balance; the curve's
+    single boundary does not (measured: benchmarks/bench_rollers.py).
 
     Returns (problem, the guide's Newton iterations)."""
     guide = guide_case(case)

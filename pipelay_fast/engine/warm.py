@@ -33,19 +33,16 @@ def warm_problem(case: Case, old: Problem) -> Problem:
         raise ValueError(f"warm: the case has {case.lay.roller_count} rollers, the warm case "
                          f"{len(old.contacts.points)}")
     # (the map with it: where the neighbour's tip switched regime along the
-    # path, its map after the switch did not fit the state before the
-    # current, and the warm start diverged: S67 and S125 3D at 4 m under a
-    # 2 m/s current, a = -0.00114 and -0.00166)
+    # path, its map after the switch does not fit the state before the
+    # current)
     state = dict(zip(STATE + MAP, old.path.before_current or snapshot(old), strict=True))
     g = _guess(guide_case(case) if case.lay.has_rollers else case)
     new = _problem(case, nd, state["s"].copy(), state["u"].copy(), state["tb"][0],
                    _reference_force(case, g), dict(old.stats))
     new.path.warm = True
     # the mesh sizes and length of pipe of the cold start (its guess's): the
-    # mesh is graded anew with them (the neighbour's, sized for its own lay,
-    # gave another h_min, lower end and element counts: J125 warm from 1.02
-    # times the top tension, 1.05e-5 from the cold peak stress; S125 3D from
-    # a + 1.5e-4, 2.0e-6)
+    # mesh is graded anew with them, so that the warm answer is the cold
+    # one's (the neighbour's sizes, for its own lay, give another mesh)
     new.stats.update(_mesh_stats(case, g))
     for name in ("bed_active", "st_active", "fric"):
         getattr(new.contacts, name)[:] = state[name]
@@ -58,14 +55,9 @@ def warm_problem(case: Case, old: Problem) -> Problem:
         new.mesh.s[:] = state["s"]
         if state["grade_b"] is not None:
             # as the neighbour's grading moves (touchdown, and each rigid
-            # point's node, which moves only as the pipe slides over it: in
-            # the zones the nodes between rollers drifted 3.5 cm from the
-            # graded mesh at a 5 cm move, and the mesh was graded anew); but
+            # point's node, which moves only as the pipe slides over it); but
             # lift-off, which a change of the stinger moves far along it, in
-            # its zone (with the grading's rates S67 2D at 1 m warm from
-            # a + 1.5e-4 and 3D at 4 m from a - 3e-4 did not converge in 100
-            # iterations; 5 of 44 warm S-lays at 1 and 4 m, a 1.5e-4 and
-            # 3e-4 away, failed so)
+            # its zone (with the grading's rates the mesh folds there)
             new.mesh.grade_b, new.mesh.zone_b = state["grade_b"], state["zone_b"]
             rates = new.mesh.grade_b.copy()
             rates[B_LO] = new.mesh.zone_b[B_LO]
@@ -82,10 +74,7 @@ def _onto_stinger(pb: Problem, old_curve: tuple):
     vanishes at both ends when only ``a`` changed), its slope with it, so the
     contacts start on the new curve and the free span keeps its shape; then
     every node slides along the pipe so that the elements keep their
-    lengths (:func:`_slide_to_length`). S67 and S125 2D at 2 and 4 m, warm
-    from a neighbour 2e-5 away: 186 -> 175 iterations over 36 solves; 1.5e-4
-    away: 331 -> 247 (the residual the warm state starts with: S67 at 2 m,
-    a = -0.0021, 20 -> 0.26 reference forces)."""
+    lengths (:func:`_slide_to_length`)."""
     if not pb.has_curve:
         return
     nd, ndn = pb.nd, pb.ndn
