@@ -13,8 +13,8 @@ from __future__ import annotations
 EPS = 2.220446049250313e-16
 # A parameter in [0, 1] found by Newton (a level's crossing in an element,
 # :func:`.element_shapes.hermite_crossing`; the foot of the normal to an
-# element, :func:`.geometry.tip_clearance_kernel`) is converged when a step
-# moves it by less than these (a few hundred ulps of 1), within at most
+# element, :func:`.geometry.point_clearance`) is converged when a step
+# moves it by less than these (45 and 450 ulps of 1), within at most
 # CROSSING_STEPS steps (Newton on a cubic from its chord converges in a few;
 # bisection would reach 1e-14 in 47).
 CROSSING_TOL = 1e-14
