@@ -146,3 +146,25 @@ def test_current_steps_are_counted_as_newton_ran_them(monkeypatch):
     # without a lateral current there is no friction path, and no steps
     planar = pf.solve(pf.load_case(EXAMPLES / "j125_2d.toml")).summary
     assert planar["n_current_steps"] == 0 and planar["max_current_step_iterations"] == 0
+
+
+@pytest.mark.parametrize("profile", ["uniform", "linear", "power", "table"])
+@pytest.mark.parametrize("x_top", [80.0, 125.0, 160.0])
+def test_drag_share_is_the_integral_of_the_squared_speed(profile, x_top):
+    """drag_share (closed forms; Simpson on a table's pieces) against scipy's
+    adaptive quadrature of V(t x_top)^2 (1 - t), told the kinks (the surface,
+    the table's heights), for a string below, at and above the surface."""
+    from scipy.integrate import quad
+
+    from pipelay_fast.engine.friction import drag_share
+
+    changes = {"environment.current.profile": profile}
+    if profile == "table":
+        changes.update({"environment.current.speed": 1.3, "environment.current.table":
+                        [[0.0, 0.2], [30.0, 0.8], [90.0, 1.1], [125.0, 1.3]]})
+    case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes(changes)
+    depth = case.environment.water_depth
+    kinks = [h / x_top for h in (30.0, 90.0, depth) if h < x_top]
+    exact = quad(lambda t: float(case.current_speed_at(t * x_top)) ** 2 * (1.0 - t), 0.0, 1.0,
+                 points=kinks or None, limit=500, epsabs=1e-13, epsrel=1e-11)[0]
+    assert drag_share(case, x_top) == pytest.approx(exact, rel=1e-9)
