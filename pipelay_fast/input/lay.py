@@ -109,14 +109,16 @@ class Stinger:
         """The curve's arc length [m] from z0 to z1 [m], negative when z1 < z0;
         in closed form (with p = 2 a z + b, 4 a s = [p sqrt(1 + p^2) +
         asinh p] between the ends); vectorised in z1."""
-        z1 = np.asarray(z1, dtype=float)
-        if self.a == 0.0:
-            return math.sqrt(1.0 + self.b**2) * (z1 - z0)
+        return self._arc(self.a, self.b, z0, np.asarray(z1, dtype=float))
 
-        def primitive(p):
-            return p * np.sqrt(1.0 + p * p) + np.arcsinh(p)
-
-        return (primitive(self.slope(z1)) - primitive(self.slope(z0))) / (4.0 * self.a)
+    @staticmethod
+    def _arc(a: float, b: float, z0: float, z1):
+        """:meth:`arc_length` of the curve with coefficients ``a``, ``b``."""
+        if a == 0.0:
+            return math.sqrt(1.0 + b * b) * (z1 - z0)
+        p0, p1 = 2.0 * a * z0 + b, 2.0 * a * z1 + b
+        return ((p1 * np.sqrt(1.0 + p1 * p1) + np.arcsinh(p1))
+                - (p0 * math.sqrt(1.0 + p0 * p0) + math.asinh(p0))) / (4.0 * a)
 
     def z_at_arc(self, z0: float, s):
         """z [m] where the curve's arc length from z0 [m] is ``s`` [m]
@@ -124,11 +126,13 @@ class Stinger:
         Newton from the chord along the tangent at z0 (ds/dz = sqrt(1 + p^2)
         >= 1, so the iteration converges quadratically) until its step stops
         shrinking, at round-off; vectorised in s."""
+        a, b = self.a, self.b
         s = np.asarray(s, dtype=float)
-        z = z0 + s / math.sqrt(1.0 + float(self.slope(z0)) ** 2)
+        z = z0 + s / math.sqrt(1.0 + (2.0 * a * z0 + b) ** 2)
         last = math.inf
         while True:
-            dz = (self.arc_length(z0, z) - s) / np.sqrt(1.0 + self.slope(z) ** 2)
+            p = 2.0 * a * z + b
+            dz = (self._arc(a, b, z0, z) - s) / np.sqrt(1.0 + p * p)
             z = z - dz
             step = float(np.max(np.abs(dz), initial=0.0))
             if not step < last:
