@@ -199,12 +199,6 @@ class Problem:
                         c.fric, c.y_held)
 
     @property
-    def stinger(self) -> np.ndarray:
-        """The stinger's curve (N_STINGER,): its row of the supports' table
-        (layout ``ST_*``), a view; zeros without one (:attr:`has_curve`)."""
-        return self.contacts.geom[L.ROW_CURVE, :L.N_STINGER]
-
-    @property
     def curve_support(self) -> tuple:
         """(kind, parameters) of the stinger curve's row of the supports' table."""
         return int(self.contacts.kind[L.ROW_CURVE]), self.contacts.geom[L.ROW_CURVE]

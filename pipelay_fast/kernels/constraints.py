@@ -112,13 +112,14 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
             if fix_mask[i] != 0:
                 w.delta[i] = sup.fix_val[i] - _local_value(nd, u, node, slot, sup.phi_r,
                                                            sup.phi_rp)
-        for k in range(sup.kind.shape[0]):
-            _hold_on_line(nd, u, sup, k, node, ends.top_node, w)
         if sup.y_held[node]:  # on the stinger's plane and tangent to it
             w.cmask[base + 1] = True
             w.delta[base + 1] = -u[base + 1]
             w.cmask[base + nd + 1] = True
             w.delta[base + nd + 1] = -u[base + nd + 1]
+    for k in range(sup.kind.shape[0]):
+        if sup.kind[k] == SUP_FLAT_SEABED or in_curve_coords(sup.kind[k]):
+            _hold_on_line(nd, u, sup, k, ends.top_node, w)
     for b in range(mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
         if kt >= 0 and sup.kind[b] == SUP_POINT and sup.geom[b, L.PT_BEAR] != 0.0:
@@ -137,37 +138,40 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
 
 
 @jit(_nrt=False)
-def _hold_on_line(nd, u, sup, k, node, top_node, w):
-    """Node ``node`` held on line support ``k`` where it holds it (``w.cmask``,
-    ``w.delta``, as :func:`_constraint_set`). The flat seabed: on it (in the
-    node's frame) at its contacts, and tangent to it at every contact node,
-    touchdown's included, and at the lower end (resting on a rigid seabed, or
-    on an elastic one's foundation). A support in curve coordinates: on it
-    (c = 0) and tangent to it (c' = 0) at its contacts, but at the lowest, the
-    contact node with free pipe below it (lift-off), whose tangency is
-    lift-off's equation; the held top excepted."""
+def _hold_on_line(nd, u, sup, k, top_node, w):
+    """The nodes line support ``k`` holds, held on it (``w.cmask``,
+    ``w.delta``, as :func:`_constraint_set`; the prescribed ends' unknowns
+    left as they are). The flat seabed: on it (in the node's frame) at its
+    contacts, and tangent to it at every contact node, touchdown's included,
+    and at the lower end (resting on a rigid seabed, or on an elastic one's
+    foundation). A support in curve coordinates: on it (c = 0) and tangent
+    to it (c' = 0) at its contacts, but at the lowest, the contact node with
+    free pipe below it (lift-off), whose tangency is lift-off's equation;
+    the held top excepted. One call per support, not per node: the
+    constraint set is built every iteration."""
     kind = sup.kind[k]
     ndn = 2 * nd + 1
-    base = node * ndn
-    on = sup.active[k, node] != 0
     fix_mask = sup.fix_mask
-    if kind == SUP_FLAT_SEABED:
-        if on and fix_mask[base] == 0:
+    for node in range(sup.active.shape[1]):
+        base = node * ndn
+        on = sup.active[k, node] != 0
+        if kind == SUP_FLAT_SEABED:
+            if on and fix_mask[base] == 0:
+                w.cmask[base] = True
+                w.delta[base] = -support_gap(kind, sup.geom[k],
+                                             _local_value(nd, u, node, 0, sup.phi_r, sup.phi_rp),
+                                             u[base + nd - 1], 0.0)
+            if (on or node == 0) and fix_mask[base + nd] == 0:
+                w.cmask[base + nd] = True
+                w.delta[base + nd] = -u[base + nd]
+        elif on and node != top_node and fix_mask[base] == 0:
+            z_n = u[base + nd - 1]
+            _f, fp, _fpp = support_height(kind, sup.geom[k], z_n)
             w.cmask[base] = True
-            w.delta[base] = -support_gap(kind, sup.geom[k],
-                                         _local_value(nd, u, node, 0, sup.phi_r, sup.phi_rp),
-                                         u[base + nd - 1], 0.0)
-        if (on or node == 0) and fix_mask[base + nd] == 0:
-            w.cmask[base + nd] = True
-            w.delta[base + nd] = -u[base + nd]
-    elif in_curve_coords(kind) and on and node != top_node and fix_mask[base] == 0:
-        z_n = u[base + nd - 1]
-        _f, fp, _fpp = support_height(kind, sup.geom[k], z_n)
-        w.cmask[base] = True
-        w.delta[base] = -support_gap(kind, sup.geom[k], u[base], z_n, 0.0)
-        if node > 0 and sup.active[k, node - 1] != 0:
-            w.cmask[base + nd] = True
-            w.delta[base + nd] = -(u[base + nd] - fp * u[base + 2 * nd - 1])
+            w.delta[base] = -support_gap(kind, sup.geom[k], u[base], z_n, 0.0)
+            if node > 0 and sup.active[k, node - 1] != 0:
+                w.cmask[base + nd] = True
+                w.delta[base + nd] = -(u[base + nd] - fp * u[base + 2 * nd - 1])
 
 
 @jit(by_dimension=True, _nrt=True)

@@ -48,13 +48,13 @@ def lateral_hold(nd, s_el, u, sup, top_node, held):
         held[node] = False
         if nd != 3 or node == top_node or sup.fix_mask[node * ndn] != 0:
             continue
+        h_near = s_el[min(node, nn - 2)]
+        if node > 0:
+            h_near = min(h_near, s_el[node - 1])
+        z_n = u[node * ndn + nd - 1]
         for k in range(sup.kind.shape[0]):
             if not holds_laterally(sup.kind[k]):
                 continue
-            h_near = s_el[min(node, nn - 2)]
-            if node > 0:
-                h_near = min(h_near, s_el[node - 1])
-            z_n = u[node * ndn + nd - 1]
             z_lo, z_hi = support_span(sup.kind[k], sup.geom[k])
             held[node] = held[node] or z_lo - LATERAL_HYSTERESIS * h_near <= z_n <= z_hi
 
