@@ -11,7 +11,9 @@ tree: it imports the package, solves every scene once (compiling or loading
 the kernels, timed apart), then times ``--repeats`` solves of each scene and
 reports their median. Rounds alternate the two trees so that a drift in the
 machine's load falls on both. The table gives, per scene, the median over
-the rounds of each tree's medians and their ratio AFTER / BEFORE, and checks
+the rounds of each tree's medians and their ratio AFTER / BEFORE, wall
+clock and the solving thread's CPU time (which other tenants of a shared
+machine disturb less), with the range of the ratios of the rounds' pairs, and checks
 that both trees give the same summary (every column but the solve time).
 Writes ``compare_trees.md`` and ``.json`` into --out (default benchmarks/out).
 """
@@ -41,14 +43,17 @@ cases = {name: pf.load_case(examples / f"{name}.toml") for name in scenes}
 t0 = time.perf_counter()
 first = {name: pf.solve(case) for name, case in cases.items()}
 warm_up = time.perf_counter() - t0
-out = {"file": pf.__file__, "warm_up_s": warm_up, "median_ms": {}, "summary": {}}
+out = {"file": pf.__file__, "warm_up_s": warm_up, "median_ms": {}, "cpu_median_ms": {},
+       "summary": {}}
 for name, case in cases.items():
-    times = []
+    times, cpu = [], []
     for _ in range(repeats):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.thread_time()
         pf.solve(case)
+        cpu.append(time.thread_time() - c)
         times.append(time.perf_counter() - t)
     out["median_ms"][name] = 1e3 * statistics.median(times)
+    out["cpu_median_ms"][name] = 1e3 * statistics.median(cpu)
     out["summary"][name] = {k: (None if isinstance(v, float) and math.isnan(v) else v)
                             for k, v in first[name].summary.items() if k != "solve_seconds"}
 print(json.dumps(out))
@@ -85,17 +90,27 @@ def main() -> int:
     lines += [f"{k}: {v}" for k, v in machine_info().items()]
     lines += [f"before: {args.before}", f"after: {args.after}",
               f"{args.rounds} rounds x {args.repeats} solves per scene", "```", "",
-              "| scene | before [ms] | after [ms] | after / before | same summary |",
-              "| --- | --- | --- | --- | --- |"]
+              "| scene | before [ms] | after [ms] | after / before (pairs' range) "
+              "| CPU before [ms] | CPU after [ms] | CPU after / before (pairs' range) "
+              "| same summary |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     table = {}
     for name in args.scenes:
-        before = statistics.median(r["median_ms"][name] for r in runs["before"])
-        after = statistics.median(r["median_ms"][name] for r in runs["after"])
-        same = runs["before"][0]["summary"][name] == runs["after"][0]["summary"][name]
-        table[name] = {"before_ms": before, "after_ms": after, "ratio": after / before,
-                       "same_summary": same}
-        lines.append(f"| {name} | {before:.2f} | {after:.2f} | {after / before:.3f} | "
-                     f"{'yes' if same else 'NO'} |")
+        row = {"same_summary": runs["before"][0]["summary"][name]
+               == runs["after"][0]["summary"][name]}
+        cells = []
+        for key, label in (("median_ms", ""), ("cpu_median_ms", "cpu_")):
+            before, after = (statistics.median(r[key][name] for r in runs[k])
+                             for k in ("before", "after"))
+            pairs = [a[key][name] / b[key][name]
+                     for b, a in zip(runs["before"], runs["after"], strict=True)]
+            row.update({f"{label}before_ms": before, f"{label}after_ms": after,
+                        f"{label}ratio": after / before, f"{label}pair_ratios": pairs})
+            cells.append(f"{before:.2f} | {after:.2f} | {after / before:.3f} "
+                         f"({min(pairs):.3f}-{max(pairs):.3f})")
+        table[name] = row
+        lines.append(f"| {name} | {' | '.join(cells)} | "
+                     f"{'yes' if row['same_summary'] else 'NO'} |")
     for key in ("before", "after"):
         warm = statistics.median(r["warm_up_s"] for r in runs[key])
         lines.append(f"\n{key}: first solves of every scene in a process (kernels loaded from "
