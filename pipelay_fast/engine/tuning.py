@@ -61,6 +61,14 @@ MAX_TIP_SWITCHES = 2
 # --- meshes ----------------------------------------------------------------------
 # Geometric growth of neighbouring elements of a graded mesh (:mod:`.mesh`).
 GROWTH = 1.2
+# The default finest element (solver.min_element_length not given,
+# :func:`.problem._mesh_sizes`): FINEST_IN_LAYER flexural lengths at
+# touchdown (the boundary layer over which the curvature peaks), but no finer
+# than h_max / FINEST_COARSENING. No measurement of either value of its own:
+# the defaults as a whole are placed against finer and coarser meshes by
+# benchmarks/speed_vs_error.py (S67 2D: on the error/time front).
+FINEST_IN_LAYER = 0.02
+FINEST_COARSENING = 8.0
 # A mesh is graded at its foci when no node is further than ON_FOCUS h_min from
 # the graded mesh's (the error of a node off its focus by d is O(d^2)).
 ON_FOCUS = 0.02
@@ -83,10 +91,19 @@ ROLLER_ON = 1e-6
 # --- laid pipe (:func:`.solver.laid_short`, :func:`.solver.more_laid`) ----------------
 # The laid pipe a mesh models behind touchdown: at least one flexural length
 # sqrt(EI/T) (the boundary layer over which the pipe leaves the seabed),
-# doubled to at least two when short. The first mesh has two and five
-# elements (:func:`.problem.build_problem`); a solve adds laid pipe until the
-# mesh would exceed solver.max_elements.
+# doubled to at least two when short. The first mesh has two, and
+# LAID_ELEMENTS elements (:func:`.problem.build_problem`); a solve adds laid
+# pipe until the mesh would exceed solver.max_elements.
 LAID_LENGTHS = 1.0
+# The first mesh's default laid pipe also has LAID_ELEMENTS elements (room for
+# touchdown's first Newton steps, MAX_BOUNDARY_STEP elements each, when the
+# flexural length is shorter than an element); no measurement.
+LAID_ELEMENTS = 5.0
+# On a laid pipe shorter than 4/3 of a flexural length (given by
+# solver.laid_length or lay.pipe_length) the first mesh's touchdown focus,
+# one flexural length before the catenary's, would lie before this share of
+# it; it is put there instead (:func:`.problem.build_problem`); no measurement.
+TOUCHDOWN_FOCUS_SHARE = 0.25
 # The largest share of the laid pipe's lateral force the held lower end may
 # carry before the laid pipe is doubled: measured, the shares left with the
 # sticking zone of DECAY_LENGTHS on the 3D grid, bench_contact.py part 1.
