@@ -168,9 +168,10 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     # The cable's lift-off, on the stinger or on its curve continued below
     # the tip. With H = tension - W, constant, the mismatch is H - tension
     # cos psi: down the curve where it rises (dx/dz > 0; a <= 0) x and W fall
-    # and psi steepens, so it grows strictly, from -W < 0 where the curve is
-    # level to H (1 - cos psi) > 0 at the seabed (x = 0, W = 0). One root
-    # between, when the top of that stretch is below it.
+    # and psi steepens, so it grows strictly, to H (1 - cos psi) > 0 at the
+    # seabed (x = 0, W = 0). One root, when it is negative at the top of the
+    # rise (the upper end, or where the curve is level: -W there); none when
+    # positive (the cable flatter than the stinger at its top).
     z_bed, z_top = _rising_stretch(st)
     z_lo = z_l
     past = None
