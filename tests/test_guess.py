@@ -14,7 +14,7 @@ from scipy.optimize import brentq
 
 import pipelay_fast as pf
 from pipelay_fast.engine.guess import first_guess, free_span, slay_liftoff, weights
-from pipelay_fast.engine.tuning import GUESS_LIFTOFF_ERROR
+from pipelay_fast.engine.tuning import TIP_PAST_REACH
 from tests.helpers import EXAMPLES
 from tests.reference.catenary import natural_catenary_two_weights
 
@@ -68,31 +68,40 @@ def _tangent_point(case, h):
     return brentq(mismatch, zs[k], zs[k + 1], xtol=1e-12)
 
 
-@pytest.mark.parametrize("h", [3e3, 3e4, 3e5])
-def test_slay_liftoff_where_the_catenary_is_tangent_to_the_stinger(h):
+S67_STINGER = {"a": -0.0012, "lower": [41.5, 265.0], "upper": [72.0, 400.0]}
+SHORT_STINGER = {"a": -0.0012, "lower": [56.0, 350.0], "upper": [72.0, 400.0]}
+
+
+@pytest.mark.parametrize(("stinger", "h", "where"), [
+    (S67_STINGER, 1e6, "above"), (S67_STINGER, 3e4, "below"), (S67_STINGER, 3e3, "below"),
+    (SHORT_STINGER, 3e4, "beyond")])
+def test_slay_liftoff_where_the_catenary_is_tangent_to_the_stinger(stinger, h, where):
     """Lift-off is the reference catenary's tangent point, one flexural
     length sqrt(EI/Te) up the curve (a soft pipe, so within the stinger).
-    Below the tip (here further below it than the stinger's own z range,
-    where a search over that range found none) the guess leaves from the
-    tip and says how far below."""
+    Below the tip the guess leaves from the tip and says how far below; more
+    than tuning.TIP_PAST_REACH stinger z ranges below it, it leaves from the
+    tip lifting off (no distance)."""
     case = pf.load_case(EXAMPLES / "s67.toml").with_changes(
         {"lay.top_tension": None, "lay.bottom_tension": h,
-         "pipe.youngs_modulus": 2e8, "pipe.extensible": False,
-         "lay.stinger": {"a": -0.0012, "lower": [56.0, 350.0], "upper": [72.0, 400.0]}})
+         "pipe.youngs_modulus": 2e8, "pipe.extensible": False, "lay.stinger": stinger})
     st = case.lay.stinger
+    (z_l, z_u) = st.lower[1], st.upper[1]
     z_c = _tangent_point(case, h)
-    x_c = float(st.height(z_c))
-    lam = math.sqrt(case.pipe.bending_stiffness / _reference(case, h, x_c)["T_top"])
+    lam = math.sqrt(case.pipe.bending_stiffness
+                    / _reference(case, h, float(st.height(z_c)))["T_top"])
     z_lo, h_lo, past = slay_liftoff(case)
     assert h_lo == pytest.approx(h, rel=1e-12)
-    along = float(st.arc_length(z_c, st.lower[1])) - lam
-    if along > GUESS_LIFTOFF_ERROR * lam:
-        assert z_lo == st.lower[1]
-        assert past == pytest.approx(along, rel=1e-6, abs=1e-6)
-    else:
+    if where == "above":
+        assert z_c > z_l
         assert float(st.arc_length(z_c, z_lo)) == pytest.approx(lam, rel=1e-6)
-    if h == 3e3:  # below the old search range, one stinger z range below the tip
-        assert z_c < st.lower[1] - (st.upper[1] - st.lower[1])
+        assert past is None
+    elif where == "below":
+        assert z_l - TIP_PAST_REACH * (z_u - z_l) < z_c < z_l
+        assert z_lo == z_l
+        assert past == pytest.approx(float(st.arc_length(z_c, z_l)) - lam, rel=1e-6)
+    else:
+        assert z_c < z_l - TIP_PAST_REACH * (z_u - z_l)
+        assert (z_lo, past) == (z_l, None)
 
 
 @pytest.mark.parametrize("extra", [5.0, 40.0])

@@ -166,17 +166,19 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         return tension(x) * (1.0 - cos_psi) - _rise(w1, w2, depth, x)
 
     # The cable's lift-off, on the stinger or on its curve continued below
+    # the tip, down to the seabed or TIP_PAST_REACH stinger z ranges below
     # the tip. With H = tension - W, constant, the mismatch is H - tension
     # cos psi: down the curve where it rises (dx/dz > 0; a <= 0) x and W fall
     # and psi steepens, so it grows strictly, to H (1 - cos psi) > 0 at the
     # seabed (x = 0, W = 0). One root, when it is negative at the top of the
-    # rise (the upper end, or where the curve is level: -W there); none when
-    # positive (the cable flatter than the stinger at its top).
-    z_bed, z_top = _rising_stretch(st)
+    # rise (the upper end, or where the curve is level: -W there) and
+    # positive at the lower end; none otherwise (the cable flatter than the
+    # stinger at its top, or steeper than the curve that far below the tip).
+    z_low, z_top = _search_range(st)
     z_lo = z_l
     past = None
-    if mismatch(z_top) < 0.0 < mismatch(z_bed):
-        z_c = brentq(mismatch, z_bed, z_top)
+    if mismatch(z_top) < 0.0 < mismatch(z_low):
+        z_c = brentq(mismatch, z_low, z_top)
         # a stiff pipe leaves about one flexural length sqrt(EI/Te) further up
         # the stinger (boundary-layer asymptotics, EI -> 0)
         t_c = tension(float(st.height(z_c)))
@@ -198,18 +200,21 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     return z_lo, h, past
 
 
-def _rising_stretch(st):
-    """(z where the quadratic stinger's curve continued below its tip meets
-    the seabed (x = 0), z [m] where its rise ends: the upper end, or where it
-    is level when that lies below)."""
+def _search_range(st):
+    """(lowest z [m] searched for lift-off: where the quadratic stinger's
+    curve continued below its tip meets the seabed (x = 0), or
+    tuning.TIP_PAST_REACH times the stinger's z range below the tip when
+    that is higher; z [m] where the curve's rise ends: the upper end, or
+    where it is level when that lies below)."""
     a, b, c = st.a, st.b, st.c
-    z_top = st.upper[1]
+    (z_l, z_u) = st.lower[1], st.upper[1]
+    z_top = z_u
     if float(st.slope(z_top)) <= 0.0:
         z_top = -b / (2.0 * a)  # (a < 0: the mean slope of the stinger is positive)
     # the root of a z^2 + b z + c where 2 a z + b = +sqrt(disc), without cancellation
     root = math.sqrt(b * b - 4.0 * a * c)  # (x >= 0 at the tip: a real root below it)
     z_bed = -2.0 * c / (b + root) if b > 0.0 else (root - b) / (2.0 * a)
-    return z_bed, z_top
+    return max(z_bed, z_l - T.TIP_PAST_REACH * (z_u - z_l)), z_top
 
 
 def _slay_span(case: Case, bottom_tension=None):
@@ -235,20 +240,24 @@ def _slay_bottom_tension(case: Case) -> float:
         return (z_lo - cat.span) - (length - cat.length - arc)
 
     # h -> 0: lift-off at the seabed, one flexural length (-> inf) up the
-    # stinger, so at its top, and a vertical hang from there; h -> inf: the
-    # cable flatter than the stinger's top (lift-off from the tip, the guess's
-    # fallback) or, on a stinger level below its top, lift-off where it is
-    # level, and a flat catenary (length - span -> 0)
-    z_t = z_l if float(st.slope(z_u)) > 0.0 else _rising_stretch(st)[1]
+    # stinger, so at its top, when the search reaches the seabed (else from
+    # the tip), and a vertical hang from there; h -> inf: the cable flatter
+    # than the stinger's top (lift-off from the tip, the guess's fallback)
+    # or, on a stinger level below its top, lift-off where it is level, and
+    # a flat catenary (length - span -> 0)
+    z_low, z_rise = _search_range(st)
+    z_s = z_u if z_low > z_l - T.TIP_PAST_REACH * (z_u - z_l) else z_l  # (reaches the seabed)
+    slack = z_s + float(st.height(z_s)) + float(st.arc_length(z_s, z_u)) - length
+    z_t = z_l if float(st.slope(z_u)) > 0.0 else z_rise
     flat = z_t + float(st.arc_length(z_t, z_u))
     h = _tension_root(gap, _rise(w1, w2, case.environment.water_depth, x_u),
-                      z_u + x_u - length, flat - length)
+                      slack, flat - length)
     if h is None:
         raise ValueError(
             f"lay.pipe_length = {length:g} m cannot reach the vessel {case.lay.top} over the "
             f"stinger from a lower end at (0, 0): it must lie between {flat:g} m "
-            f"(the pipe flat to the tip, then along the stinger) and {z_u + x_u:g} m "
-            "(hanging vertically from the stinger's top)")
+            f"(the pipe flat to the tip, then along the stinger) and {slack + length:g} m "
+            "(hanging vertically from the stinger)")
     return h
 
 
