@@ -445,6 +445,25 @@ def test_regained_span_closes_the_gap_span_equations(ell):
         assert regained_span(lam, past) == pytest.approx(short, rel=5e-3)
 
 
+@pytest.mark.parametrize("ell", [1e-6, 1e-3, 0.3, 3.0, 30.0, 300.0])
+def test_regained_span_from_the_closure_in_closed_form(ell):
+    """``regained_span`` inverts g(l) - 1 = past / lam: against g's closed
+    form at moderate l (where cosh and sinh lose nothing), its short-span
+    series l^2 / 4 + l^3 / 24 + l^4 / 240 (l -> 0) and its long-span form
+    l^2 - 3 l + 2 + O(l^2 e^-l) (l -> inf), to 1e-9."""
+    from pipelay_fast.engine.boundaries import regained_span
+
+    if ell < 0.01:
+        closure = ell**2 / 4 + ell**3 / 24 + ell**4 / 240
+    elif ell > 20.0:
+        closure = ell**2 - 3 * ell + 2
+    else:
+        c = -(np.cosh(ell) - 1 - ell**2 / 2) / (np.sinh(ell) - ell)
+        closure = np.exp(ell) - 1 - ell + c * (np.exp(ell) - 1)
+    lam = 20.0
+    assert regained_span(lam, lam * closure) == pytest.approx(ell * lam, rel=1e-9)
+
+
 @pytest.mark.parametrize(("example", "a"), [("s67", -0.0008), ("s67", -0.0009),
                                           ("s125", -0.001), ("s125", -0.0012)])
 def test_a_cable_leaving_below_the_tip_starts_bearing_with_the_span_found(example, a):

@@ -51,9 +51,10 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
         follow_nodes(case, pb, (k, -1))
         return
     # lift-off: the guess's (at the tip at the lowest: bearing on it, Newton's
-    # step past the tip finds the gap span, :func:`bear_on_tip`)
+    # step past the tip finds the gap span, :func:`bear_on_tip`), above
+    # touchdown's node and below the top's
     k0 = max(k, 0)
-    kl = int(np.argmin(np.abs(s[k0 + 4:-1] - lift[0]))) + k0 + 4
+    kl = int(np.argmin(np.abs(s[k0 + 1:-1] - lift[0]))) + k0 + 1
     pb.contacts.st_active[:] = 0
     pb.contacts.st_active[kl:-1] = 1
     follow_nodes(case, pb, (k, kl, -1))
@@ -62,10 +63,10 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
 def follow_nodes(case: Case, pb: Problem, nodes):
     """The mesh follows the boundaries on ``nodes`` (touchdown, lift-off, then
     one per rigid point, the stinger's tip first; -1: none), each with a zone
-    of three flexural lengths."""
+    of DECAY_LENGTHS flexural lengths either side (one that reaches past an
+    end or another boundary ends there, :meth:`.Problem.follow`)."""
     zone = T.DECAY_LENGTHS * pb.stats["flexural_length"]
-    zones = [(zone, zone), (zone, min(zone, 0.9 * (pb.s[-1] - pb.s[nodes[1]])))]
-    pb.mesh.follow(nodes, zones + [(zone, zone)] * (len(nodes) - 2))
+    pb.mesh.follow(nodes, [(zone, zone)] * len(nodes))
 
 
 def graded_on_boundaries(case: Case, pb: Problem) -> bool:
@@ -210,17 +211,37 @@ def check_final_regime(case: Case, pb: Problem):
 
 
 def _gap_closure(ell: float) -> float:
-    """g(l) = 1 + f''(l) + f'(l) of :func:`regained_span`."""
-    c = -(math.cosh(ell) - 1.0 - 0.5 * ell * ell) / (math.sinh(ell) - ell)
-    return (1.0 + (math.cosh(ell) - 1.0 + c * math.sinh(ell))
-            + (math.sinh(ell) - ell + c * (math.cosh(ell) - 1.0)))
+    """g(l) - 1 of :func:`regained_span`, as l^2 p(l) / q(l) with p and q
+    power series of positive terms, so without cancellation at any l > 0:
+    g - 1 = (e^l - 1 - l) + c (e^l - 1) = [4 (cosh l - 1) - 2 l (cosh l - 1)
+    - 4 l sinh l + l^2 (cosh l + sinh l + 1)] / (2 (sinh l - l)), whose
+    numerator is l^5 p(l), p = sum_{n>=5} a_n l^(n-5) with a_n = (n-1)(n-4)
+    / n! (n even) and (n-3) n / n! (n odd), and denominator l^3 q(l), q =
+    sum_{k>=1} 2 l^(2k-2) / (2k+1)!. Each sum runs until its terms no longer
+    change it (finite to l of about 700)."""
+    p, t, n = 0.0, 1.0 / 120.0, 5  # t = l^(n-5) / n!
+    while True:
+        a = (n - 1) * (n - 4) if n % 2 == 0 else (n - 3) * n
+        last, p = p, p + a * t
+        if p == last and n > 5:
+            break
+        n += 1
+        t *= ell / n
+    q, u, k = 0.0, 1.0 / 6.0, 1  # u = l^(2k-2) / (2k+1)!
+    while True:
+        last, q = q, q + 2.0 * u
+        if q == last:
+            break
+        k += 1
+        u *= ell * ell / ((2 * k) * (2 * k + 1))
+    return ell * ell * p / q
 
 
 def regained_span(lam: float, past: float) -> float:
     """The gap span L [m] from a bearing tip up to where the pipe regains the
-    stinger, from ``past`` [m], how far lift-off would go past the tip on the
-    stinger's curve continued (Newton's step there), and the flexural length
-    ``lam`` = sqrt(EI/T) [m] at the tip.
+    stinger, from ``past`` [m] > 0, how far lift-off would go past the tip on
+    the stinger's curve continued (Newton's step there), and the flexural
+    length ``lam`` = sqrt(EI/T) [m] at the tip.
 
     Small deflections w(s) of a tensioned beam from the stinger's curve over
     the gap 0 < s < L from re-contact: EI w'''' - T w'' = T kappa + w_n
@@ -236,18 +257,15 @@ def regained_span(lam: float, past: float) -> float:
     = k / (kappa_e lam), l = L / lam. Lifting off, the pipe leaves the
     stinger lam above the cable's tangent point (the same boundary layer),
     so lift-off at ``past`` beyond the tip puts that point lam + past below
-    it and k = kappa_e (lam + past): g(l) = 1 + past / lam. g(0) = 1 is the
-    change of regime; g = 1 + l^2 / 4 + l^3 / 24 + O(l^4) for a short span.
-    The root l is found by brentq above 1e-3 (the span is at least 1e-3 lam).
+    it and k = kappa_e (lam + past): g(l) - 1 = past / lam. g - 1 = l^2 p /
+    q (:func:`_gap_closure`) rises from l^2 / 4 (l -> 0: p / q -> 1 / 4) to
+    l^2 - 3 l + 2 (l -> inf), between l^2 / 4 and l^2 throughout, so the
+    root is l = m sqrt(past / lam) with m between 1 and 2: brentq's bracket
+    (on m, so that its tolerance is relative to l).
     """
-    ratio = 1.0 + past / lam
-    lo = 1e-3
-    if ratio <= _gap_closure(lo):
-        return lo * lam
-    hi = 2.0
-    while _gap_closure(hi) < ratio:
-        hi *= 2.0
-    return lam * brentq(lambda ell: _gap_closure(ell) - ratio, lo, hi, xtol=T.REL_ROUNDOFF)
+    r = past / lam
+    root = math.sqrt(r)
+    return lam * root * brentq(lambda m: _gap_closure(m * root) - r, 1.0, 2.0)
 
 
 def bear_on_tip(case: Case, pb: Problem, past: float | None = None):

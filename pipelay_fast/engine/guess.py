@@ -6,8 +6,10 @@ frictionless stinger the effective tension falls by the weight of the height
 climbed, Te(x) = T_top - (W(x_top) - W(x)) with W(x) = int_0^x w dx, and a
 catenary touching the seabed has Te = h + W(x) and cos(theta) = h / Te, so
 lift-off is the root z of  Te(x(z)) (1 - cos psi(z)) = W(x(z))  (psi the stinger
-angle). Without a root the catenary is steeper than the stinger's tip and the
-pipe leaves from the tip. The guess is only a starting point: Newton corrects
+angle). The root may lie on the stinger's curve continued below its tip: the
+pipe then leaves from the tip, bearing on it (:attr:`Guess.tip_past`). With
+none (the catenary flatter than the stinger at its top) the guess leaves from
+the tip too. The guess is only a starting point: Newton corrects
 the bending boundary layers, which shift touchdown by about sqrt(EI/h).
 """
 
@@ -58,11 +60,13 @@ class Guess:
 
 
 def weights(case: Case):
-    """(w1, w2): effective weight below and above the water surface [N/m].
-    ValueError when the pipe floats (w1 <= 0)."""
+    """(w1, w2): effective weight at the seabed and just above the water
+    surface [N/m] (w(x) steps at the surface and the contents level, each
+    step x < level, so w at the surface is that just above it). ValueError
+    when the pipe floats (w1 <= 0)."""
     depth = case.environment.water_depth
     w1 = float(case.effective_weight(0.0))
-    w2 = float(case.effective_weight(depth + 1.0))
+    w2 = float(case.effective_weight(depth))
     if w1 <= 0.0:
         raise ValueError(
             f"the pipe floats: its submerged effective weight is {w1:.1f} N/m; "
@@ -95,13 +99,37 @@ def free_span(case: Case) -> Catenary:
         cat = Catenary(h, w1, w2, depth, x_top)
         return (z_top - cat.span) - (length - cat.length)
 
-    lo, hi = 1e-6 * w1 * depth, 1e3 * w1 * max(length, z_top)
-    if gap(lo) * gap(hi) > 0:
+    # h -> 0: a vertical hang (span 0, length x_top); h -> inf: a flat pipe
+    # (length - span -> 0)
+    h = _tension_root(gap, _rise(w1, w2, depth, x_top), z_top + x_top - length, z_top - length)
+    if h is None:
         raise ValueError(
             f"lay.pipe_length = {length:g} m cannot reach the top {lay.top} from a lower end "
-            "at (0, 0): it is shorter than the straight line or much longer than a slack catenary"
+            f"at (0, 0) along a catenary: it must lie between {z_top:g} m (the pipe flat) "
+            f"and {z_top + x_top:g} m (hanging vertically from the top)"
         )
-    return Catenary(brentq(gap, lo, hi), w1, w2, depth, x_top)
+    return Catenary(h, w1, w2, depth, x_top)
+
+
+def _tension_root(gap, weight, slack, taut):
+    """The horizontal tension h [N] at which ``gap(h)`` = 0, over 0 < h < inf,
+    or None when ``gap``'s limits ``slack`` (h -> 0) and ``taut`` (h -> inf),
+    in closed form, have the same sign. Solved by brentq over c = h / (h +
+    ``weight``) in [0, 1], ``weight`` [N] that of a vertical hang to the top
+    (c is then the cosine of the catenary's top angle): the ends are the two
+    limits, so the bracket holds every tension."""
+    if not slack * taut < 0.0:
+        return None
+
+    def of_c(c):
+        if c <= 0.0:
+            return slack
+        if c >= 1.0:
+            return taut
+        return gap(weight * c / (1.0 - c))
+
+    c = brentq(of_c, 0.0, 1.0)
+    return weight * c / (1.0 - c)
 
 
 def slay_liftoff(case: Case, bottom_tension: float | None = None):
@@ -132,20 +160,25 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         bottom = lay.bottom_tension if bottom_tension is None else bottom_tension
         return bottom + _rise(w1, w2, depth, x)
 
-    def mismatch(z):  # z a float or an array
-        x = st.height(z)
-        cos_psi = 1.0 / np.sqrt(1.0 + st.slope(z) ** 2)
+    def mismatch(z):
+        x = float(st.height(z))
+        cos_psi = 1.0 / math.sqrt(1.0 + float(st.slope(z)) ** 2)
         return tension(x) * (1.0 - cos_psi) - _rise(w1, w2, depth, x)
 
-    # the cable's lift-off, on the stinger or on its curve continued below the tip
-    zs = np.linspace(z_l - (z_u - z_l), z_u, 81)  # brackets; brentq refines
-    f = mismatch(zs)
-    change = np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:]))
+    # The cable's lift-off, on the stinger or on its curve continued below
+    # the tip, down to the seabed or TIP_PAST_REACH stinger z ranges below
+    # the tip. With H = tension - W, constant, the mismatch is H - tension
+    # cos psi: down the curve where it rises (dx/dz > 0; a <= 0) x and W fall
+    # and psi steepens, so it grows strictly, to H (1 - cos psi) > 0 at the
+    # seabed (x = 0, W = 0). One root, when it is negative at the top of the
+    # rise (the upper end, or where the curve is level: -W there) and
+    # positive at the lower end; none otherwise (the cable flatter than the
+    # stinger at its top, or steeper than the curve that far below the tip).
+    z_low, z_top = _search_range(st)
     z_lo = z_l
     past = None
-    if change.size:
-        k = change[-1]
-        z_c = brentq(mismatch, zs[k], zs[k + 1])
+    if mismatch(z_top) < 0.0 < mismatch(z_low):
+        z_c = brentq(mismatch, z_low, z_top)
         # a stiff pipe leaves about one flexural length sqrt(EI/Te) further up
         # the stinger (boundary-layer asymptotics, EI -> 0)
         t_c = tension(float(st.height(z_c)))
@@ -167,6 +200,23 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
     return z_lo, h, past
 
 
+def _search_range(st):
+    """(lowest z [m] searched for lift-off: where the quadratic stinger's
+    curve continued below its tip meets the seabed (x = 0), or
+    tuning.TIP_PAST_REACH times the stinger's z range below the tip when
+    that is higher; z [m] where the curve's rise ends: the upper end, or
+    where it is level when that lies below)."""
+    a, b, c = st.a, st.b, st.c
+    (z_l, z_u) = st.lower[1], st.upper[1]
+    z_top = z_u
+    if float(st.slope(z_top)) <= 0.0:
+        z_top = -b / (2.0 * a)  # (a < 0: the mean slope of the stinger is positive)
+    # the root of a z^2 + b z + c where 2 a z + b = +sqrt(disc), without cancellation
+    root = math.sqrt(b * b - 4.0 * a * c)  # (x >= 0 at the tip: a real root below it)
+    z_bed = -2.0 * c / (b + root) if b > 0.0 else (root - b) / (2.0 * a)
+    return max(z_bed, z_l - T.TIP_PAST_REACH * (z_u - z_l)), z_top
+
+
 def _slay_span(case: Case, bottom_tension=None):
     """Lift-off, catenary and stinger arc of an S-lay guess."""
     w1, w2 = weights(case)
@@ -181,18 +231,34 @@ def _slay_bottom_tension(case: Case) -> float:
     its lower end at z = 0, reaches the vessel: laid pipe, catenary and stinger
     arc add up to the length."""
     length = case.lay.pipe_length
-    w1, _ = weights(case)
+    st = case.lay.stinger
+    (x_u, z_u), z_l = st.upper, st.lower[1]
+    w1, w2 = weights(case)
 
     def gap(h):
         z_lo, cat, arc, _past = _slay_span(case, h)
         return (z_lo - cat.span) - (length - cat.length - arc)
 
-    lo, hi = 1e-3 * w1 * case.environment.water_depth, 1e3 * w1 * length
-    if gap(lo) * gap(hi) > 0:
+    # h -> 0: lift-off at the seabed, one flexural length (-> inf) up the
+    # stinger, so at its top, when the search reaches the seabed (else from
+    # the tip), and a vertical hang from there; h -> inf: the cable flatter
+    # than the stinger's top (lift-off from the tip, the guess's fallback)
+    # or, on a stinger level below its top, lift-off where it is level, and
+    # a flat catenary (length - span -> 0)
+    z_low, z_rise = _search_range(st)
+    z_s = z_u if z_low > z_l - T.TIP_PAST_REACH * (z_u - z_l) else z_l  # (reaches the seabed)
+    slack = z_s + float(st.height(z_s)) + float(st.arc_length(z_s, z_u)) - length
+    z_t = z_l if float(st.slope(z_u)) > 0.0 else z_rise
+    flat = z_t + float(st.arc_length(z_t, z_u))
+    h = _tension_root(gap, _rise(w1, w2, case.environment.water_depth, x_u),
+                      slack, flat - length)
+    if h is None:
         raise ValueError(
             f"lay.pipe_length = {length:g} m cannot reach the vessel {case.lay.top} over the "
-            "stinger from a lower end at (0, 0)")
-    return brentq(gap, lo, hi)
+            f"stinger from a lower end at (0, 0): it must lie between {flat:g} m "
+            f"(the pipe flat to the tip, then along the stinger) and {slack + length:g} m "
+            "(hanging vertically from the stinger)")
+    return h
 
 
 def first_guess(case: Case, laid_of) -> Guess:

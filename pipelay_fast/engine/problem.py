@@ -44,7 +44,7 @@ def _mesh_sizes(case: Case, lam: float):
     elif case.solver.min_element_length is not None:
         h_min = case.solver.min_element_length
     else:
-        h_min = min(h_max, max(h_max / 8.0, 0.02 * lam))
+        h_min = min(h_max, max(h_max / T.FINEST_COARSENING, T.FINEST_IN_LAYER * lam))
     return h_max, min(h_min, h_max)
 
 
@@ -57,7 +57,8 @@ def _guess(case: Case, laid: float | None = None):
 
     def laid_of(cat):
         lam = math.sqrt(case.pipe.bending_stiffness / cat.h)
-        return given or (2.0 * T.LAID_LENGTHS * lam + 5.0 * h_max + friction_laid_length(case, cat))
+        return given or (2.0 * T.LAID_LENGTHS * lam + T.LAID_ELEMENTS * h_max
+                         + friction_laid_length(case, cat))
 
     return first_guess(case, laid_of)
 
@@ -93,8 +94,8 @@ def build_problem(case: Case, laid: float | None = None) -> Problem:
     h_max, h_min, lam = stats["h_max"], stats["h_min"], stats["flexural_length"]
     # A stiff pipe touches down about one flexural length before the catenary
     # does (boundary-layer asymptotics): the mesh is finest there and the
-    # initial seabed contact ends there.
-    s_focus = max(g.laid - lam, 0.25 * g.laid)
+    # initial seabed contact ends there (on a shorter laid pipe, a share of it).
+    s_focus = max(g.laid - lam, T.TOUCHDOWN_FOCUS_SHARE * g.laid)
     foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
     s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading,
                      check=lambda n: check_mesh_size(case, n, g.total, g.laid,
@@ -205,7 +206,7 @@ def _laid_source(case: Case, cat, lam: float, laid: float | None = None) -> str:
     if case.solver.laid_length is not None:
         return f"solver.laid_length = {case.solver.laid_length!r} m"
     text = (f"the default of solver.laid_length: twice {T.LAID_LENGTHS:g} flexural length "
-            f"sqrt(EI/T) = {lam:.4g} m at touchdown, five elements")
+            f"sqrt(EI/T) = {lam:.4g} m at touchdown, {T.LAID_ELEMENTS:g} elements")
     slip = friction_laid_length(case, cat)
     if slip > 0.0:
         text += (f" and {slip:.4g} m for seabed friction to take up the lateral drag "

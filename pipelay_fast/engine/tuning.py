@@ -61,6 +61,14 @@ MAX_TIP_SWITCHES = 2
 # --- meshes ----------------------------------------------------------------------
 # Geometric growth of neighbouring elements of a graded mesh (:mod:`.mesh`).
 GROWTH = 1.2
+# The default finest element (solver.min_element_length not given,
+# :func:`.problem._mesh_sizes`): FINEST_IN_LAYER flexural lengths at
+# touchdown (the boundary layer over which the curvature peaks), but no finer
+# than h_max / FINEST_COARSENING. No measurement of either value of its own:
+# the defaults as a whole are placed against finer and coarser meshes by
+# benchmarks/speed_vs_error.py (S67 2D: on the error/time front).
+FINEST_IN_LAYER = 0.02
+FINEST_COARSENING = 8.0
 # A mesh is graded at its foci when no node is further than ON_FOCUS h_min from
 # the graded mesh's (the error of a node off its focus by d is O(d^2)).
 ON_FOCUS = 0.02
@@ -83,10 +91,19 @@ ROLLER_ON = 1e-6
 # --- laid pipe (:func:`.solver.laid_short`, :func:`.solver.more_laid`) ----------------
 # The laid pipe a mesh models behind touchdown: at least one flexural length
 # sqrt(EI/T) (the boundary layer over which the pipe leaves the seabed),
-# doubled to at least two when short. The first mesh has two and five
-# elements (:func:`.problem.build_problem`); a solve adds laid pipe until the
-# mesh would exceed solver.max_elements.
+# doubled to at least two when short. The first mesh has two, and
+# LAID_ELEMENTS elements (:func:`.problem.build_problem`); a solve adds laid
+# pipe until the mesh would exceed solver.max_elements.
 LAID_LENGTHS = 1.0
+# The first mesh's default laid pipe also has LAID_ELEMENTS elements (room for
+# touchdown's first Newton steps, MAX_BOUNDARY_STEP elements each, when the
+# flexural length is shorter than an element); no measurement.
+LAID_ELEMENTS = 5.0
+# On a laid pipe shorter than 4/3 of a flexural length (given by
+# solver.laid_length or lay.pipe_length) the first mesh's touchdown focus,
+# one flexural length before the catenary's, would lie before this share of
+# it; it is put there instead (:func:`.problem.build_problem`); no measurement.
+TOUCHDOWN_FOCUS_SHARE = 0.25
 # The largest share of the laid pipe's lateral force the held lower end may
 # carry before the laid pipe is doubled: measured, the shares left with the
 # sticking zone of DECAY_LENGTHS on the 3D grid, bench_contact.py part 1.
@@ -97,6 +114,16 @@ LOWER_END_SHARE = 0.01
 # from the tip, lifting off (within the guess's first-order error in lam);
 # measured: cold iterations on the grid, bench_contact.py part 1.
 GUESS_LIFTOFF_ERROR = 0.05
+# The first guess looks for the cable's lift-off on the stinger's curve
+# continued below the tip down to the seabed or this many times the
+# stinger's z range below the tip, the higher; a cable steeper than the curve
+# there starts from the tip, lifting off, and Newton's step past the tip
+# decides. Measured: continued to the seabed, the lay table's S300 at 633 kN
+# (sweeps/lay_table.toml, tests/test_laytable.py) starts bearing on the tip
+# with lift-off 306 m of arc below it, and its homotopy diverges; from the tip
+# lifting off it converges in 15 iterations. The value 1 itself is not
+# measured.
+TIP_PAST_REACH = 1.0
 # A roller stinger's guide (the quadratic through its rollers) on elements this
 # many times the case's: its answer is only a start (measured:
 # benchmarks/bench_rollers.py parts 1 and 3).
