@@ -291,7 +291,7 @@ def _free_residual(nd, u, sup, w, out):
     with its constrained rows (``w.cmask``) zeroed, back in the global frame
     (:func:`.system._from_nodal_frames`), into ``out`` [N, N m, m]: G with
     no component along a constrained unknown, the rest of its rows as the
-    iteration's (the homotopy's offset, :func:`.continuation._residual`)."""
+    iteration's (the homotopy's offset from the first guess)."""
     for i in range(out.shape[0]):
         out[i] = 0.0 if w.cmask[i] else w.g[i]
     _from_nodal_frames(nd, out, u, sup)
