@@ -116,6 +116,7 @@ from .layout import (
     SUP_NONE,
 )
 from .step import _hold_boundaries, _line_search, _start_step, _take_step
+from .supports import in_curve_coords
 from .system import (
     _evaluate,
     _from_nodal_frames,
@@ -294,6 +295,13 @@ def _free_residual(nd, u, sup, w, out):
     iteration's (the homotopy's offset from the first guess)."""
     for i in range(out.shape[0]):
         out[i] = 0.0 if w.cmask[i] else w.g[i]
+    ndn = 2 * nd + 1
+    for k in range(sup.kind.shape[0]):
+        if in_curve_coords(sup.kind[k]):
+            for node in range(sup.active.shape[1]):
+                if sup.active[k, node] != 0:
+                    out[node * ndn] = w.g[node * ndn]
+                    out[node * ndn + nd] = w.g[node * ndn + nd]
     _from_nodal_frames(nd, out, u, sup)
 
 
