@@ -1,23 +1,25 @@
 """The homotopy's offset (:func:`.continuation._residual`): the residual G
-of the first guess with no component along a constrained unknown, from the
-Newton kernel's own evaluation (:func:`.newton._free_residual`).
+of the first guess with its constrained rows removed, from the Newton
+kernel's own evaluation (:func:`.newton._free_residual`), but those of the
+stinger's curve, which keep G.
 
 Checked against a NumPy reference built here from the geometry: at each
 node, the columns of a matrix M are the physical displacements (global
-frame) of the node's unknowns as the kernel constrains them, and the
-offset g must do no work along a constrained one and the work of the plain
-residual G (the element chain with the seabed's friction, nothing
-constrained) along every other: M^T g = mask(M^T G). The constrained
-unknowns: the held ends (in their frames), the seabed's contacts (x and x'
-on the flat seabed, and x' at the lower end), the stinger's contacts in
-curve coordinates (x = f(z) + c, x' = f'(z) z' + c': the unknown c moves
-the node along x at fixed z, its free z slides it along the curve,
-(f', 1) in (x, z) and f'' z' in x'; c' likewise, but at lift-off), with
-f from the stinger's coefficients, the lateral hold in 3D (y and y' over
-the stinger's span), and each bearing rigid point's normal, (cos phi,
--sin phi) in (x, z) with phi = atan2(x', z') the pipe's tangent (and y
-on a V roller). So the curve's reaction, the part removed, is along the
-curve's normal (1, -f'): it does no work along the curve's tangent.
+frame) of the node's unknowns as the kernel holds them, and the offset g
+must do no work along a removed one and the work of the plain residual G
+(the element chain with the seabed's friction, nothing constrained) along
+every other: M^T g = mask(M^T G). Removed: the held ends (in their
+frames), the seabed's contacts (x and x' on the flat seabed, and x' at the
+lower end), the lateral hold in 3D (y and y' over the stinger's span), and
+each bearing rigid point's normal, (cos phi, -sin phi) in (x, z) with
+phi = atan2(x', z') the pipe's tangent (and y on a V roller). The stinger's
+contacts are in curve coordinates (x = f(z) + c, x' = f'(z) z' + c': the
+unknown c moves the node along x at fixed z, its z slides it along the
+curve, (f', 1) in (x, z) and f'' z' in x'), f from the stinger's
+coefficients: the offset keeps G there, and the kernel's way back from
+these coordinates (:func:`.system._from_nodal_frames`) is checked on its
+own with c and c' removed: the part removed is then the curve's reaction,
+which does no work along the curve's tangent.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ from pipelay_fast.engine.problem import build_problem
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.contact import friction_forces
 from pipelay_fast.kernels.layout import B_PT
-from pipelay_fast.kernels.system import system_2d, system_3d
+from pipelay_fast.kernels.system import _from_nodal_frames, system_2d, system_3d
 from pipelay_fast.kernels.tuning import LATERAL_HYSTERESIS
 from tests.helpers import EXAMPLES
 from tests.test_points import beam_on_points
@@ -69,9 +71,10 @@ def stinger_slope(case):
     return (lambda z: 2.0 * st.a * z + b), 2.0 * st.a, (z_l, z_u)
 
 
-def node_maps(pb, case=None):
-    """Per node (M, constrained columns), the module docstring's rules,
-    from the problem's data before any kernel has set its frames."""
+def node_maps(pb, case=None, hold_curve=False):
+    """Per node (M, the columns removed), the module docstring's rules,
+    from the problem's data before any kernel has set its frames
+    (``hold_curve``: the curve's c and c' removed too)."""
     nd, ndn, u = pb.nd, pb.ndn, pb.u
     c = pb.contacts
     fix = pb.ends.fix_mask.reshape(pb.nn, ndn) != 0
@@ -98,8 +101,8 @@ def node_maps(pb, case=None):
             m[0, nd - 1] = fp(z)
             m[nd, nd - 1] = fpp * u[base + 2 * nd - 1]
             m[nd, 2 * nd - 1] = fp(z)
-            held[0] = True
-            held[nd] = held[nd] or (k > 0 and curve[k - 1])
+            held[0] = held[0] or hold_curve
+            held[nd] = held[nd] or (hold_curve and k > 0 and curve[k - 1])
         if nd == 3 and stinger and k != top and not fix[k, 0]:
             h = pb.s_el[min(k, pb.nn - 2)] if k == 0 else min(pb.s_el[k - 1],
                                                                pb.s_el[min(k, pb.nn - 2)])
@@ -137,15 +140,35 @@ def check(pb, case=None):
 @pytest.mark.parametrize("name", ["s67.toml", "s67_3d.toml", "j125_3d.toml"])
 def test_the_offset_has_no_component_along_a_constraint(name):
     """The first guess of an S-lay (seabed, the stinger's curve, in 3D the
-    lateral hold) and of a J-lay: every constrained direction removed, every
-    free one the plain residual's."""
+    lateral hold) and of a J-lay: every removed direction removed, every
+    other one the plain residual's."""
     case = pf.load_case(EXAMPLES / name)
     pb = build_problem(case)
+    assert check(pb, case).max() > 1.0  # (the guess is out of balance on its constraints)
+
+
+@pytest.mark.parametrize("name", ["s67.toml", "s67_3d.toml"])
+def test_the_curve_coordinates_back_to_the_global_frame(name):
+    """M^T G with the curve's c and c' zeroed, back through the kernel's
+    inverse of its curve coordinates: M^T of it is that, at every node."""
+    case = pf.load_case(EXAMPLES / name)
+    pb = build_problem(case)
+    maps = node_maps(pb, case, hold_curve=True)
+    _residual(pb)  # (the kernel's frames and lateral hold at the guess)
+    g_plain = plain_residual(pb)
+    h = np.empty_like(g_plain)
+    for k, (m, held) in enumerate(maps):
+        rows = slice(k * pb.ndn, (k + 1) * pb.ndn)
+        h[rows] = np.where(held, 0.0, m.T @ g_plain[rows])
+    g = h.copy()
+    _from_nodal_frames(pb.nd, g, pb.u, pb.kernel_supports())
     curve = np.flatnonzero(pb.contacts.active[L.ROW_CURVE])
-    removed = check(pb, case)
-    assert removed.max() > 1.0  # (the guess is out of balance on its constraints)
-    if pb.contacts.kind[L.ROW_CURVE] == L.SUP_CURVE:  # (the stinger's reactions)
-        assert curve.size > 10 and np.median(removed[curve]) > 1.0
+    assert curve.size > 10 and np.median(np.abs(g_plain[curve * pb.ndn])) > 1.0
+    tol = 1e-9 * np.abs(g_plain).max()
+    for k, (m, _held) in enumerate(maps):
+        rows = slice(k * pb.ndn, (k + 1) * pb.ndn)
+        np.testing.assert_allclose(m.T @ g[rows], h[rows], rtol=0.0, atol=tol,
+                                   err_msg=f"node {k}")
 
 
 @pytest.mark.parametrize("nd", [2, 3])

@@ -69,9 +69,8 @@ def run_newton(pb: Problem, g_off, tol, maxit):
 
 def _residual(pb: Problem):
     """The residual G (ndof,) [N, N m, m] at the current state, global frame,
-    with no component along a constrained unknown (the Newton kernel with no
-    iteration: :func:`.newton._free_residual`): the homotopy's offset, whose
-    constrained rows would otherwise enter the reactions."""
+    its constrained rows removed but the stinger curve's (the Newton kernel
+    with no iteration, :func:`.newton._free_residual`): the homotopy's offset."""
     _status, g, _info = run_newton(pb, np.zeros_like(pb.u), 1.0, 0)
     return g
 

@@ -290,18 +290,24 @@ def _test(nd, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, chang
 def _free_residual(nd, u, sup, w, out):
     """The residual G of an iteration's evaluation (``w.g``, nodal frames)
     with its constrained rows (``w.cmask``) zeroed, back in the global frame
-    (:func:`.system._from_nodal_frames`), into ``out`` [N, N m, m]: G with
-    no component along a constrained unknown, the rest of its rows as the
-    iteration's (the homotopy's offset from the first guess)."""
+    (:func:`.system._from_nodal_frames`), into ``out`` [N, N m, m]: the
+    load path's offset from the first guess, whose constrained rows would
+    enter the reactions (a rigid point's complementarity, the seabed's
+    friction). But the rows c, c' of the contacts held in curve coordinates
+    keep G (at those nodes ``out`` is G, the held ends' rows excepted): there
+    the offset carries the guess's contact force and the curve's reaction
+    grows from zero with the load; zeroed, the curve would take the guess's
+    force from the start (at a kink of the guess, 9e7 N), and the first load
+    steps of a 3D S-lay diverged (``bench_contact`` random case 08)."""
+    ndn = 2 * nd + 1
     for i in range(out.shape[0]):
         out[i] = 0.0 if w.cmask[i] else w.g[i]
-    ndn = 2 * nd + 1
     for k in range(sup.kind.shape[0]):
         if in_curve_coords(sup.kind[k]):
             for node in range(sup.active.shape[1]):
-                if sup.active[k, node] != 0:
-                    out[node * ndn] = w.g[node * ndn]
-                    out[node * ndn + nd] = w.g[node * ndn + nd]
+                for i in (node * ndn, node * ndn + nd):
+                    if sup.active[k, node] != 0 and sup.fix_mask[i] == 0:
+                        out[i] = w.g[i]
     _from_nodal_frames(nd, out, u, sup)
 
 
