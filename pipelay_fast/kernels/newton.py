@@ -296,9 +296,9 @@ def _free_residual(nd, u, sup, w, out):
     friction). But the rows c, c' of the contacts held in curve coordinates
     keep G (at those nodes ``out`` is G, the held ends' rows excepted): there
     the offset carries the guess's contact force and the curve's reaction
-    grows from zero with the load; zeroed, the curve would take the guess's
-    force from the start (at a kink of the guess, 9e7 N), and the first load
-    steps of a 3D S-lay diverged (``bench_contact`` random case 08)."""
+    grows from zero with the load; zeroed, the curve takes the guess's force
+    from the start (up to 9e7 N at a kink of the guess), and the first load
+    steps can diverge (measured: ``bench_contact``'s random 3D case 08)."""
     ndn = 2 * nd + 1
     for i in range(out.shape[0]):
         out[i] = 0.0 if w.cmask[i] else w.g[i]
