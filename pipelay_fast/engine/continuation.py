@@ -10,18 +10,14 @@ path, which seabed friction makes path dependent (:func:`apply_current`).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import IterationBudget
 from ..kernels import layout as L
-from ..kernels.contact import friction_forces
-from ..kernels.layout import B_PT, I_DELTA, I_ITER, I_PAST, I_RES, I_TOP_RES, N_INFO
+from ..kernels.layout import I_DELTA, I_ITER, I_PAST, I_RES, I_TOP_RES, N_INFO
 from ..kernels.newton import newton_2d, newton_3d
-from ..kernels.system import system_2d, system_3d
 from ..kernels.types import Mesh, Settings
 from . import tuning as T
 from .boundaries import (
@@ -72,34 +68,10 @@ def run_newton(pb: Problem, g_off, tol, maxit):
 
 
 def _residual(pb: Problem):
-    """Residual at the current state with constrained rows zeroed (for the homotopy)."""
-    g = np.zeros_like(pb.u)
-    torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
-    no_band = np.zeros((2, 2)).T  # (column-major alone, as the Newton kernel's band: one compile)
-    system = system_2d if pb.nd == 2 else system_3d
-    system(pb.s_el, pb.u, pb.model(), torques, no_band, g, pb.kernel_ends(np.zeros_like(pb.u)),
-           False, np.zeros((pb.bnodes.size, pb.nn)), np.full(pb.bnodes.size, -1, dtype=np.int64),
-           np.zeros((pb.bnodes.size, 1)))
-    friction_forces(pb.nd, pb.u, g, no_band, 0, pb.model(), pb.contacts.bed_active,
-                    pb.contacts.fric, np.zeros_like(pb.u), pb.s)
-    g[pb.ends.fix_mask != 0] = 0.0
-    g[0::pb.ndn][pb.contacts.bed_active != 0] = 0.0
-    # and the rows of the points the pipe bears on: their normal (along the
-    # pipe's normal, the kernel's frame there) and, a V roller's in 3D, y
-    nd, ndn = pb.nd, pb.ndn
-    for b in range(B_PT, pb.bnodes.size):
-        k = int(pb.bnodes[b])
-        point = pb.contacts.points[b - B_PT]
-        if k < 0 or point[L.PT_BEAR] == 0.0:
-            continue
-        base = k * ndn
-        phi = math.atan2(pb.u[base + nd], pb.u[base + 2 * nd - 1])
-        c, s = math.cos(phi), math.sin(phi)
-        normal = c * g[base] - s * g[base + nd - 1]
-        g[base] -= normal * c
-        g[base + nd - 1] += normal * s
-        if nd == 3 and point[L.PT_HOLD] != 0.0:
-            g[base + 1] = 0.0
+    """The residual G (ndof,) [N, N m, m] at the current state, global frame,
+    its constrained rows removed but the stinger curve's (the Newton kernel
+    with no iteration, :func:`.newton._free_residual`): the homotopy's offset."""
+    _status, g, _info = run_newton(pb, np.zeros_like(pb.u), 1.0, 0)
     return g
 
 

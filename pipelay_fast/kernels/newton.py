@@ -64,11 +64,13 @@ ends : :data:`.types.Ends`: f_node (ndof,) nodal loads [N]; g_off (ndof,)
     the load path's residual offset; tb (1,) the bottom tension [N] pulling
     the sliding lower end's dof slide_dof (-1: none) along -z, an unknown
     when top_target [N] > 0; top_node.
-settings : :data:`.types.Settings`: tol [-], fref [N], href [m], maxit, hold
+settings : :data:`.types.Settings`: tol [-], fref [N], href [m], maxit (0: no
+    iteration, the residual alone: :func:`_free_residual` into ``react``), hold
     (whether an iteration may hold the boundaries: False when the call
     starts from a state in balance), bstep [m] (a boundary's largest move
     per step).
-react : (ndof,) output: the reactions on the pipe in the nodal frames [N, N m].
+react : (ndof,) output: the reactions on the pipe in the nodal frames [N, N m]
+    (with ``maxit`` 0: the residual, global frame [N, N m, m]).
 info : (N_INFO,) output: ``I_*`` of :mod:`.layout`.
 
 Returns the status code (also ``info[I_STATUS]``).
@@ -114,8 +116,10 @@ from .layout import (
     SUP_NONE,
 )
 from .step import _hold_boundaries, _line_search, _start_step, _take_step
+from .supports import in_curve_coords
 from .system import (
     _evaluate,
+    _from_nodal_frames,
     _roundoff_ratio,
     _solves_tb,
     _to_nodal_residual,
@@ -282,6 +286,31 @@ def _test(nd, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, chang
     return res_max, res_ssq, top_res, bnd_res, converged
 
 
+@phase
+def _free_residual(nd, u, sup, w, out):
+    """The residual G of an iteration's evaluation (``w.g``, nodal frames)
+    with its constrained rows (``w.cmask``) zeroed, back in the global frame
+    (:func:`.system._from_nodal_frames`), into ``out`` [N, N m, m]: the
+    load path's offset from the first guess, whose constrained rows would
+    enter the reactions (a rigid point's complementarity, the seabed's
+    friction). But the rows c, c' of the contacts held in curve coordinates
+    keep G (at those nodes ``out`` is G, the held ends' rows excepted): there
+    the offset carries the guess's contact force and the curve's reaction
+    grows from zero with the load; zeroed, the curve takes the guess's force
+    from the start (up to 9e7 N at a kink of the guess), and the first load
+    steps can diverge (measured: ``bench_contact``'s random 3D case 08)."""
+    ndn = 2 * nd + 1
+    for i in range(out.shape[0]):
+        out[i] = 0.0 if w.cmask[i] else w.g[i]
+    for k in range(sup.kind.shape[0]):
+        if in_curve_coords(sup.kind[k]):
+            for node in range(sup.active.shape[1]):
+                for i in (node * ndn, node * ndn + nd):
+                    if sup.active[k, node] != 0 and sup.fix_mask[i] == 0:
+                        out[i] = w.g[i]
+    _from_nodal_frames(nd, out, u, sup)
+
+
 def _newton_kernel(nd):
     """The Newton kernel for dimension ``nd``: :func:`newton_2d` and
     :func:`newton_3d` are its two compilations, ``nd`` a constant in each (a
@@ -306,9 +335,10 @@ def _newton_kernel(nd):
         res_start = 1.0
         moved = False  # the last step moved the boundaries and lowered the merit
         trial_converged = False  # the last trial passed the test on its own constraints
-        for it in range(1, settings.maxit + 1):
+        residual_only = settings.maxit == 0  # (the module docstring)
+        for it in range(1, max(settings.maxit, 1) + 1):
             # ---- evaluate (after a converged trial, the residual alone first)
-            want_tangent = not trial_converged
+            want_tangent = not (trial_converged or residual_only)
             while True:
                 # the nodes the stinger holds laterally: those over it now
                 lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
@@ -322,9 +352,12 @@ def _newton_kernel(nd):
                 res_max, res_ssq, top_res, bnd_res, converged = _test(
                     nd, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, changed)
                 finite = math.isfinite(res_ssq)  # (max() skips NaN; the sum does not)
-                if want_tangent or converged or not finite:
+                if want_tangent or converged or not finite or residual_only:
                     break
                 want_tangent = True
+            if residual_only:
+                _free_residual(nd, u, sup, w, react)
+                return L.OK
             # ---- test
             if not finite or (it > 1 and res_max > RUNAWAY * res_start):
                 status = L.NOT_FINITE

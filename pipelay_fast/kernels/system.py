@@ -206,6 +206,28 @@ def _to_nodal_frames(nd, v, u, sup, w):
 
 
 @jit(_nrt=False)
+def _from_nodal_frames(nd, v, u, sup):
+    """The inverse of :func:`_to_nodal_frames` for a residual: ``v``, whose
+    rows are in the nodal frames and curve coordinates (J^T g, J the map's
+    derivative, :func:`.assembly.curve_node`), back to the global frame,
+    g = J^-T v: the curves' maps undone in reverse order, then the frames'
+    rotations (orthogonal: their inverse is their transpose, :func:`_to_global`)."""
+    ndn = 2 * nd + 1
+    for k in range(sup.kind.shape[0] - 1, -1, -1):
+        kind = sup.kind[k]
+        if not in_curve_coords(kind):
+            continue
+        for node in range(sup.active.shape[1]):
+            if sup.active[k, node] != 0:
+                base = node * ndn
+                _f, fp, fpp = support_height(kind, sup.geom[k], u[base + nd - 1])
+                # curve_node: v_z = g_z + f' g_x + f'' z' g_x', v_z' = g_z' + f' g_x'
+                v[base + nd - 1] -= fp * v[base] + fpp * u[base + 2 * nd - 1] * v[base + nd]
+                v[base + 2 * nd - 1] -= fp * v[base + nd]
+    _to_global(nd, v, sup.phi_r, sup.phi_rp)
+
+
+@jit(_nrt=False)
 def _rotate_all(nd, ab, kl, ku, g, phi_r, phi_rp, want_tangent):
     """Turn every node with a frame (angles ``phi_r``, ``phi_rp`` [rad]) into
     it (:func:`.assembly.rotate_node`): the rows of ``g`` and, with
