@@ -31,7 +31,6 @@ from .system import _evaluate, _solves_tb, _to_nodal_frames, _weighted_max
 from .tuning import (
     ARMIJO,
     BACKTRACK,
-    INNER_RATIO,
     LINE_SEARCH_TRIALS,
     MERIT_RISE,
     MIN_ELEMENT_SHARE,
@@ -48,9 +47,10 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     step keeps lift-off's node tangent to the stinger (its slope then
     constrained, ``w.cmask`` and ``w.delta``) and the bordered step moves
     no boundary. Held while the weighted residual of the pipe with
-    lift-off's slope held exceeds INNER_RATIO times the boundaries' own
-    imbalance ``bnd_res`` (their equations' scaled residuals, and the moment
-    on lift-off's slope that its tangency would hold).
+    lift-off's slope held exceeds the boundaries' own imbalance ``bnd_res``
+    (their equations' scaled residuals, and the moment on lift-off's slope
+    that its tangency would hold): both are measured in their own scaled
+    equations, so they compare directly.
 
     A step of the boundaries from a state out of equilibrium follows a
     linearisation that may point the wrong way; from equilibrium the
@@ -71,7 +71,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     keep = w.cmask[j_lo]
     w.cmask[j_lo] = True  # as held: lift-off's slope constrained
     res_eq, _rs = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
-    if res_eq > INNER_RATIO * own:
+    if res_eq > own:
         w.delta[j_lo] = -_bnd_equation(nd, u, sup, B_LO, mesh.bnodes[B_LO], w.no_row)
         return True
     w.cmask[j_lo] = keep
@@ -174,8 +174,8 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     the step taken.
 
     The limited step ``alpha`` is cut where a sliding friction spring would
-    cross its stick zone (:func:`.contact.friction_step`), then doubled
-    back towards the limited step while the merit falls, the lowest-merit
+    cross its stick zone (:func:`.contact.friction_step`), then grown by
+    1 / BACKTRACK back towards the limited step while the merit falls, the lowest-merit
     trial kept (past the cut, no spring stays flagged as stopped,
     ``w.fr_stop``): a laid pipe sliding as a whole has its whole length
     carried back past the anchors by Newton (its lateral stiffness then the
@@ -202,7 +202,7 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
                 break
             if trial >= alpha_lim:
                 break
-            trial = min(2.0 * trial, alpha_lim)
+            trial = min(trial / BACKTRACK, alpha_lim)
         ends.tb[0] = tb_old
         if best > alpha:
             w.fr_stop[:] = 0.0
