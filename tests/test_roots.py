@@ -90,8 +90,18 @@ def test_crossing_is_the_root_brentq_finds():
         assert abs(xi - root) <= 64.0 * EPS * size / slope + 8.0 * EPS
 
 
-@pytest.mark.parametrize("nd", [2, 3])
-def test_crossing_misses_a_level_it_does_not_cross(nd):
+def test_crossing_from_a_chord_on_a_stationary_point():
+    """(xi - 1/4)^3 - 3/32: its chord from xi = 0 to 1 is 1/4, where the slope
+    is 0 (Newton's step infinite, bisection takes over); the root is
+    1/4 + (3/32)^(1/3)."""
+    c, k = 0.25, -0.09375
+    xa, xb = (0.0 - c) ** 3 + k, (1.0 - c) ** 3 + k
+    assert xa / (xa - xb) == c
+    xi = hermite_crossing(xa, 3.0 * c * c, xb, 3.0 * (1.0 - c) ** 2, 1.0, 0.0)
+    assert xi == pytest.approx(c + (-k) ** (1.0 / 3.0), abs=16 * EPS)
+
+
+def test_crossing_misses_a_level_it_does_not_cross():
     assert hermite_crossing(1.0, 0.1, 2.0, 0.1, 3.0, 0.5) == -1.0
     assert hermite_crossing(1.0, 0.1, 2.0, 0.1, 3.0, 2.0) == -1.0  # at an end: no crossing
 
