@@ -37,7 +37,6 @@ from .tuning import (
     NON_FINITE_FRACTION,
     SHORT_LAID_SHARE,
     SPAN_GROWTH,
-    TIP_ROOM,
 )
 
 
@@ -95,9 +94,10 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     like sqrt(a - a_switch) past the change of regime: a step in its
     logarithm follows that), SPAN_CLOSED when there is no bearing solution;
     a step that would take lift-off past the tip returns PAST_TIP with the
-    fraction that takes it to the tip (0 when it is there already), which
-    the Newton kernel takes before it stops (stopped short of the tip
-    instead, the approach would only halve the distance a step)."""
+    fraction that takes it to the tip (0 when it is at or past the tip
+    already), which the Newton kernel takes before it stops (stopped short
+    of the tip instead, the approach would only halve the distance a
+    step)."""
     for i in range(u.shape[0]):
         w.u_old[i] = u[i]
     merit0 = res_ssq + top_res * top_res
@@ -158,7 +158,7 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
         z_tip, _z_top = support_span(sup.kind[B_LO], sup.geom[B_LO])
         room = u[base + nd - 1] - z_tip
         dz_lo = w.du_free[base + nd - 1]  # the node's own z slides it along the curve
-        if room < TIP_ROOM * href and dz_lo < 0.0:
+        if room <= 0.0 and dz_lo < 0.0:  # at the tip or past it, moving down
             return merit0, 0.0, L.PAST_TIP
         if dz_lo * alpha < -room:
             if room > 0.0:  # from above the tip, the step would take it past

@@ -59,9 +59,6 @@ SHORT_LAID_SHARE = 0.5
 # SPAN_GROWTH times in a step: its square is linear in the load past the
 # change of regime, so the span itself follows a logarithmic step.
 SPAN_GROWTH = 2.0
-# Lift-off within TIP_ROOM href of the tip and moving down has reached it
-# (PAST_TIP): a tenth of a millimetre at a metre's elements.
-TIP_ROOM = 1e-3
 
 # --- contacts (:mod:`.contact`) --------------------------------------------------------
 # A node within LATERAL_HYSTERESIS of its elements below the stinger's span
