@@ -209,12 +209,12 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         stats["step_max"] = max(stats["step_max"], used)
         if status == L.OK:
             level = trial
-            step = min(2.0 * step, largest)
+            step = min(T.LOAD_STEP_FACTOR * step, largest)
             if converged is not None:
                 converged(level)
             continue
         restore(pb, saved)
-        step *= 0.5
+        step /= T.LOAD_STEP_FACTOR
         if step < smallest:
             _fail(case, where, info, status, f"; load step cut below {smallest:g}")
     return react, stats

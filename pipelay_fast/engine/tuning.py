@@ -32,9 +32,12 @@ MAX_BOUNDARY_STEP = 2.0
 BOUNDARY_STEP_LAYER = 0.2
 
 # --- load paths (:func:`.continuation.continuation`) ------------------------------
-# The first step of every load path, a quarter of the load, and the bisection
-# rule: a converged step doubles the next, a failed one is halved.
+# The first step of every load path, a quarter of the load. The bisection
+# rule: a converged step multiplies the next by LOAD_STEP_FACTOR, a failed one
+# divides it (bisection: a cut step is the half of the failed one that starts
+# from the last converged state, and growth undoes one cut).
 FIRST_LOAD_STEP = 0.25
+LOAD_STEP_FACTOR = 2.0
 # The homotopy from the first guess: steps of at most half the load; a step cut
 # below HOMOTOPY_SMALLEST fails the solve (the first step halved 12 times).
 HOMOTOPY_LARGEST = 0.5

@@ -11,11 +11,13 @@ of the effective weight there is integrated exactly.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import layout as L
 from ._jit import jit, phase
-from .tuning import CROSSING_STEPS, CROSSING_TOL
+from .roots import bracketed_step
 
 _G = np.sqrt(3.0 / 7.0 - 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
 _H = np.sqrt(3.0 / 7.0 + 2.0 / 7.0 * np.sqrt(6.0 / 5.0))
@@ -52,31 +54,31 @@ def hermite_crossing(xa, pa, xb, pb, le, level):
     """xi in (0, 1) where a Hermite coordinate crosses ``level``, else -1.
 
     ``xa, xb`` are the nodal values of the coordinate, ``pa, pb`` their
-    derivatives d/ds (the height x at the water surface, z at the stinger tip). Newton from
-    the chord estimate; the root is unique when the element is monotone in x,
-    which holds for any element shorter than the local radius of curvature.
+    derivatives d/ds (the height x at the water surface, z at the stinger
+    tip). Newton from the chord estimate, guarded by bisection in [0, 1] and
+    run to round-off (:func:`.roots.bracketed_step`); the root is unique
+    when the element is monotone in x, which holds for any element shorter
+    than the local radius of curvature (otherwise it is one of them).
     """
     fa = xa - level
     fb = xb - level
     if fa * fb >= 0.0:
         return -1.0
     xi = fa / (fa - fb)
-    for _ in range(CROSSING_STEPS):
+    lo, hi, last = 0.0, 1.0, math.inf
+    sign_lo = math.copysign(1.0, fa)
+    while True:
         xi2 = xi * xi
         xi3 = xi2 * xi
         f = ((1.0 - 3.0 * xi2 + 2.0 * xi3) * xa + le * (xi - 2.0 * xi2 + xi3) * pa
              + (3.0 * xi2 - 2.0 * xi3) * xb + le * (-xi2 + xi3) * pb - level)
+        if f == 0.0:
+            return xi
         df = ((-6.0 * xi + 6.0 * xi2) * xa + le * (1.0 - 4.0 * xi + 3.0 * xi2) * pa
               + (6.0 * xi - 6.0 * xi2) * xb + le * (-2.0 * xi + 3.0 * xi2) * pb)
-        if df == 0.0:
-            break
-        step = f / df
-        xi -= step
-        if xi <= 0.0 or xi >= 1.0:
-            return fa / (fa - fb)
-        if abs(step) < CROSSING_TOL:
-            break
-    return xi
+        xi, lo, hi, last, done = bracketed_step(xi, f, df, lo, hi, sign_lo, last)
+        if done:
+            return xi
 
 
 @jit(_nrt=False)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 
 from ._jit import jit
-from .tuning import FOOT_TOL
+from .roots import bracketed_step
 
 
 @jit(_nrt=False)
@@ -37,13 +37,65 @@ def _at(r, rp, s, e, xi, tip, gap, slope, curve):
     return g2
 
 
+@jit(_nrt=False)
+def _foot_rate(r, rp, s, e, xi, tip, gap, slope, curve):
+    """(h, dh/dxi) at ``xi`` on element ``e``: h = (r - tip) . dr/dxi, zero
+    at the foot of the normal from ``tip``."""
+    _at(r, rp, s, e, xi, tip, gap, slope, curve)
+    h = 0.0
+    rate = 0.0
+    for i in range(r.shape[1]):
+        h += gap[i] * slope[i]
+        rate += slope[i] * slope[i] + gap[i] * curve[i]
+    return h, rate
+
+
+@jit(_nrt=False)
+def _foot(r, rp, s, e, tip, samples, gap, slope, curve):
+    """xi in [0, 1] of the point of element ``e`` nearest ``tip``: the
+    nearest of ``samples`` points, then the root of h = (r - tip) . dr/dxi
+    between its neighbours (h < 0 below it and > 0 above it: the distance
+    falls, then rises), by Newton guarded by bisection to round-off
+    (:func:`.roots.bracketed_step`); where h does not change sign so, the
+    nearest of the sample and its neighbours (an end of the element when
+    the distance falls towards it)."""
+    x = 0.0
+    nearest = math.inf
+    j_near = 0
+    for j in range(samples):
+        g2 = _at(r, rp, s, e, j / (samples - 1), tip, gap, slope, curve)
+        if g2 < nearest:
+            nearest = g2
+            j_near = j
+            x = j / (samples - 1)
+    lo = max(j_near - 1, 0) / (samples - 1)
+    hi = min(j_near + 1, samples - 1) / (samples - 1)
+    h_lo, _rate = _foot_rate(r, rp, s, e, lo, tip, gap, slope, curve)
+    h_hi, _rate = _foot_rate(r, rp, s, e, hi, tip, gap, slope, curve)
+    if not h_lo < 0.0 < h_hi:
+        for end in (lo, hi):
+            g2 = _at(r, rp, s, e, end, tip, gap, slope, curve)
+            if g2 < nearest:
+                nearest = g2
+                x = end
+        return x
+    last = math.inf
+    while True:
+        h, rate = _foot_rate(r, rp, s, e, x, tip, gap, slope, curve)
+        if h == 0.0:
+            return x
+        x, lo, hi, last, done = bracketed_step(x, h, rate, lo, hi, -1.0, last)
+        if done:
+            return x
+
+
 @jit(entry=True, _nrt=False)
-def point_clearance(r, rp, s, tip, up, samples, steps, gap, slope, curve):
+def point_clearance(r, rp, s, tip, up, samples, gap, slope, curve):
     """Signed distance [m] from ``tip`` to the centreline (nodes ``r``,
-    slopes ``rp``, arc lengths ``s``), sign by ``up``: on the four elements
-    around the node nearest the tip, each sampled at ``samples`` points and
-    refined by at most ``steps`` Newton steps on (r - tip) . dr/dxi = 0, xi
-    kept in [0, 1]; ``gap``, ``slope``, ``curve`` are scratch of length nd."""
+    slopes ``rp``, arc lengths ``s``), sign by ``up``: the nearest of the
+    feet of the normal (:func:`_foot`, each element sampled at ``samples``
+    points) on the four elements around the node nearest the tip; ``gap``,
+    ``slope``, ``curve`` are scratch of length nd."""
     nn = s.shape[0]
     nd = r.shape[1]
     near = 0
@@ -58,28 +110,7 @@ def point_clearance(r, rp, s, tip, up, samples, steps, gap, slope, curve):
     best = math.inf
     best_sign = 1.0
     for e in range(max(near - 2, 0), min(near + 2, nn - 1)):
-        x = 0.0
-        nearest = math.inf
-        for j in range(samples):
-            xi = j / (samples - 1)
-            g2 = _at(r, rp, s, e, xi, tip, gap, slope, curve)
-            if g2 < nearest:
-                nearest = g2
-                x = xi
-        for _ in range(steps):
-            _at(r, rp, s, e, x, tip, gap, slope, curve)
-            rate = 0.0
-            dot = 0.0
-            for i in range(nd):
-                rate += slope[i] * slope[i] + gap[i] * curve[i]
-                dot += gap[i] * slope[i]
-            if not rate > 0.0:
-                break
-            new = min(max(x - dot / rate, 0.0), 1.0)
-            done = abs(new - x) < FOOT_TOL
-            x = new
-            if done:
-                break
+        x = _foot(r, rp, s, e, tip, samples, gap, slope, curve)
         g2 = _at(r, rp, s, e, x, tip, gap, slope, curve)
         length = math.sqrt(g2)
         if length < best:

@@ -362,7 +362,7 @@ def _newton_kernel(nd):
             if not finite or (it > 1 and res_max > RUNAWAY * res_start):
                 status = L.NOT_FINITE
                 break
-            if it == 1:
+            if it == 1:  # at least one reference force (1: the weighted residual's unit)
                 res_start = max(res_max, 1.0)
             info[I_RES] = res_max
             info[I_DELTA] = max_delta

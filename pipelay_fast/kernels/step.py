@@ -31,14 +31,12 @@ from .system import _evaluate, _solves_tb, _to_nodal_frames, _weighted_max
 from .tuning import (
     ARMIJO,
     BACKTRACK,
-    INNER_RATIO,
     LINE_SEARCH_TRIALS,
     MERIT_RISE,
     MIN_ELEMENT_SHARE,
     NON_FINITE_FRACTION,
     SHORT_LAID_SHARE,
     SPAN_GROWTH,
-    TIP_ROOM,
 )
 
 
@@ -48,9 +46,10 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     step keeps lift-off's node tangent to the stinger (its slope then
     constrained, ``w.cmask`` and ``w.delta``) and the bordered step moves
     no boundary. Held while the weighted residual of the pipe with
-    lift-off's slope held exceeds INNER_RATIO times the boundaries' own
-    imbalance ``bnd_res`` (their equations' scaled residuals, and the moment
-    on lift-off's slope that its tangency would hold).
+    lift-off's slope held exceeds the boundaries' own imbalance ``bnd_res``
+    (their equations' scaled residuals, and the moment on lift-off's slope
+    that its tangency would hold): both are measured in their own scaled
+    equations, so they compare directly.
 
     A step of the boundaries from a state out of equilibrium follows a
     linearisation that may point the wrong way; from equilibrium the
@@ -71,7 +70,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     keep = w.cmask[j_lo]
     w.cmask[j_lo] = True  # as held: lift-off's slope constrained
     res_eq, _rs = _weighted_max(nd, w.g, w.cmask, settings.fref, settings.href)
-    if res_eq > INNER_RATIO * own:
+    if res_eq > own:
         w.delta[j_lo] = -_bnd_equation(nd, u, sup, B_LO, mesh.bnodes[B_LO], w.no_row)
         return True
     w.cmask[j_lo] = keep
@@ -95,9 +94,10 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     like sqrt(a - a_switch) past the change of regime: a step in its
     logarithm follows that), SPAN_CLOSED when there is no bearing solution;
     a step that would take lift-off past the tip returns PAST_TIP with the
-    fraction that takes it to the tip (0 when it is there already), which
-    the Newton kernel takes before it stops (stopped short of the tip
-    instead, the approach would only halve the distance a step)."""
+    fraction that takes it to the tip (0 when it is at or past the tip
+    already), which the Newton kernel takes before it stops (stopped short
+    of the tip instead, the approach would only halve the distance a
+    step)."""
     for i in range(u.shape[0]):
         w.u_old[i] = u[i]
     merit0 = res_ssq + top_res * top_res
@@ -158,7 +158,7 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
         z_tip, _z_top = support_span(sup.kind[B_LO], sup.geom[B_LO])
         room = u[base + nd - 1] - z_tip
         dz_lo = w.du_free[base + nd - 1]  # the node's own z slides it along the curve
-        if room < TIP_ROOM * href and dz_lo < 0.0:
+        if room <= 0.0 and dz_lo < 0.0:  # at the tip or past it, moving down
             return merit0, 0.0, L.PAST_TIP
         if dz_lo * alpha < -room:
             if room > 0.0:  # from above the tip, the step would take it past
@@ -174,8 +174,8 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     the step taken.
 
     The limited step ``alpha`` is cut where a sliding friction spring would
-    cross its stick zone (:func:`.contact.friction_step`), then doubled
-    back towards the limited step while the merit falls, the lowest-merit
+    cross its stick zone (:func:`.contact.friction_step`), then grown by
+    1 / BACKTRACK back towards the limited step while the merit falls, the lowest-merit
     trial kept (past the cut, no spring stays flagged as stopped,
     ``w.fr_stop``): a laid pipe sliding as a whole has its whole length
     carried back past the anchors by Newton (its lateral stiffness then the
@@ -202,7 +202,7 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
                 break
             if trial >= alpha_lim:
                 break
-            trial = min(2.0 * trial, alpha_lim)
+            trial = min(trial / BACKTRACK, alpha_lim)
         ends.tb[0] = tb_old
         if best > alpha:
             w.fr_stop[:] = 0.0

@@ -9,17 +9,10 @@ engine's are :mod:`pipelay_fast.engine.tuning`'s, the input layer's
 from __future__ import annotations
 
 # --- round-off --------------------------------------------------------------------
-# Double precision's unit round-off, 2^-52 (not a choice).
+# Double precision's machine epsilon, 2^-52 (not a choice).
 EPS = 2.220446049250313e-16
-# A parameter in [0, 1] found by Newton (a level's crossing in an element,
-# :func:`.element_shapes.hermite_crossing`; the foot of the normal to an
-# element, :func:`.geometry.point_clearance`) is converged when a step
-# moves it by less than these (45 and 450 ulps of 1), within at most
-# CROSSING_STEPS steps (Newton on a cubic from its chord converges in a few;
-# bisection would reach 1e-14 in 47).
-CROSSING_TOL = 1e-14
-FOOT_TOL = 1e-13
-CROSSING_STEPS = 30
+# (A parameter in [0, 1] found by Newton has no tolerance and no step cap:
+# :mod:`.roots` runs Newton, guarded by bisection, to round-off.)
 # A friction spring whose displacement is within this share of its
 # mobilising displacement slides (:func:`.contact.friction_commit`): the
 # displacement is a difference of positions of order 1e3 m, so a few
@@ -31,20 +24,21 @@ SLIP_ROUNDOFF = 1e-9
 # (:func:`.system._roundoff_ratio`): at the floor the ratio is of order 1,
 # one Newton step before it two orders more.
 ROUNDOFF_RATIO = 10.0
-# A weighted residual above RUNAWAY times the larger of its start and 1 has
-# diverged (forces a million times the reference force): the line search
-# takes rising merits while boundaries move (MERIT_RISE).
+# A weighted residual above RUNAWAY times the larger of its start and one
+# reference force has diverged: the line search takes rising merits while
+# boundaries move (MERIT_RISE). The weighted residual is in units of the
+# reference force fref (:func:`.system._weighted_max`), so one reference
+# force is 1 there (the unit, not a choice): from a start nearer balance,
+# the runaway is RUNAWAY reference forces.
 RUNAWAY = 1e6
 
 # --- step control (:mod:`.step`) ----------------------------------------------------
-# The boundaries move once the pipe's imbalance is below INNER_RATIO times
-# theirs (:func:`.step._hold_boundaries`): the two measured in their own
-# scaled equations.
-INNER_RATIO = 1.0
 # Armijo's sufficient decrease of the merit (the textbook c1 = 1e-4,
 # Nocedal and Wright, Numerical Optimization, 2006, Sec. 3.1), the step
-# halved (BACKTRACK) up to LINE_SEARCH_TRIALS trials (down to 2^-11 of it),
-# a non-finite trial's search ended below NON_FINITE_FRACTION of the step.
+# halved (BACKTRACK; the friction cut's forward search grows it by the
+# inverse, :func:`.step._line_search`) up to LINE_SEARCH_TRIALS trials
+# (down to 2^-11 of it), a non-finite trial's search ended below
+# NON_FINITE_FRACTION of the step.
 ARMIJO = 1e-4
 BACKTRACK = 0.5
 LINE_SEARCH_TRIALS = 12
@@ -65,9 +59,6 @@ SHORT_LAID_SHARE = 0.5
 # SPAN_GROWTH times in a step: its square is linear in the load past the
 # change of regime, so the span itself follows a logarithmic step.
 SPAN_GROWTH = 2.0
-# Lift-off within TIP_ROOM href of the tip and moving down has reached it
-# (PAST_TIP): a tenth of a millimetre at a metre's elements.
-TIP_ROOM = 1e-3
 
 # --- contacts (:mod:`.contact`) --------------------------------------------------------
 # A node within LATERAL_HYSTERESIS of its elements below the stinger's span

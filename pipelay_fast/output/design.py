@@ -25,7 +25,6 @@ DESIGN_UNITS = {
 }
 
 
-NEWTON_STEPS = 20  # a cap for the foot of the normal, which converges in a few from a sample
 SAMPLES = 33  # per element, where the foot of the normal is sought from
 
 
@@ -45,10 +44,11 @@ def tip_clearance(r, rp, s, tip, up) -> float:
 
     The centreline is each element's cubic Hermite. The nearest point is
     sought on the four elements around the node nearest the tip, all at
-    once: each sampled at 33 points, then refined from its nearest sample by
-    Newton on the foot-of-normal condition (r - tip) . dr/dxi = 0 (xi kept
-    in [0, 1]), so the distance is normal to the pipe; the nearest of the
-    refined points is the answer
+    once: each sampled at 33 points, then refined between the neighbours of
+    its nearest sample by Newton (guarded by bisection, to round-off) on the
+    foot-of-normal condition (r - tip) . dr/dxi = 0, so the distance is
+    normal to the pipe (or at an end of the element, where the distance
+    falls towards it); the nearest of the refined points is the answer
     (:func:`pipelay_fast.kernels.geometry.point_clearance`). ``r`` [m],
     ``rp`` [-]: nodal positions and slopes (nn, nd); ``s`` [m]: the nodes'
     arc lengths; ``tip`` [m], ``up`` [-]: vectors of nd.
@@ -56,7 +56,7 @@ def tip_clearance(r, rp, s, tip, up) -> float:
     r, rp, s = (np.ascontiguousarray(v, dtype=float) for v in (r, rp, s))
     nd = r.shape[1]
     return float(point_clearance(r, rp, s, np.asarray(tip, dtype=float),
-                                 np.asarray(up, dtype=float), SAMPLES, NEWTON_STEPS,
+                                 np.asarray(up, dtype=float), SAMPLES,
                                  np.empty(nd), np.empty(nd), np.empty(nd)))
 
 
