@@ -223,8 +223,8 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
 def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
     """Newton from the current state; on failure, the load-path homotopy
     G(u) - (1 - alpha) G(u0) = 0 from the state u0 the solve started from,
-    alpha from 0 to 1 (:func:`continuation`: steps of 0.25 to 0.5, cut to
-    1e-4 at most). ``budget``: the solve's Newton iterations left (None: a
+    alpha from 0 to 1 (:func:`continuation`, with tuning.FIRST_LOAD_STEP,
+    HOMOTOPY_LARGEST and HOMOTOPY_SMALLEST). ``budget``: the solve's Newton iterations left (None: a
     fresh one).
 
     Returns the reactions and a dict of iteration counts.
@@ -256,8 +256,8 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
 
 def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None):
     """Raise the current factor from 0 to 1 in load steps (friction follows
-    this path; :func:`continuation`: steps of at most 0.25, cut to 1e-3 at
-    most). ``budget``: the solve's Newton iterations left (None: a fresh one).
+    this path; :func:`continuation`, with tuning.FIRST_LOAD_STEP,
+    CURRENT_LARGEST and CURRENT_SMALLEST). ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     The converged steps are recorded (``pb.path.current_path``, from the state
     before the current); a warm start begins each step from its neighbour's

@@ -2,9 +2,8 @@
 
 A value is a derivation (stated), a measurement (the benchmark script that
 makes it; its figures are in that script's report, not here) or a standard
-choice (named). The kernels' constants are :mod:`pipelay_fast.kernels.layout`'s
-and the Newton kernel's phases'; the input layer's limits are
-:mod:`pipelay_fast.input.limits`'.
+choice (named). The kernels' constants are :mod:`pipelay_fast.kernels.tuning`'s,
+the input layer's limits :mod:`pipelay_fast.input.limits`'.
 """
 
 from __future__ import annotations
@@ -39,13 +38,13 @@ BOUNDARY_STEP_LAYER = 0.2
 FIRST_LOAD_STEP = 0.25
 LOAD_STEP_FACTOR = 2.0
 # The homotopy from the first guess: steps of at most half the load; a step cut
-# below HOMOTOPY_SMALLEST fails the solve (the first step halved 12 times).
+# below HOMOTOPY_SMALLEST fails the solve.
 HOMOTOPY_LARGEST = 0.5
 HOMOTOPY_SMALLEST = 1e-4
 # The current's path: friction is path dependent, so its steps stay a quarter
 # (half steps follow another slip path on fine meshes: S125 3D,
-# benchmarks/bench_contact.py part 2); a step cut below CURRENT_SMALLEST (8
-# halvings) fails, and the path may take CURRENT_STEPS times
+# benchmarks/bench_contact.py part 2); a step cut below CURRENT_SMALLEST
+# fails, and the path may take CURRENT_STEPS times
 # solver.max_load_steps steps (four times the homotopy's: its steps are smaller).
 CURRENT_LARGEST = 0.25
 CURRENT_SMALLEST = 1e-3
@@ -94,11 +93,11 @@ ROLLER_ON = 1e-6
 # --- laid pipe (:func:`.solver.laid_short`, :func:`.solver.more_laid`) ----------------
 # The laid pipe a mesh models behind touchdown: at least one flexural length
 # sqrt(EI/T) (the boundary layer over which the pipe leaves the seabed),
-# doubled to at least two when short. The first mesh has two, and
-# LAID_ELEMENTS elements (:func:`.problem.build_problem`); a solve adds laid
-# pipe until the mesh would exceed solver.max_elements.
+# doubled to at least two when short; a solve adds laid pipe until the mesh
+# would exceed solver.max_elements.
 LAID_LENGTHS = 1.0
-# The first mesh's default laid pipe also has LAID_ELEMENTS elements (room for
+# The first mesh's default laid pipe (:func:`.problem._guess`): twice
+# LAID_LENGTHS flexural lengths plus LAID_ELEMENTS elements (room for
 # touchdown's first Newton steps, MAX_BOUNDARY_STEP elements each, when the
 # flexural length is shorter than an element); no measurement.
 LAID_ELEMENTS = 5.0

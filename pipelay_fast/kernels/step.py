@@ -181,7 +181,7 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     carried back past the anchors by Newton (its lateral stiffness then the
     span's alone), and stopped at the first spring's zone it would move a
     small part of the step an iteration. From there the step is halved until
-    :func:`_accepts` takes the trial, 12 trials at most; where none is
+    :func:`_accepts` takes the trial, tuning.LINE_SEARCH_TRIALS at most; where none is
     accepted the first is taken anyway (the merit is flat there: a change of
     constraint, a constraint's correction)."""
     has_bnd = _has_boundaries(mesh)

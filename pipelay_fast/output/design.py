@@ -44,7 +44,7 @@ def tip_clearance(r, rp, s, tip, up) -> float:
 
     The centreline is each element's cubic Hermite. The nearest point is
     sought on the four elements around the node nearest the tip, all at
-    once: each sampled at 33 points, then refined between the neighbours of
+    once: each sampled at SAMPLES points, then refined between the neighbours of
     its nearest sample by Newton (guarded by bisection, to round-off) on the
     foot-of-normal condition (r - tip) . dr/dxi = 0, so the distance is
     normal to the pipe (or at an end of the element, where the distance
