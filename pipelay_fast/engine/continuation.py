@@ -224,8 +224,8 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     """Newton from the current state; on failure, the load-path homotopy
     G(u) - (1 - alpha) G(u0) = 0 from the state u0 the solve started from,
     alpha from 0 to 1 (:func:`continuation`, with tuning.FIRST_LOAD_STEP,
-    HOMOTOPY_LARGEST and HOMOTOPY_SMALLEST). ``budget``: the solve's Newton iterations left (None: a
-    fresh one).
+    HOMOTOPY_LARGEST and HOMOTOPY_SMALLEST).
+    ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     Returns the reactions and a dict of iteration counts.
     """
@@ -257,7 +257,8 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
 def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None):
     """Raise the current factor from 0 to 1 in load steps (friction follows
     this path; :func:`continuation`, with tuning.FIRST_LOAD_STEP,
-    CURRENT_LARGEST and CURRENT_SMALLEST). ``budget``: the solve's Newton iterations left (None: a fresh one).
+    CURRENT_LARGEST and CURRENT_SMALLEST).
+    ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     The converged steps are recorded (``pb.path.current_path``, from the state
     before the current); a warm start begins each step from its neighbour's
