@@ -144,13 +144,13 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     return status, react, info, int(info[I_ITER]) + spent, start
 
 
-def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, first: float,
-                 largest: float, smallest: float, max_steps: int, name: str,
+def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name: str,
                  converged=None):
     """The one adaptive-step routine of every load path: raise a load level
     from 0 to 1, each step a Newton solve (:func:`newton_in_regime`) from the
-    last converged state; a step that fails is undone and halved, one that
-    converges is doubled for the next, up to ``largest``.
+    last converged state, with the step rule of tuning.LOAD_STEP,
+    LOAD_STEP_FACTOR and SMALLEST_LOAD_STEP: a step that fails is undone and
+    cut, one that converges grows for the next, up to LOAD_STEP.
 
     ``load(level, predict)`` puts the problem at that load level and returns
     Newton's residual offset (ndof,); with ``predict`` it may also move the
@@ -163,13 +163,14 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
     from the last converged state before it is halved, so that a warm start
     takes the cold start's steps (friction and the tip's contact are both
     path dependent: another sequence of steps may end on another answer).
-    A step cut below ``smallest``, or ``max_steps``
+    A step cut below tuning.SMALLEST_LOAD_STEP, or solver.max_load_steps
     steps taken, raises SolveError naming the load path ``name``, the level
     and why. Returns the last reactions and {"iterations", "load_steps",
     "step_max"}: the Newton iterations, the load steps (undone ones
     included) and the most iterations one of them took.
     """
-    level, step = 0.0, first
+    level, step = 0.0, T.LOAD_STEP
+    max_steps = case.solver.max_load_steps
     stats = {"iterations": 0, "load_steps": 0, "step_max": 0}
     react = info = None
     status = L.OK
@@ -209,22 +210,21 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, firs
         stats["step_max"] = max(stats["step_max"], used)
         if status == L.OK:
             level = trial
-            step = min(T.LOAD_STEP_FACTOR * step, largest)
+            step = min(T.LOAD_STEP_FACTOR * step, T.LOAD_STEP)
             if converged is not None:
                 converged(level)
             continue
         restore(pb, saved)
         step /= T.LOAD_STEP_FACTOR
-        if step < smallest:
-            _fail(case, where, info, status, f"; load step cut below {smallest:g}")
+        if step < T.SMALLEST_LOAD_STEP:
+            _fail(case, where, info, status, f"; load step cut below {T.SMALLEST_LOAD_STEP:g}")
     return react, stats
 
 
 def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
     """Newton from the current state; on failure, the load-path homotopy
     G(u) - (1 - alpha) G(u0) = 0 from the state u0 the solve started from,
-    alpha from 0 to 1 (:func:`continuation`, with tuning.FIRST_LOAD_STEP,
-    HOMOTOPY_LARGEST and HOMOTOPY_SMALLEST).
+    alpha from 0 to 1 (:func:`continuation`).
     ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     Returns the reactions and a dict of iteration counts.
@@ -247,24 +247,20 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     def homotopy(alpha, _predict):
         return -(1.0 - alpha) * g0, False
 
-    react, stats = continuation(case, pb, budget, homotopy, first=T.FIRST_LOAD_STEP,
-                                largest=T.HOMOTOPY_LARGEST, smallest=T.HOMOTOPY_SMALLEST,
-                                max_steps=case.solver.max_load_steps,
+    react, stats = continuation(case, pb, budget, homotopy,
                                 name="the homotopy from the first guess, load factor")
     return react, {"iterations": stats["iterations"] + iters, "load_steps": stats["load_steps"]}
 
 
 def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None):
     """Raise the current factor from 0 to 1 in load steps (friction follows
-    this path; :func:`continuation`, with tuning.FIRST_LOAD_STEP,
-    CURRENT_LARGEST and CURRENT_SMALLEST).
+    this path; :func:`continuation`).
     ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     The converged steps are recorded (``pb.path.current_path``, from the state
     before the current); a warm start begins each step from its neighbour's
     increment over it, and past the first step a step without one from this
-    path's last increment (:meth:`.Problem.start_step`). Steps of at most
-    tuning.CURRENT_LARGEST: the friction's slip path depends on them.
+    path's last increment (:meth:`.Problem.start_step`).
     """
     budget = budget or IterationBudget(case.solver.max_iterations_total)
     zero = np.zeros_like(pb.u)
@@ -276,10 +272,7 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
         return zero, predict and pb.start_step(factor)
 
     pb.path.current_path = [pb.path_state(0.0)]
-    react, stats = continuation(case, pb, budget, load, first=T.FIRST_LOAD_STEP,
-                                largest=T.CURRENT_LARGEST, smallest=T.CURRENT_SMALLEST,
-                                max_steps=T.CURRENT_STEPS * case.solver.max_load_steps,
-                                name="current factor",
+    react, stats = continuation(case, pb, budget, load, name="current factor",
                                 converged=lambda level: pb.path.current_path.append(
                                     pb.path_state(level)))
     pb.settings.factors[L.F_CURRENT] = 1.0
