@@ -46,13 +46,15 @@ ABSOLUTE = ("tdp_z", "top_angle_deg")
 
 # Run in a fresh interpreter: import and first solve, timed separately.
 STARTUP_SCRIPT = """
-import json, sys, time
-t0 = time.perf_counter()
+import json, resource, sys, time
+t0, c0 = time.perf_counter(), time.process_time()
 import pipelay_fast as pf
-t1 = time.perf_counter()
+t1, c1 = time.perf_counter(), time.process_time()
 pf.solve(pf.load_case(sys.argv[1]))
-t2 = time.perf_counter()
-print(json.dumps({"import_s": t1 - t0, "first_solve_s": t2 - t1}))
+t2, c2 = time.perf_counter(), time.process_time()
+print(json.dumps({"import_s": t1 - t0, "first_solve_s": t2 - t1, "import_cpu_s": c1 - c0,
+                  "first_solve_cpu_s": c2 - c1, "file": pf.__file__,
+                  "max_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 
 
