@@ -93,7 +93,9 @@ class Solver:
     tolerance : float
         Relative convergence tolerance [-], in (0, 1e-2); default 1e-8.
     max_iterations, max_load_steps : int
-        Newton iterations per step and load steps; defaults 100 and 64.
+        Newton iterations per step, and load steps per load path (the
+        homotopy from the first guess, the current's path); defaults 100
+        and 64.
     max_iterations_total : int
         Newton iterations of one solve in all [-], over load steps, current
         steps, remeshing passes and laid-length doublings (a warm start that
