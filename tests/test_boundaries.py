@@ -464,6 +464,19 @@ def test_regained_span_from_the_closure_in_closed_form(ell):
     assert regained_span(lam, lam * closure) == pytest.approx(ell * lam, rel=1e-9)
 
 
+@pytest.mark.parametrize(("lam", "past"), [(10.0, float("nan")), (10.0, float("inf")),
+                                           (10.0, 0.0), (10.0, -1.0), (0.0, 1.0),
+                                           (float("nan"), 1.0)])
+def test_regained_span_refuses_what_is_not_positive_and_finite(lam, past):
+    """Outside its contract (``past`` and ``lam`` positive and finite) the gap
+    span is refused with both values named; a NaN would otherwise never
+    settle the closure's series."""
+    from pipelay_fast.engine.boundaries import regained_span
+
+    with pytest.raises(ValueError, match="must be positive and finite"):
+        regained_span(lam, past)
+
+
 @pytest.mark.parametrize(("example", "a"), [("s67", -0.0008), ("s67", -0.0009),
                                           ("s125", -0.001), ("s125", -0.0012)])
 def test_a_cable_leaving_below_the_tip_starts_bearing_with_the_span_found(example, a):

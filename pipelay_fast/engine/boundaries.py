@@ -241,7 +241,8 @@ def regained_span(lam: float, past: float) -> float:
     """The gap span L [m] from a bearing tip up to where the pipe regains the
     stinger, from ``past`` [m] > 0, how far lift-off would go past the tip on
     the stinger's curve continued (Newton's step there), and the flexural
-    length ``lam`` = sqrt(EI/T) [m] at the tip.
+    length ``lam`` = sqrt(EI/T) [m] at the tip. ValueError when either is not
+    positive and finite.
 
     Small deflections w(s) of a tensioned beam from the stinger's curve over
     the gap 0 < s < L from re-contact: EI w'''' - T w'' = T kappa + w_n
@@ -263,6 +264,9 @@ def regained_span(lam: float, past: float) -> float:
     root is l = m sqrt(past / lam) with m between 1 and 2: brentq's bracket
     (on m, so that its tolerance is relative to l).
     """
+    if not (0.0 < past < math.inf and 0.0 < lam < math.inf):
+        raise ValueError(f"regained_span: past = {past!r} m and lam = {lam!r} m must be "
+                         "positive and finite")
     r = past / lam
     root = math.sqrt(r)
     return lam * root * brentq(lambda m: _gap_closure(m * root) - r, 1.0, 2.0)

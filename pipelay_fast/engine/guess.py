@@ -114,7 +114,8 @@ def free_span(case: Case) -> Catenary:
 def _tension_root(gap, weight, slack, taut):
     """The horizontal tension h [N] at which ``gap(h)`` = 0, over 0 < h < inf,
     or None when ``gap``'s limits ``slack`` (h -> 0) and ``taut`` (h -> inf),
-    in closed form, have the same sign. Solved by brentq over c = h / (h +
+    in closed form, have the same sign, or the root is one of them (a length
+    within round-off of a limit). Solved by brentq over c = h / (h +
     ``weight``) in [0, 1], ``weight`` [N] that of a vertical hang to the top
     (c is then the cosine of the catenary's top angle): the ends are the two
     limits, so the bracket holds every tension."""
@@ -129,7 +130,8 @@ def _tension_root(gap, weight, slack, taut):
         return gap(weight * c / (1.0 - c))
 
     c = brentq(of_c, 0.0, 1.0)
-    return weight * c / (1.0 - c)
+    h = weight * c / (1.0 - c) if c < 1.0 else math.inf
+    return h if 0.0 < h < math.inf else None
 
 
 def slay_liftoff(case: Case, bottom_tension: float | None = None):
