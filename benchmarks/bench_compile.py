@@ -31,7 +31,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from bench_jlay import STARTUP_SCRIPT, machine_info
+from bench_jlay import STARTUP_SCRIPT, check_imported, machine_info
 
 import pipelay_fast as pf
 
@@ -46,8 +46,8 @@ def startup(case_file: Path, cache_dir: str, tree: Path | None = None) -> dict:
     out = subprocess.run([sys.executable, "-c", STARTUP_SCRIPT, str(case_file)], env=env,
                          cwd=tree, capture_output=True, text=True, check=True).stdout
     answer = json.loads(out.strip().splitlines()[-1])
-    if tree is not None and not Path(answer["file"]).resolve().is_relative_to(tree.resolve()):
-        raise RuntimeError(f"{tree}: imported {answer['file']} instead (an installed copy?)")
+    if tree is not None:
+        check_imported(tree, answer["file"])
     return answer
 
 

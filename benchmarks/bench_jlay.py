@@ -58,6 +58,13 @@ print(json.dumps({"import_s": t1 - t0, "first_solve_s": t2 - t1, "import_cpu_s":
 """
 
 
+def check_imported(tree: Path, file: str) -> None:
+    """RuntimeError unless ``file`` (the ``pipelay_fast.__file__`` a child
+    process imported) lies in the source tree ``tree`` it was run on."""
+    if not Path(file).resolve().is_relative_to(tree.resolve()):
+        raise RuntimeError(f"{tree}: imported {file} instead (an installed copy?)")
+
+
 def machine_info() -> dict:
     """Platform, CPU, versions and the git revision of the package."""
     cpu = platform.processor() or "unknown"

@@ -28,7 +28,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from bench_jlay import machine_info
+from bench_jlay import check_imported, machine_info
 
 REPO = Path(__file__).resolve().parents[1]
 SCENES = ("j125", "s67", "s125", "j125_3d", "s67_3d", "s125_3d", "s67_rollers")
@@ -68,8 +68,7 @@ def run_tree(tree: Path, scenes, repeats: int) -> dict:
     if done.returncode != 0:
         raise RuntimeError(f"{tree}: {done.stderr[-2000:]}")
     answer = json.loads(done.stdout.splitlines()[-1])
-    if not Path(answer["file"]).resolve().is_relative_to(tree.resolve()):
-        raise RuntimeError(f"{tree}: imported {answer['file']} instead (an installed copy?)")
+    check_imported(tree, answer["file"])
     return answer
 
 
