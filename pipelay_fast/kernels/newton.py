@@ -303,10 +303,12 @@ def _free_residual(nd, u, sup, w, out):
     for i in range(out.shape[0]):
         out[i] = 0.0 if w.cmask[i] else w.g[i]
     for k in range(sup.kind.shape[0]):
-        if in_curve_coords(sup.kind[k]):
-            for node in range(sup.active.shape[1]):
+        if not in_curve_coords(sup.kind[k]):
+            continue
+        for node in range(sup.active.shape[1]):
+            if sup.active[k, node] != 0:
                 for i in (node * ndn, node * ndn + nd):
-                    if sup.active[k, node] != 0 and sup.fix_mask[i] == 0:
+                    if sup.fix_mask[i] == 0:
                         out[i] = w.g[i]
     _from_nodal_frames(nd, out, u, sup)
 
