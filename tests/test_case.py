@@ -464,6 +464,8 @@ BAD_INPUTS = [
     ({"environment.current": 1.0}, "environment.current"),
     ({"environment.current.speed": -1.0}, "environment.current.speed"),
     ({"environment.current.heading": float("nan")}, "environment.current.heading"),
+    ({"environment.current.heading": 400.0}, "environment.current.heading"),
+    ({"environment.current.heading": -190.0}, "environment.current.heading"),
     ({"environment.current.profile": "log"}, "environment.current.profile"),
     ({"environment.current.exponent": 0.0}, "environment.current.exponent"),
     ({"environment.current.profile": "table"}, "environment.current.table"),

@@ -72,6 +72,8 @@ def test_top_tension_beyond_the_strain_line_is_refused(j125, changes, top_pressu
     assert abs(strain) > 0.1
     assert "lay.top_tension" in message and "solver.max_strain = 0.02" in message
     assert f"Tw/EA = {strain:.4g} at the top" in message
+    for key, value in changes.items():  # the key that made the strain, with its value
+        assert f"{key} = {value!r}" in message
 
 
 def test_bottom_tension_beyond_the_strain_line_is_refused(j125):
@@ -230,6 +232,7 @@ def test_a_millinewton_bottom_tension_is_refused_by_the_mesh_size(j125):
     ei = p.youngs_modulus * math.pi * (p.outer_diameter**4 - p.inner_diameter**4) / 64.0
     flexural = math.sqrt(ei / 1e-3)
     assert f"sqrt(EI/T) = {flexural:.4g} m" in message and "solver.laid_length" in message
+    assert "lay.bottom_tension = 0.001 N" in message  # the key that makes it long
     assert elements_in(message) >= 2.0 * flexural / 4.0
 
 

@@ -205,8 +205,12 @@ def _laid_source(case: Case, cat, lam: float, laid: float | None = None) -> str:
                 "the laid pipe before its modelled lower end")
     if case.solver.laid_length is not None:
         return f"solver.laid_length = {case.solver.laid_length!r} m"
+    lay = case.lay
+    key, tension = (("lay.top_tension", lay.top_tension) if lay.top_tension is not None
+                    else ("lay.bottom_tension", lay.bottom_tension))
     text = (f"the default of solver.laid_length: twice {T.LAID_LENGTHS:g} flexural length "
-            f"sqrt(EI/T) = {lam:.4g} m at touchdown, {T.LAID_ELEMENTS:g} elements")
+            f"sqrt(EI/T) = {lam:.4g} m at touchdown, where {key} = {tension!r} N gives the "
+            f"tension T = {cat.h:.4g} N, and {T.LAID_ELEMENTS:g} elements")
     slip = friction_laid_length(case, cat)
     if slip > 0.0:
         text += (f" and {slip:.4g} m for seabed friction to take up the lateral drag "

@@ -29,7 +29,9 @@ class Current:
         Surface speed, the largest in the water column [m/s]; 0: no current.
         For ``profile = "table"`` it is the table's largest speed (may be omitted).
     heading : float
-        Direction in the y-z plane [deg]: 0 = +z, 90 = +y.
+        Direction in the y-z plane [deg]: 0 = +z, 90 = +y; in [-180, 360]
+        (one turn either way of the two usual conventions; a value beyond is
+        refused rather than taken modulo 360).
     profile : str
         "uniform" | "linear" | "power" (from the seabed, the default) | "table".
     exponent : float
@@ -49,6 +51,8 @@ class Current:
         p = "environment.current"
         set_numbers(self, p, non_negative=("speed",), positive=("exponent",),
                     finite=("heading",))
+        if not -180.0 <= self.heading <= 360.0:
+            fail(f"{p}.heading", self.heading, "must be in [-180, 360] deg")
         choice(f"{p}.profile", self.profile, PROFILES)
         if isinstance(self.table, (str, bytes)) or not isinstance(self.table, (list, tuple)):
             fail(f"{p}.table", self.table, "must be a list of [height, speed] pairs")

@@ -96,11 +96,13 @@ def check_case(case) -> None:
         strain = float(case.wall_tension(tension, x)) / ea
         if abs(strain) > limit:
             raise ValueError(
-                f"{key} = {tension!r} N gives a wall strain Tw/EA = {strain:.4g} at the "
-                f"{where} (x = {x:g} m, external pressure {float(case.external_pressure(x)):.4g}"
-                f" Pa from environment.water_depth = {case.environment.water_depth!r} m; "
-                f"EA = {ea:.4g} N from pipe.youngs_modulus = {pipe.youngs_modulus!r} Pa and "
-                f"the steel section), {line}")
+                f"the wall strain Tw/EA = {strain:.4g} at the {where} is {line}: "
+                f"{key} = {tension!r} N on a steel section of {pipe.steel_area:.4g} m2 "
+                f"(pipe.outer_diameter = {pipe.outer_diameter!r} m, pipe.inner_diameter = "
+                f"{pipe.inner_diameter!r} m) with pipe.youngs_modulus = "
+                f"{pipe.youngs_modulus!r} Pa, EA = {ea:.4g} N (x = {x:g} m, external pressure "
+                f"{float(case.external_pressure(x)):.4g} Pa from environment.water_depth = "
+                f"{case.environment.water_depth!r} m)")
 
 
 def strain_beyond_line(case, columns: dict) -> str | None:
