@@ -363,3 +363,42 @@ def test_power_law_current_and_its_derivative_are_one_smooth_profile():
         up, down = current_speed(props, table, x + h)[0], current_speed(props, table, x - h)[0]
         fd = (up - down) / (2 * h)
         assert current_speed(props, table, x)[1] == pytest.approx(fd, rel=1e-6)
+
+
+_PYTHON_ELEMENT = """
+import sys
+import numpy as np
+sys.path.insert(0, {tests!r})
+from test_element import make_props, random_state
+from pipelay_fast.kernels.assembly import element_force
+nd = {nd}
+props, sec = make_props(drag=1.2, torque_free=False)
+ue = random_state(nd, np.random.default_rng(7))
+fe = np.zeros(ue.size)
+ke = np.zeros((ue.size, ue.size))
+element_force(nd, 1.7, ue, props, sec, np.zeros((0, 2)), 5.0, fe, ke, True)
+print(repr(fe.tolist()))
+"""
+
+
+@pytest.mark.parametrize("nd", [2, 3])
+def test_the_element_runs_as_python_under_numba_disable_jit(nd):
+    """NUMBA_DISABLE_JIT=1 (docs/developers.md: a kernel stepped through in a
+    debugger) runs the Python functions: the same element forces as the
+    compiled kernel, to round-off."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    code = _PYTHON_ELEMENT.format(tests=str(Path(__file__).parent), nd=nd)
+    env = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         check=True).stdout
+    python_fe = np.array(eval(out))  # a list of floats printed by repr
+    props, sec = make_props(drag=1.2, torque_free=False)
+    ue = random_state(nd, np.random.default_rng(7))
+    fe = np.zeros(ue.size)
+    ke = np.zeros((ue.size, ue.size))
+    element_force(nd, 1.7, ue, props, sec, np.zeros((0, 2)), 5.0, fe, ke, True)
+    assert np.allclose(python_fe, fe, rtol=1e-12, atol=1e-9 * np.abs(fe).max())

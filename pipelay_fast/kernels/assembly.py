@@ -247,8 +247,14 @@ def curve_node(nd, ab, kl, ku, g, node, fp, fpp, zp, want_tangent):
 
 @jit(_nrt=False)
 def element_forces_py(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
-    """:func:`element_forces` callable from Python (tests, one-off calls)."""
-    element_forces(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+    """:func:`element_forces` callable from Python (tests, one-off calls): the
+    branch on ``nd`` at run time (also under NUMBA_DISABLE_JIT, where calling
+    :func:`element_forces` would come back here)."""
+    if nd == 2:
+        element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+    else:
+        element_force_ws(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle,
+                         ws, wm)
 
 
 def element_force(nd, le, ue, props, sec, table, torque, fe, ke, want_tangent, dfe=None,
