@@ -357,6 +357,12 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
     overbend (NaN). The lay design answers
     (layback, tip clearance, strains, utilisations) are
     :func:`pipelay_fast.output.design.design_columns`'.
+
+    Flags: ``yielded`` where the largest von Mises stress exceeds
+    ``pipe.smys`` (``max_von_mises_over_smys`` > 1); ``bears_on_tip`` where
+    the pipe leaves the stinger at its tip with a concentrated reaction
+    (``sol.tip``; a roller stinger: bearing on its last roller; J-lay:
+    False).
     """
     cur = case.environment.current
     stats, s_tdp, s_liftoff = sol.stats, sol.s_tdp, sol.s_liftoff
