@@ -287,3 +287,23 @@ def test_solve_prints_the_flags(tmp_path, capsys):
 def re_value(printed: str, name: str) -> str:
     line = next(ln for ln in printed.splitlines() if ln.split()[:1] == [name])
     return line.split()[1]
+
+
+def test_a_failed_rows_flags_are_missing_in_the_dataset(tmp_path):
+    """A sweep's summary keeps the flags as nullable booleans: true and false
+    as solved, missing (not false) on a failed row, through Parquet too."""
+    import pyarrow.parquet as pq
+
+    from pipelay_fast.study.dataset import summary_frame, summary_table
+
+    rows = [{"status": "ok", "yielded": True, "bears_on_tip": False},
+            {"status": "failed", "yielded": None}]
+    frame = summary_frame(rows)
+    assert str(frame["yielded"].dtype) == "boolean"
+    assert frame["yielded"].tolist()[0] is True and frame["bears_on_tip"].tolist()[0] is False
+    assert frame["yielded"].isna().tolist() == [False, True]
+    assert frame["bears_on_tip"].isna().tolist() == [False, True]
+    pq.write_table(summary_table(rows), tmp_path / "chunk.parquet")
+    back = pd.read_parquet(tmp_path / "chunk.parquet")
+    assert str(back["yielded"].dtype) == "boolean" and back["yielded"].isna().tolist() == [
+        False, True]
