@@ -3,7 +3,9 @@
     pipelay-fast solve CASE.toml [--out DIR] [--quiet]
     pipelay-fast example [NAME] [--out FILE] [--force]
     pipelay-fast sweep SWEEP.toml [--out DIR] [--workers N] [--backend loky|dask|ray] ...
-    pipelay-fast select RESULTS_DIR [--no-refine]
+    pipelay-fast select RESULTS_DIR [--no-refine] [--min-tip-clearance M] [--max-utilisation U]
+                        [--max-overbend-strain E] [--max-sagbend-strain E]
+                        [--top-tension MIN MAX] [--max-roller-reaction R]
     pipelay-fast table RESULTS_DIR
     pipelay-fast plot CASE.toml | RESULTS_DIR [--out FILE]
     pipelay-fast --version
@@ -39,6 +41,16 @@ from .output.results import SUMMARY_UNITS
 DISPLAY_UNITS = {"N": ("kN", 1e-3), "N m": ("kN m", 1e-3), "Pa": ("MPa", 1e-6)}
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+
+# select's limit options (the [select] keys of pipelay_fast.study.limits): flag, metavar, help
+SELECT_LIMITS = (
+    ("--min-tip-clearance", "M", "least tip clearance [m]"),
+    ("--max-utilisation", "U", "largest code-check utilisation [-] (default 1 with [checks])"),
+    ("--max-overbend-strain", "E", "largest overbend strain [-]"),
+    ("--max-sagbend-strain", "E", "largest sagbend strain [-]"),
+    ("--top-tension", "N", "the tensioner's window: least and largest top tension [N]"),
+    ("--max-roller-reaction", "R", "largest roller reaction [N] (roller stingers)"),
+)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -111,11 +123,17 @@ def _parser() -> argparse.ArgumentParser:
         "roller heights) from a sweep's results",
         description="For each S-lay scene and current: the a minimising the maximum von "
         "Mises stress and the a where the overbend and sagbend peaks are equal, refined "
-        "between grid points; writes RESULTS_DIR/selection.parquet and prints it.",
+        "between grid points; the range of a inside the limits (the sweep file's [select] "
+        "table, each replaced by the option given here; utilisation at most 1 by default "
+        "where the cases have [checks]), the limit binding at each end and the a of least "
+        "utilisation inside it; writes RESULTS_DIR/selection.parquet and prints it.",
     )
     select_cmd.add_argument("results", type=Path, metavar="RESULTS_DIR")
     select_cmd.add_argument("--no-refine", action="store_true",
                             help="grid values only (no further solves)")
+    for flag, metavar, what in SELECT_LIMITS:
+        select_cmd.add_argument(flag, type=float, metavar=metavar, help=what,
+                                nargs=2 if flag == "--top-tension" else None)
     select_cmd.set_defaults(run=_select)
 
     table_cmd = commands.add_parser(
@@ -173,6 +191,7 @@ def _solve(args: argparse.Namespace) -> int:
     if not args.quiet:
         print(f"{case.name} ({args.case})")
         print(format_summary(result.summary))
+        print(f"\nflags: {format_flags(result.summary)}")
     if args.out is not None:
         try:
             paths = write_result(result, args.out)
@@ -199,6 +218,20 @@ def format_summary(summary: dict) -> str:
     return "\n".join(
         f"{name:<{name_width}}  {text:>{value_width}}  {unit}".rstrip() for name, text, unit in rows
     )
+
+
+def format_flags(summary: dict) -> str:
+    """The answer's flags as a sentence: yielded (with the largest von Mises
+    stress over SMYS) and bearing on the stinger's tip (with the tip's
+    reaction), or "none"."""
+    flags = []
+    if summary["yielded"]:
+        flags.append(f"YIELDED: von Mises up to {summary['max_von_mises_over_smys']:.3f} x SMYS")
+    if summary["bears_on_tip"]:
+        flags.append("BEARS ON THE STINGER TIP " + (
+            f"(tip reaction {summary['tip_reaction'] / 1e3:.1f} kN)"
+            if summary["last_roller_in_contact"] is None else "(on its last roller)"))
+    return "; ".join(flags) or "none (von Mises below SMYS, the pipe clear of the stinger tip)"
 
 
 def _format_value(value) -> str:
@@ -313,12 +346,18 @@ def _plot(args: argparse.Namespace) -> int:
 
 
 def _select(args: argparse.Namespace) -> int:
-    from .study.select import format_selection, select
+    from .study.select import select
+    from .study.select_format import format_selection
 
     if not (args.results / "sweep.json").is_file():
         return _error(f"{args.results} holds no sweep results (no sweep.json)", EXIT_USAGE)
+    limits = {}
+    for flag, _, _ in SELECT_LIMITS:
+        value = getattr(args, flag[2:].replace("-", "_"))
+        if value is not None:
+            limits[flag[2:].replace("-", "_")] = value
     try:
-        table = select(args.results, refine=not args.no_refine)
+        table = select(args.results, refine=not args.no_refine, limits=limits)
     except ValueError as err:
         return _error(str(err), EXIT_USAGE)
     except OSError as err:

@@ -463,16 +463,17 @@ def test_a_scene_varies_one_stinger_axis():
 
 
 def test_select_prints_the_roller_choices(radius_sweep):
-    from pipelay_fast.study.select import format_selection
+    from pipelay_fast.study.select_format import format_selection
 
     table = select(radius_sweep, write=False)
     text = format_selection(table)
-    assert "stinger_radius" in text and "roller_shift" in text
-    # each scene's line prints its variable and then the value of least stress
+    assert "stinger_radius[m]" in text and "roller_shift[m]" in text
+    # each scene's first line prints its variable with its unit, then the value of least stress
     for _, row in table.iterrows():
+        label = f"{row['variable']}[m]"
         tokens = next(ln.split() for ln in text.splitlines()
-                      if ln.split()[:1] == [row["scene"]] and row["variable"] in ln.split())
-        printed = float(tokens[tokens.index(row["variable"]) + 1])
+                      if ln.split()[:1] == [row["scene"]] and label in ln.split())
+        printed = float(tokens[tokens.index(label) + 1])
         assert printed == pytest.approx(row[row["variable"] + "_min_stress"], rel=1e-4, abs=1e-6)
 
 

@@ -41,9 +41,11 @@ SUMMARY_UNITS = {
     "current_speed": "m/s", "current_heading_deg": "deg", "status": "", "message": "",
     "top_tension": "N", "bottom_tension": "N", "tdp_z": "m", "liftoff_z": "m",
     "liftoff_angle_deg": "deg", "top_angle_deg": "deg", "suspended_length": "m",
-    "max_von_mises": "Pa", "overbend_max_von_mises": "Pa", "sagbend_max_von_mises": "Pa",
+    "max_von_mises": "Pa", "max_von_mises_over_smys": "-", "yielded": "",
+    "overbend_max_von_mises": "Pa", "sagbend_max_von_mises": "Pa",
     "overbend_max_moment": "N m", "sagbend_max_moment": "N m", "max_strain": "-",
-    "max_lateral_deflection": "m", "tip_reaction": "N", "liftoff_reaction": "N",
+    "max_lateral_deflection": "m", "tip_reaction": "N", "bears_on_tip": "",
+    "liftoff_reaction": "N",
     "max_roller_reaction": "N", "last_roller_in_contact": "",
     **DESIGN_UNITS,
     "n_elements": "", "n_iterations": "", "n_current_steps": "",
@@ -355,6 +357,12 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
     overbend (NaN). The lay design answers
     (layback, tip clearance, strains, utilisations) are
     :func:`pipelay_fast.output.design.design_columns`'.
+
+    Flags: ``yielded`` where the largest von Mises stress exceeds
+    ``pipe.smys`` (``max_von_mises_over_smys`` > 1); ``bears_on_tip`` where
+    the pipe leaves the stinger at its tip with a concentrated reaction
+    (``sol.tip``; a roller stinger: bearing on its last roller; J-lay:
+    False).
     """
     cur = case.environment.current
     stats, s_tdp, s_liftoff = sol.stats, sol.s_tdp, sol.s_liftoff
@@ -392,7 +400,9 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
     last_roller = None  # (no roller stinger)
     max_roller = nan
     last_clearance = None
+    bears_on_tip = bearing is not None
     if rollers is not None:  # the tip's clearance is the last roller's
+        bears_on_tip = bool(rollers["in_contact"][-1])
         last_roller = sol.last_roller
         max_roller = float(rollers["reaction"].max())
         last_clearance = float(rollers["clearance"][-1])
@@ -417,6 +427,8 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
         "top_angle_deg": float(cols["angle_deg"][-1]),
         "suspended_length": suspended,
         "max_von_mises": float(vm.max()),
+        "max_von_mises_over_smys": float(vm.max()) / case.pipe.smys,
+        "yielded": bool(vm.max() > case.pipe.smys),
         "overbend_max_von_mises": over_vm,
         "sagbend_max_von_mises": sag_vm,
         "overbend_max_moment": over_m,
@@ -424,6 +436,7 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
         "max_strain": float(fibre.max()),
         "max_lateral_deflection": float(np.abs(cols["y"]).max()),
         "tip_reaction": tip,
+        "bears_on_tip": bears_on_tip,
         "liftoff_reaction": liftoff_reaction(s, cols["stinger_reaction"], sol.lo_node),
         "max_roller_reaction": max_roller,
         "last_roller_in_contact": last_roller,

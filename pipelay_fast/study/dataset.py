@@ -51,6 +51,7 @@ ROLLER_COLUMNS = {"case_id": "", **ROLLER_UNITS}
 _INTEGER = ("n_elements", "n_iterations", "n_current_steps", "max_current_step_iterations",
             "n_meshes", "chain_position", "last_roller_in_contact")
 _BOOLEAN = ("warm_started",)
+_FLAGS = ("yielded", "bears_on_tip")  # an answer's flags: missing (None) on a failed row
 
 
 class Dataset:
@@ -258,13 +259,16 @@ def _write_bytes(path: Path, data: bytes):
 def _summary_columns(rows: list[dict]):
     """Each summary column's values from ``rows``, in the dataset's fixed
     types: (name, values, kind), kind "int" (None where missing), "bool",
-    "str" ("" where missing) or "float" (NaN where missing)."""
+    "flag" (a bool, None where missing), "str" ("" where missing) or "float"
+    (NaN where missing)."""
     for column, unit in SUMMARY_COLUMNS.items():
         values = [row.get(column) for row in rows]
         if column in _INTEGER:
             yield column, [None if _missing(v) else _integer(column, v) for v in values], "int"
         elif column in _BOOLEAN:
             yield column, [bool(v) for v in values], "bool"
+        elif column in _FLAGS:
+            yield column, [None if _missing(v) else bool(v) for v in values], "flag"
         elif unit == "":
             yield column, ["" if _missing(v) else str(v) for v in values], "str"
         else:
@@ -280,13 +284,16 @@ def _integer(column: str, value) -> int:
 
 def summary_frame(rows: list[dict]) -> pd.DataFrame:
     """Summary rows as a DataFrame with the dataset's fixed column types
-    (integers Int64, flags bool, text str, the rest float64)."""
-    pandas_types = {"int": "Int64", "bool": bool, "str": str, "float": np.float64}
+    (integers Int64, bookkeeping flags bool, an answer's flags boolean
+    (missing on a failed row), text str, the rest float64)."""
+    pandas_types = {"int": "Int64", "bool": bool, "flag": "boolean", "str": str,
+                    "float": np.float64}
     return pd.DataFrame({column: pd.array(values, dtype=pandas_types[kind])
                          for column, values, kind in _summary_columns(rows)})
 
 
-_ARROW_TYPES = {"int": pa.int64(), "bool": pa.bool_(), "float": pa.float64()}
+_ARROW_TYPES = {"int": pa.int64(), "bool": pa.bool_(), "flag": pa.bool_(),
+                "float": pa.float64()}
 _summary_schema = None
 
 

@@ -23,6 +23,24 @@ At the equal-peaks ``a`` the selection also gives the lay's answers there:
 
 Refinement needs the scenes' base cases, which the sweep stores in
 ``sweep.json``; ``refine=False`` reports the grid values only.
+
+Limits (:mod:`.limits`: the sweep file's ``[select]`` table, or the
+``limits`` argument, which overrides it key by key) bound summary columns:
+tip clearance, utilisation (at most 1 by default where the cases have a
+``[checks]`` table), overbend and sagbend strain, the top tension's window
+and the roller reaction. From the grid, interpolated linearly between grid
+points, the selection gives the feasible range of ``a``
+(``a_feasible_min``, ``a_feasible_max``; the widest, when there are
+several; with ``refine``, an end a limit binds is the root of that
+limit's margin by warm-started solves, :func:`scipy.optimize.brentq`
+between the grid points around it), the limit binding at each end (``feasible_min_binds``,
+``feasible_max_binds``: "grid end" where none does), whether the
+equal-peaks ``a`` is inside a feasible range (``equal_peaks_feasible``)
+and, inside the range, ``a_best``: the ``a`` of the lowest
+``max_utilisation`` (``max_von_mises`` without ``[checks]``;
+``best_objective`` names it). Without a feasible point ``feasible`` is
+False and ``ruled_out_by`` says which limit rules the scene out and by how
+much.
 """
 
 from __future__ import annotations
@@ -30,6 +48,7 @@ from __future__ import annotations
 import json
 import math
 import os
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +57,14 @@ from scipy.optimize import brentq, minimize_scalar
 
 from ..output.io import write_table
 from .dataset import read_summary
+from .limits import (
+    Range,
+    check_limits,
+    feasible_ranges,
+    group_limits,
+    limit_text,
+    shortfall_text,
+)
 from .runner import CASE_ERRORS, solve_case
 from .sweep import AXES, DESIGN_AXES, Scene, Sweep
 
@@ -51,36 +78,61 @@ SELECTION_UNITS = {
     "a_min_stress": "1/m", "min_max_von_mises": "Pa",
     "a_equal_peaks": "1/m", "equal_peaks_von_mises": "Pa",
     "equal_peaks_max_utilisation": "-", "equal_peaks_tip_clearance": "m",
+    "equal_peaks_max_von_mises_over_smys": "-", "equal_peaks_yielded": "",
+    "equal_peaks_bears_on_tip": "", "n_yielded": "",
+    "limits": "", "feasible": "", "a_feasible_min": "1/m", "a_feasible_max": "1/m",
+    "feasible_min_binds": "", "feasible_max_binds": "", "ruled_out_by": "",
+    "equal_peaks_feasible": "", "a_best": "1/m", "best_objective": "",
+    "best_max_utilisation": "-", "best_max_von_mises": "Pa",
     "reference_a": "1/m", "n_solves": "", "note": "", "variable": "",
-    # a roller stinger's design axes, as a's four columns
+    # a roller stinger's design axes, as a's columns
     **{f"{axis}_{what}": AXES[axis][2] for axis in DESIGN_AXES[1:]
-       for what in ("grid_min", "grid_max", "min_stress", "equal_peaks")},
+       for what in ("grid_min", "grid_max", "min_stress", "equal_peaks", "feasible_min",
+                    "feasible_max", "best")},
 }
+# flags: a nullable boolean (missing where there is no equal-peaks a)
+FLAG_COLUMNS = ("equal_peaks_yielded", "equal_peaks_bears_on_tip", "feasible",
+                "equal_peaks_feasible")
+COUNT_COLUMNS = ("n_grid", "n_solves", "n_yielded")
 # the inputs that, with the scene, make one selection group
 GROUP_COLUMNS = ("current_speed", "current_heading_deg", "given_top_tension",
                  "given_bottom_tension", "given_pipe_length")
 # summary column -> selection column, reported at the equal-peaks a
 EQUAL_PEAKS_ANSWERS = {"max_utilisation": "equal_peaks_max_utilisation",
-                       "tip_clearance": "equal_peaks_tip_clearance"}
+                       "tip_clearance": "equal_peaks_tip_clearance",
+                       "max_von_mises_over_smys": "equal_peaks_max_von_mises_over_smys",
+                       "yielded": "equal_peaks_yielded",
+                       "bears_on_tip": "equal_peaks_bears_on_tip"}
 XTOL_FRACTION = 1e-4  # search tolerance as a share of the grid spacing of a
 FLAT_SHARE = 0.005  # grid points this close to the minimum stress make it "flat"
 
 
-def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) -> pd.DataFrame:
+def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True,
+           limits: Mapping | None = None) -> pd.DataFrame:
     """The selection table of the results directory ``root`` (one row per
     S-lay group: scene and the other inputs; the columns of
     ``SELECTION_UNITS``, SI).
 
     ``refine``: refine the grid's choices with further solves (needs
-    ``root/sweep.json``); False: grid values only. Written to
-    ``root/selection.parquet`` (units in the schema) when ``write``.
-    Raises ValueError when ``root`` has no summary table.
+    ``root/sweep.json``); False: grid values only. ``limits``: the
+    ``[select]`` keys of :mod:`.limits` (SI), each replacing the sweep
+    file's. Written to ``root/selection.parquet`` (units in the schema)
+    when ``write``. Raises ValueError when ``root`` has no summary table (or,
+    with ``refine``, no ``sweep.json``), or a limit is not valid (naming it).
     """
     root = Path(root)
+    given = check_limits("limits", dict(limits or {}))
     summary = read_summary(root)
     if summary.empty:
         raise ValueError(f"{root}: no summary table (run a sweep into it first)")
-    sweep = Sweep.from_spec(json.loads((root / "sweep.json").read_text())) if refine else None
+    spec_path = root / "sweep.json"
+    if refine and not spec_path.is_file():
+        raise ValueError(f"{root}: no sweep.json, whose scenes refinement solves (refine=False "
+                         "uses the grid alone)")
+    spec = json.loads(spec_path.read_text()) if spec_path.is_file() else {}
+    limits = {**check_limits("select", spec.get("select", {})), **given}
+    sweep = Sweep.from_spec(spec) if refine else None
+    references = {s["name"]: s.get("reference_a") for s in spec.get("scenes", [])}
     rows = []
     ok = summary[(summary["status"] == "ok") & (summary["method"] == "S")]
     keys = ["scene", *GROUP_COLUMNS]
@@ -88,11 +140,14 @@ def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True) 
         values = dict(zip(keys, key, strict=True))
         scene = sweep.scene(values["scene"]) if sweep is not None else None
         variable = design_variable(scene, group)
-        rows.append(_select_group(group.sort_values(variable), values, scene, variable))
+        group = group.sort_values(variable)
+        rows.append(_select_group(group, values, scene, variable, limits,
+                                  references.get(values["scene"])))
     table = pd.DataFrame(rows, columns=list(SELECTION_UNITS))
     for column, unit in SELECTION_UNITS.items():
-        table[column] = table[column].astype(str if unit == "" else np.float64) \
-            if column not in ("n_grid", "n_solves") else table[column].astype(np.int64)
+        kind = ("boolean" if column in FLAG_COLUMNS else np.int64 if column in COUNT_COLUMNS
+                else str if unit == "" else np.float64)
+        table[column] = table[column].astype(kind)
     if write:
         write_table(table, root / "selection.parquet", SELECTION_UNITS)
     return table
@@ -114,17 +169,20 @@ def design_variable(scene: Scene | None, group: pd.DataFrame) -> str:
     return given[0] if given else "a"
 
 
-def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None,
-                  variable: str) -> dict:
-    """The selection row of one group's solved cases (sorted by ``variable``)."""
+def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None, variable: str,
+                  limits: Mapping, reference: float | None) -> dict:
+    """The selection row of one group's solved cases (sorted by ``variable``)
+    within ``limits`` (:func:`.limits.check_limits`'); ``reference``: the
+    scene's ``reference_a`` (None: not given)."""
     a = group[variable].to_numpy()
     vm = group["max_von_mises"].to_numpy()
     gap = (group["overbend_max_von_mises"] - group["sagbend_max_von_mises"]).to_numpy()
     first = group.iloc[0]
     row = {**values, "method": first["method"], "dimension": first["dimension"],
            "water_depth": first["water_depth"], "n_grid": len(a), "variable": variable,
+           "n_yielded": int(group["yielded"].fillna(False).sum()) if "yielded" in group else 0,
            f"{variable}_grid_min": float(a.min()), f"{variable}_grid_max": float(a.max()),
-           "reference_a": scene.reference_a if scene is not None else math.nan}
+           "reference_a": math.nan if reference is None else float(reference)}
     notes = []
     evaluate = (_Evaluator(scene, values, group, variable)
                 if scene is not None and len(a) > 1 else None)
@@ -150,7 +208,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None,
             notes.append(f"minimum not refined: {evaluate.failure(err)}")
 
     row[f"{variable}_equal_peaks"] = row["equal_peaks_von_mises"] = math.nan
-    row.update(dict.fromkeys(EQUAL_PEAKS_ANSWERS.values(), math.nan))
+    row.update(dict.fromkeys(EQUAL_PEAKS_ANSWERS.values(), None))
     finite = np.isfinite(gap)
     brackets = [j for j in range(len(a) - 1) if finite[j] and finite[j + 1]
                 and np.sign(gap[j]) != np.sign(gap[j + 1])]
@@ -174,14 +232,112 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None,
                 notes.append(f"equal peaks not refined: {evaluate.failure(err)}")
         else:
             notes.append("equal peaks: nearest grid point")
-    row["n_solves"] = evaluate.solves if evaluate is not None else 0
     row["note"] = "; ".join(notes)
+    row.update(_limit_columns(group, variable, limits, row, evaluate))
+    row["n_solves"] = evaluate.solves if evaluate is not None else 0
     return row
 
 
 def _answers(summary) -> dict:
     """The lay's answers of a summary row (dict or Series) under the selection's names."""
-    return {name: float(summary[column]) for column, name in EQUAL_PEAKS_ANSWERS.items()}
+    answers = {}
+    for column, name in EQUAL_PEAKS_ANSWERS.items():
+        value = summary.get(column)  # (None: a results directory written without it)
+        answers[name] = (value if value is None or isinstance(value, bool | np.bool_)
+                         or value is pd.NA else float(value))
+    return answers
+
+
+def _limit_columns(group: pd.DataFrame, variable: str, limits: Mapping, row: dict,
+                   evaluate: _Evaluator | None) -> dict:
+    """The limits' columns of one group's selection row (``row``: its
+    choices so far, the equal-peaks ``a`` and the refined stress minimum
+    among them), the range's ends refined by ``evaluate`` when given
+    (:func:`_refined_ends`); notes on limits that cannot apply, or ends not
+    refined, are added to its note."""
+    a = group[variable].to_numpy(dtype=float)
+    applied, notes = group_limits(limits, group)
+    margins = {limit: limit.margin(group[limit.column]) for limit in applied}
+    out = {"limits": "; ".join(limit_text(limit) for limit in applied) or "none",
+           "ruled_out_by": "", "best_objective": "", "feasible_min_binds": "",
+           "feasible_max_binds": "", "equal_peaks_feasible": False}
+    ranges = feasible_ranges(a, margins)
+    out["feasible"] = bool(ranges)
+    if not ranges:
+        out["ruled_out_by"] = shortfall_text(a, margins, variable)
+        out["equal_peaks_feasible"] = None
+        return _with_notes(out, row, notes)
+    widest = max(ranges, key=lambda r: r.high - r.low)
+    notes += [f"feasible also for {variable} in [{r.low:.6g}, {r.high:.6g}]"
+              for r in ranges if r is not widest]
+    widest, solved = _refined_ends(widest, a, margins, evaluate, notes)
+    out.update({f"{variable}_feasible_min": widest.low, f"{variable}_feasible_max": widest.high,
+                "feasible_min_binds": limit_text(widest.low_binds),
+                "feasible_max_binds": limit_text(widest.high_binds)})
+    equal = row[f"{variable}_equal_peaks"]
+    out["equal_peaks_feasible"] = (bool(any(r.low <= equal <= r.high for r in ranges))
+                                   if math.isfinite(equal) else None)
+    objective = ("max_utilisation" if np.isfinite(group["max_utilisation"]).any()
+                 else "max_von_mises")
+    refined = row[f"{variable}_min_stress"]
+    if objective == "max_von_mises" and widest.low <= refined <= widest.high:
+        solved[refined] = {"max_von_mises": row["min_max_von_mises"], "max_utilisation": math.nan}
+
+    def at(x: float, column: str) -> float:  # a solved value, else the grid's, interpolated
+        return float(solved[x][column]) if x in solved else float(np.interp(x, a, group[column]))
+
+    inside = (a >= widest.low) & (a <= widest.high)
+    candidates = [*a[inside], widest.low, widest.high, *([refined] if refined in solved else [])]
+    best = float(candidates[int(np.nanargmin([at(x, objective) for x in candidates]))])
+    out.update({f"{variable}_best": best, "best_objective": objective,
+                "best_max_utilisation": at(best, "max_utilisation"),
+                "best_max_von_mises": at(best, "max_von_mises")})
+    return _with_notes(out, row, notes)
+
+
+def _refined_ends(r: Range, a, margins: dict, evaluate: _Evaluator | None,
+                  notes: list[str]) -> tuple[Range, dict]:
+    """(the range ``r`` with each end a limit binds moved to the root of that
+    limit's margin between the grid points around it, by solves
+    (:func:`scipy.optimize.brentq`); {end: its summary} of the ends moved).
+    An end stays interpolated, with a note in ``notes``, when a solve fails
+    or another limit does not hold at the root; an end on a grid point, and
+    every end without ``evaluate``, stays as it is."""
+    solved: dict = {}
+    if evaluate is None:
+        return r, solved
+    for side, x, limit in (("low", r.low, r.low_binds), ("high", r.high, r.high_binds)):
+        i = int(np.searchsorted(a, x))
+        if limit is None or i == 0 or i >= a.size or x == a[i]:
+            continue
+        lo, hi = a[i - 1], a[i]
+        grid = {lo: margins[limit][i - 1], hi: margins[limit][i]}
+
+        def margin(v, limit=limit, grid=grid):
+            return grid[v] if v in grid else float(limit.margin(evaluate(v)[limit.column]))
+
+        try:
+            root = brentq(margin, lo, hi, xtol=XTOL_FRACTION * (hi - lo))
+            summary = evaluate(root)
+        except CASE_ERRORS as err:
+            notes.append(f"feasible {side} end not refined: {evaluate.failure(err)}")
+            continue
+        broken = [limit_text(m) for m in margins
+                  if m is not limit and m.margin(summary[m.column]) < 0.0]
+        if broken:
+            notes.append(f"feasible {side} end not refined: {', '.join(broken)} fails at "
+                         f"{root:.6g}")
+            continue
+        r = r._replace(**{side: root})
+        solved[root] = summary
+    return r, solved
+
+
+def _with_notes(out: dict, row: dict, notes: list[str]) -> dict:
+    """``out`` with ``notes`` appended to the note of ``row``."""
+    if notes:
+        out["note"] = "; ".join([n for n in (row.get("note", ""), *notes) if n])
+    return out
 
 
 def _gap(summary: dict) -> float:
@@ -221,35 +377,3 @@ class _Evaluator:
     def failure(self, err: Exception) -> str:
         """A short note on the failed solve (the full message: solve that case)."""
         return f"{type(err).__name__} at {self.variable} = {self.last:.6g}"
-
-
-def format_selection(table: pd.DataFrame) -> str:
-    """The selection as a plain-text table: the variable's choices (a in 1/m,
-    a radius or a shift in m), stresses in MPa; the scene column as wide as
-    its longest name."""
-    width = max([5, *(len(str(name)) for name in table["scene"])])
-    lines = [f"{'scene':<{width}} {'dim':<3} {'current':>10} {'variable':>14} "
-             f"{'min_stress':>13} {'max VM':>8} {'equal_peaks':>13} {'peak VM':>8} "
-             f"{'max util':>8} {'tip m':>6} {'reference_a':>11}  note"]
-    for _, r in table.iterrows():
-        current = f"{r['current_speed']:.2g}@{r['current_heading_deg']:.0f}°"
-        v = r["variable"]
-        lines.append(
-            f"{r['scene']:<{width}} {r['dimension']:<3} {current:>10} {v:>14} "
-            f"{_a(r[f'{v}_min_stress']):>13} "
-            f"{_mpa(r['min_max_von_mises']):>8} {_a(r[f'{v}_equal_peaks']):>13} "
-            f"{_mpa(r['equal_peaks_von_mises']):>8} {_num(r['equal_peaks_max_utilisation']):>8} "
-            f"{_num(r['equal_peaks_tip_clearance']):>6} {_a(r['reference_a']):>11}  {r['note']}")
-    return "\n".join(lines)
-
-
-def _a(value: float) -> str:
-    return "n/a" if not math.isfinite(value) else f"{value:.6f}"
-
-
-def _num(value: float) -> str:
-    return "n/a" if not math.isfinite(value) else f"{value:.3f}"
-
-
-def _mpa(value: float) -> str:
-    return "n/a" if not math.isfinite(value) else f"{value / 1e6:.1f}"

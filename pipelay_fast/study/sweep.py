@@ -225,12 +225,16 @@ class Sweep:
         Free text of the file.
     source : str
         The file's path ("" for a dict or a stored spec).
+    limits : dict
+        The file's ``[select]`` table, the limits ``select`` applies
+        (:func:`pipelay_fast.study.limits.check_limits`; SI).
     """
 
     name: str
     scenes: tuple[Scene, ...]
     description: str = ""
     source: str = ""
+    limits: dict = field(default_factory=dict, compare=False)
     _cases: list = field(default_factory=list, compare=False, repr=False)
 
     def scene(self, name: str) -> Scene:
@@ -260,10 +264,11 @@ class Sweep:
         return table
 
     def to_spec(self) -> dict:
-        """JSON-able description (name, description, scenes), read back by
-        :meth:`from_spec`."""
+        """JSON-able description (name, description, scenes, the ``[select]``
+        limits), read back by :meth:`from_spec`."""
         return {"name": self.name, "description": self.description,
-                "scenes": [scene.to_spec() for scene in self.scenes]}
+                "scenes": [scene.to_spec() for scene in self.scenes],
+                "select": dict(self.limits)}
 
     @classmethod
     def from_spec(cls, spec: Mapping) -> Sweep:
@@ -274,7 +279,8 @@ class Sweep:
                   math.nan if s.get("reference_a") is None else float(s["reference_a"]),
                   _spec_target(s.get("target")))
             for s in spec["scenes"])
-        return cls(spec["name"], scenes, spec.get("description", ""))
+        return cls(spec["name"], scenes, spec.get("description", ""),
+                   limits=dict(spec.get("select", {})))
 
 
 # --------------------------------------------------------------------------- loading

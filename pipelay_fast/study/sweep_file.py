@@ -51,6 +51,17 @@ case of the scenes a target solve (:func:`pipelay_fast.solve_for`)::
 The key solved for must not be one that an axis varies; its value is the
 summary's ``target_value`` and the target itself its ``target`` (text).
 
+A ``[select]`` table gives the limits ``pipelay-fast select`` chooses the
+stinger within (:mod:`.limits`; SI)::
+
+    [select]
+    min_tip_clearance = 0.2          # m
+    max_utilisation = 1.0            # - (the default where the cases have [checks])
+    max_overbend_strain = 0.0025     # -
+    max_sagbend_strain = 0.0015      # -
+    top_tension = [400e3, 900e3]     # N, the tensioner's range
+    max_roller_reaction = 250e3      # N, roller stingers
+
 Cases that differ only in the chain axis (``a``, a roller stinger's radius or
 shift; for J-lay the first varied of current speed, tension, heading) form a
 chain, solved in order with warm starts.
@@ -70,6 +81,7 @@ from ..api.target import target_columns
 from ..input.case import Case, load_case
 from ..input.limits import ROUNDOFF
 from ..input.validate import fail, from_toml, get_path, reject_unknown
+from .limits import check_limits
 from .sweep import (
     AXES,
     DESIGN_AXES,
@@ -83,7 +95,7 @@ __all__ = ["load_sweep"]
 
 _SCENE_KEYS = ("name", "case", "method", *SCENE_GEOMETRY, "reference_a", "set", "vary",
                "target")
-_FILE_KEYS = ("name", "description", "case", "set", "vary", "target", "scenes")
+_FILE_KEYS = ("name", "description", "case", "set", "vary", "target", "select", "scenes")
 _NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
@@ -130,7 +142,8 @@ def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -
         if bases[i] in bases[:i]:
             fail(f"scenes[{i}]", scene_name, f"has the same case as scene "
                  f"{names[bases.index(bases[i])]!r}: vary its inputs in one scene instead")
-    return Sweep(name, tuple(scenes), description, source)
+    limits = check_limits("select", tables.get("select", {}))
+    return Sweep(name, tuple(scenes), description, source, limits)
 
 
 def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
