@@ -1,7 +1,7 @@
 """pipelay_fast: static nonlinear 2D/3D analysis of offshore pipelaying.
 
 >>> import pipelay_fast as pf
->>> case = pf.load_case("j125.toml")
+>>> case = pf.load_case("j125")  # a bundled example; or a case file's path
 >>> result = pf.solve(case)
 >>> result.summary["tdp_z"], result.profile[["s", "x", "z", "von_mises"]]
 >>> pf.solve_for(case, target={"sagbend_lcc_utilisation": 0.3}, vary="lay.top_tension",

@@ -7,7 +7,7 @@
                         [--max-overbend-strain E] [--max-sagbend-strain E]
                         [--top-tension MIN MAX] [--max-roller-reaction R]
     pipelay-fast table RESULTS_DIR
-    pipelay-fast plot CASE.toml | RESULTS_DIR [--out FILE]
+    pipelay-fast plot CASE.toml | SOLVE_DIR | RESULTS_DIR [--out FILE]
     pipelay-fast --version
 
 Exit codes: 0 success (a sweep whose cases failed has still succeeded: the
@@ -27,14 +27,14 @@ import argparse
 import math
 import numbers
 import sys
-from importlib.resources import files
 from pathlib import Path
 
 from ._version import __version__
+from .api.notice import compile_notice
 from .api.solve import solve
 from .input.case import load_case
 from .input.errors import SolveError
-from .kernels import _jit
+from .input.examples import example_description, example_names, example_path
 from .output.results import SUMMARY_UNITS
 
 # SI unit -> (display unit, factor); the Parquet files keep SI
@@ -77,7 +77,8 @@ def _parser() -> argparse.ArgumentParser:
         "optionally write summary.parquet and profile.parquet (and rollers.parquet for a "
         "roller stinger; SI units).",
     )
-    solve_cmd.add_argument("case", type=Path, metavar="CASE.toml", help="case file")
+    solve_cmd.add_argument("case", type=Path, metavar="CASE.toml",
+                           help="case file, or a bundled example's name")
     solve_cmd.add_argument("--out", type=Path, metavar="DIR",
                            help="write summary.parquet and profile.parquet (rollers.parquet "
                            "too for a roller stinger) into DIR")
@@ -149,14 +150,16 @@ def _parser() -> argparse.ArgumentParser:
         "plot", help="draw a case's lay or a sweep's results (needs matplotlib)",
         description="CASE.toml: solve it and draw the elevation (seabed, water line, "
         "stinger or rollers), the plan in 3D, and moment, von Mises and utilisation along the "
-        "pipe. RESULTS_DIR: the overbend and sagbend peaks against a (or a roller stinger's "
+        "pipe; a directory written by solve --out: the same, without solving. "
+        "RESULTS_DIR: the overbend and sagbend peaks against a (or a roller stinger's "
         "radius or roller shift) per S-lay scene and current (select's choices marked) and "
         "the lay table against depth. PNG unless --out ends in "
         ".svg or .pdf.",
     )
-    plot_cmd.add_argument("source", type=Path, metavar="CASE.toml|RESULTS_DIR")
+    plot_cmd.add_argument("source", type=Path, metavar="CASE.toml|SOLVE_DIR|RESULTS_DIR")
     plot_cmd.add_argument("--out", type=Path, metavar="FILE",
-                          help="figure file (default: CASE.png here, RESULTS_DIR/sweep.png)")
+                          help="figure file (default: CASE.png here, SOLVE_DIR/<case name>.png, "
+                          "RESULTS_DIR/sweep.png)")
     plot_cmd.set_defaults(run=_plot)
     return parser
 
@@ -166,28 +169,34 @@ def _error(message: str, code: int) -> int:
     return code
 
 
+def _named(path: Path, err: Exception) -> str:
+    """``err``'s message prefixed by ``path`` unless it already begins with it."""
+    message = str(err)
+    return message if message.startswith((str(path), repr(str(path)))) else f"{path}: {message}"
+
+
 def _compile_notice(quiet: bool) -> None:
     """On stderr, that the kernels are about to compile (a new environment's
-    first run), unless ``quiet``."""
-    if not quiet and not _jit.kernels_cached():
-        print("compiling the numerical kernels: the first run in a new environment takes "
-              "about 25 s more (each worker compiles once; later runs load them from "
-              "numba's cache)", file=sys.stderr, flush=True)
+    first run, :func:`pipelay_fast.api.notice.compile_notice`), unless
+    ``quiet``; either way the solves of this process do not log it again."""
+    notice = compile_notice()
+    if notice is not None and not quiet:
+        print(notice, file=sys.stderr, flush=True)
 
 
 def _solve(args: argparse.Namespace) -> int:
     from .output.io import write_result  # pyarrow only when needed
 
     try:
-        case = load_case(args.case)
+        case = load_case(str(args.case))  # a bundled example's name, too
         _compile_notice(args.quiet)
         result = solve(case)
     except OSError as err:
         return _error(f"cannot read {args.case}: {err.strerror or err}", EXIT_USAGE)
     except ValueError as err:
-        return _error(str(err), EXIT_USAGE)
+        return _error(_named(args.case, err), EXIT_USAGE)
     except (SolveError, NotImplementedError) as err:
-        return _error(str(err), EXIT_FAILED)
+        return _error(_named(args.case, err), EXIT_FAILED)
     if not args.quiet:
         print(f"{case.name} ({args.case})")
         print(format_summary(result.summary))
@@ -244,21 +253,16 @@ def _format_value(value) -> str:
     return str(value)
 
 
-def example_names() -> list[str]:
-    """Names of the example case files bundled in ``pipelay_fast/examples``."""
-    folder = files("pipelay_fast").joinpath("examples")
-    return sorted(p.name.removesuffix(".toml") for p in folder.iterdir()
-                  if p.name.endswith(".toml"))
-
-
 def _example(args: argparse.Namespace) -> int:
-    names = example_names()
     if args.name is None:
-        print("\n".join(names))
+        names = example_names()
+        width = max(map(len, names))
+        print("\n".join(f"{name:<{width}}  {example_description(name)}" for name in names))
         return EXIT_OK
-    if args.name not in names:
-        return _error(f"unknown example {args.name!r}; available: {', '.join(names)}", EXIT_USAGE)
-    text = files("pipelay_fast").joinpath("examples", f"{args.name}.toml").read_text("utf-8")
+    try:
+        text = example_path(args.name).read_text("utf-8")
+    except ValueError as err:
+        return _error(str(err), EXIT_USAGE)
     if args.out is None:
         sys.stdout.write(text)
         return EXIT_OK
@@ -279,13 +283,13 @@ def _sweep(args: argparse.Namespace) -> int:
     try:
         sweep = load_sweep(args.sweep)
         cases = sweep.cases()
+        table = sweep.case_table() if args.dry_run else None
     except OSError as err:
         return _error(f"cannot read {args.sweep}: {err.strerror or err}", EXIT_USAGE)
     except ValueError as err:
-        return _error(str(err), EXIT_USAGE)
+        return _error(_named(args.sweep, err), EXIT_USAGE)
     out = args.out or Path("results") / sweep.name
     if args.dry_run:
-        table = sweep.case_table()
         counts = table.groupby("scene", sort=False).agg(
             cases=("case_id", "size"), chains=("chain", "nunique"),
             invalid=("error", lambda e: int((e != "").sum())))
@@ -326,21 +330,29 @@ def _plot(args: argparse.Namespace) -> int:
         from .study.plot import plot_sweep
     except ImportError as err:  # pragma: no cover - the plot extra is missing
         return _error(str(err), EXIT_USAGE)
+    from .output.io import read_result
+
     source = args.source
     try:
-        if source.is_dir():
+        if (source / "profile.parquet").is_file() and not (source / "sweep.json").is_file():
+            result = read_result(source)  # solve --out's directory
+            out = args.out or source / f"{result.case.name}.png"
+            plot_result(result, out)
+        elif source.is_dir():
             out = args.out or source / "sweep.png"
             plot_sweep(source, out)
         else:
             out = args.out or Path(f"{source.stem}.png")
-            plot_result(solve(load_case(source)), out)
+            case = load_case(str(source))
+            _compile_notice(False)
+            plot_result(solve(case), out)
     except OSError as err:
         return _error(f"cannot read {source} or write {args.out}: {err.strerror or err}",
                       EXIT_FAILED)
     except ValueError as err:
-        return _error(str(err), EXIT_USAGE)
+        return _error(_named(source, err), EXIT_USAGE)
     except (SolveError, NotImplementedError) as err:
-        return _error(str(err), EXIT_FAILED)
+        return _error(_named(source, err), EXIT_FAILED)
     print(f"wrote {out if out.suffix else out.with_suffix('.png')}")
     return EXIT_OK
 

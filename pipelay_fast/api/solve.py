@@ -18,6 +18,7 @@ from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import strain_beyond_line
 from ..output.results import Result, build_profile, build_rollers, build_summary
+from .notice import announce_compile
 
 
 def solve(case: Case, *, warm: Result | None = None) -> Result:
@@ -54,7 +55,11 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
         another dimension, lay method (stinger kind) or roller count, or when
         the inputs give no first guess (a floating pipe, a tension too low
         to hold it).
+
+    The first call in a process whose kernels are not in numba's cache logs
+    that they compile (:mod:`pipelay_fast.api.notice`).
     """
+    announce_compile()
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
                          f"{type(warm).__name__}")

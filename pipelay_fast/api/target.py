@@ -21,7 +21,7 @@ from scipy.optimize import brentq
 
 from ..input.case import Case
 from ..input.errors import SolveError
-from ..input.validate import get_path
+from ..input.validate import did_you_mean, get_path
 from ..output.results import SUMMARY_UNITS, Result
 from .solve import solve
 
@@ -95,10 +95,11 @@ def solve_for(case: Case, target: Mapping[str, float], vary: str,
     """
     column, goal = _target(target)
     lo, hi = _bounds(bounds, vary)
-    current = get_path(case.to_dict(), vary)
+    tables = case.to_dict()
+    current = get_path(tables, vary)
     if isinstance(current, bool) or not isinstance(current, numbers.Real):
         raise ValueError(f"vary = {vary!r} is not a numeric key the case gives "
-                         f"(its value: {current!r})")
+                         f"(its value: {current!r}){did_you_mean(vary, _numeric_keys(tables))}")
     unit = unit_text(column)
     trials = _Trials(case, vary, column, goal)
     f_lo = trials.miss(lo, start=warm)
@@ -234,7 +235,8 @@ def _target(target) -> tuple[str, float]:
                          "e.g. {'tip_clearance': 0.3}")
     ((column, goal),) = target.items()
     if column not in target_columns():
-        raise ValueError(f"target column {column!r} is not a numeric summary column: "
+        raise ValueError(f"target column {column!r} is not a numeric summary column"
+                         f"{did_you_mean(column, target_columns())}: "
                          f"one of {', '.join(target_columns())}")
     if isinstance(goal, bool) or not isinstance(goal, numbers.Real) or not math.isfinite(goal):
         raise ValueError(f"target {column} = {goal!r} must be a finite number")
@@ -250,3 +252,14 @@ def _bounds(bounds, vary) -> tuple[float, float]:
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ValueError(f"bounds = {bounds!r} must be finite with lo < hi")
     return lo, hi
+
+
+def _numeric_keys(tree: Mapping, prefix: str = "") -> list[str]:
+    """The dotted keys of the numeric values of the nested dict ``tree``."""
+    keys = []
+    for key, value in tree.items():
+        if isinstance(value, Mapping):
+            keys += _numeric_keys(value, f"{prefix}{key}.")
+        elif isinstance(value, numbers.Real) and not isinstance(value, bool):
+            keys.append(f"{prefix}{key}")
+    return keys

@@ -25,12 +25,12 @@ import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
-from pathlib import Path
 
 import numpy as np
 
 from .checks import Checks, check_inputs
 from .environment import Current, Environment, Seabed
+from .examples import case_file
 from .lay import Lay, RollerStinger, Stinger
 from .limits import ROUNDOFF, check_case
 from .pipe import Pipe
@@ -384,13 +384,17 @@ _ROLLER_KEYS = {f.name for f in fields(RollerStinger)}
 
 
 def load_case(source: str | os.PathLike | Mapping) -> Case:
-    """Read and validate a case from a TOML file path or a dict of tables.
+    """Read and validate a case from a bundled example's name (``"s67"``,
+    :func:`pipelay_fast.input.examples.case_file`), a TOML file path or a
+    dict of tables.
 
     Raises
     ------
     ValueError
         For any bad value, naming the key by its dotted path (prefixed by the
-        file name when reading a file), and for invalid TOML.
+        file name when reading a file), for invalid TOML, and for a bare name
+        that is neither an example nor a file (the message lists the examples
+        and suggests the closest).
     TypeError
         When ``source`` is neither a path nor a mapping.
     OSError
@@ -400,7 +404,7 @@ def load_case(source: str | os.PathLike | Mapping) -> Case:
         return _case_from_tables(source, "case")
     if not isinstance(source, (str, os.PathLike)):
         raise TypeError(f"load_case needs a path or a dict, not {type(source).__name__}")
-    path = Path(source)
+    path = case_file(source)
     return from_toml(path, lambda tables: _case_from_tables(tables, path.stem))
 
 

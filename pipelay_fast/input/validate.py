@@ -109,14 +109,22 @@ def vectorised(x, func):
     return func(np.asarray(x, dtype=np.float64))[()]
 
 
-def reject_unknown(table, allowed, prefix):
-    """Refuse keys of ``table`` not in ``allowed``, suggesting a close match."""
+def did_you_mean(word, names, prefix="") -> str:
+    """`` (did you mean <prefix><name>?)`` for the name of ``names`` closest to
+    ``word`` (:func:`difflib.get_close_matches`), or "" when none is close."""
+    close = difflib.get_close_matches(str(word), list(names), n=1)
+    return f" (did you mean {prefix}{close[0]}?)" if close else ""
+
+
+def reject_unknown(table, allowed, prefix, *, listed=False):
+    """Refuse keys of ``table`` not in ``allowed``, suggesting a close match;
+    ``listed``: the message lists ``allowed`` too."""
     for key in table:
         if key not in allowed:
-            close = difflib.get_close_matches(str(key), allowed, n=1)
-            hint = f" (did you mean {prefix}{close[0]}?)" if close else ""
             kind = "table" if not prefix and isinstance(table[key], Mapping) else "key"
-            raise ValueError(f"unknown {kind} {prefix}{key}{hint}")
+            valid = f"; one of {', '.join(map(str, allowed))}" if listed else ""
+            raise ValueError(f"unknown {kind} {prefix}{key}{did_you_mean(key, allowed, prefix)}"
+                             f"{valid}")
 
 
 def plain(value):

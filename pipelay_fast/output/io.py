@@ -20,7 +20,7 @@ import pyarrow.parquet as pq
 
 from .results import PROFILE_UNITS, ROLLER_UNITS, SUMMARY_UNITS, Result
 
-__all__ = ["read_units", "write_result", "write_table"]
+__all__ = ["read_result", "read_units", "write_result", "write_table"]
 
 
 def write_table(
@@ -88,11 +88,14 @@ def read_units(path: str | os.PathLike) -> dict[str, str]:
 
 def write_result(result: Result, out_dir: str | os.PathLike) -> tuple[Path, ...]:
     """Write ``summary.parquet`` (one row) and ``profile.parquet`` into
-    ``out_dir``, and ``rollers.parquet`` (one row per roller) for a roller
-    stinger.
+    ``out_dir``, ``rollers.parquet`` (one row per roller) for a roller
+    stinger, and ``functional.parquet`` (the profile of the case without its
+    current) when its code check splits the current off.
 
-    ``out_dir`` is created if missing. Returns the paths written (summary,
-    profile, then rollers).
+    ``out_dir`` is created if missing. Each file's schema metadata holds the
+    case (key ``case``, the JSON of :meth:`pipelay_fast.Case.to_dict`), so that
+    :func:`read_result` gives the result back. Returns the paths written
+    (summary, profile, then rollers and functional).
     """
     from .._version import __version__
 
@@ -102,11 +105,49 @@ def write_result(result: Result, out_dir: str | os.PathLike) -> tuple[Path, ...]
         "case_name": result.case.name,
         "case_id": str(result.summary["case_id"]),
         "pipelay_fast_version": __version__,
+        "case": json.dumps(result.case.to_dict()),
     }
     row = pd.DataFrame([result.summary]).astype({"last_roller_in_contact": "Int64"})
-    summary = write_table(row, out / "summary.parquet", SUMMARY_UNITS, metadata)
-    profile = write_table(result.profile, out / "profile.parquet", PROFILE_UNITS, metadata)
-    if result.rollers is None:
-        return summary, profile
-    return summary, profile, write_table(result.rollers, out / "rollers.parquet", ROLLER_UNITS,
-                                         metadata)
+    paths = [write_table(row, out / "summary.parquet", SUMMARY_UNITS, metadata),
+             write_table(result.profile, out / "profile.parquet", PROFILE_UNITS, metadata)]
+    if result.rollers is not None:
+        paths.append(write_table(result.rollers, out / "rollers.parquet", ROLLER_UNITS,
+                                 metadata))
+    if result.functional is not None:
+        paths.append(write_table(pd.DataFrame(result.functional), out / "functional.parquet",
+                                 PROFILE_UNITS, metadata))
+    return tuple(paths)
+
+
+def read_result(out_dir: str | os.PathLike) -> Result:
+    """The result :func:`write_result` wrote into ``out_dir`` (``pipelay-fast
+    solve --out``), without its solver state (it cannot warm-start a solve).
+
+    Raises
+    ------
+    ValueError
+        When ``out_dir`` holds no ``profile.parquet`` and ``summary.parquet``,
+        or they hold no case (written before the case was stored).
+    """
+    from ..input.case import load_case
+
+    out = Path(out_dir)
+    if not (out / "profile.parquet").is_file() or not (out / "summary.parquet").is_file():
+        raise ValueError(f"{out}: no profile.parquet and summary.parquet (pipelay-fast solve "
+                         "CASE.toml --out DIR writes them)")
+    metadata = pq.read_schema(out / "profile.parquet").metadata or {}
+    if b"case" not in metadata:
+        raise ValueError(f"{out}: profile.parquet does not hold its case (written by an older "
+                         "pipelay-fast): solve it again with --out")
+    case = load_case(json.loads(metadata[b"case"]))
+
+    def columns(name):
+        path = out / name
+        if not path.is_file():
+            return None
+        return {k: v.to_numpy() for k, v in pd.read_parquet(path).items()}
+
+    summary = pd.read_parquet(out / "summary.parquet").iloc[0].to_dict()
+    return Result(case, summary, columns("profile.parquet"),
+                  roller_columns=columns("rollers.parquet"),
+                  functional=columns("functional.parquet"))

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from tqdm import tqdm
 
+from ..api.notice import announce_compile, notice_given
 from ..api.solve import solve
 from ..api.target import solve_for
 from ..input.errors import SolveError
@@ -149,6 +150,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         todo = [c for c in cases if c.case_id not in done] if done else cases
         report.skipped = len(cases) - len(todo)
         tasks = pack(chains(todo), chunk_size or _default_chunk(len(todo), workers))
+        if tasks:
+            announce_compile()  # here, once, rather than in each worker
         with (progress_bar(len(todo), enabled=progress) as bar,
               _backend(backend, workers, scheduler)):
             for chunk, times, pid in _parallel(tasks, sweep.name, profiles, warm_start,
@@ -204,6 +207,7 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
     and "solve_cpu" in ``pf.solve``, "task_cpu" of the whole task; the pid).
     """
     start_cpu = time.process_time()
+    notice_given()  # by the process that runs the sweep
     rows, parts, roller_parts, times = [], [], [], {"solve": 0.0, "solve_cpu": 0.0}
     for chain in task:
         for sc, row, result, dt, cpu in solve_chain(chain, warm_start):

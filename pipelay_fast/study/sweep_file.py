@@ -74,11 +74,11 @@ import numbers
 import os
 import re
 from collections.abc import Mapping
-from importlib.resources import files
 from pathlib import Path
 
 from ..api.target import target_columns
 from ..input.case import Case, load_case
+from ..input.examples import case_file
 from ..input.limits import ROUNDOFF
 from ..input.validate import fail, from_toml, get_path, reject_unknown
 from .limits import check_limits
@@ -114,7 +114,7 @@ def load_sweep(source: str | os.PathLike | Mapping, *, base_dir=None) -> Sweep:
 
 def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -> Sweep:
     """The sweep of a file's tables; relative case paths from ``folder``."""
-    reject_unknown(tables, _FILE_KEYS, "")
+    reject_unknown(tables, _FILE_KEYS, "", listed=True)
     name = tables.get("name", default_name)
     _check_name("name", name)
     description = tables.get("description", "")
@@ -153,7 +153,7 @@ def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
     gives one. ValueError naming the key for any mistake."""
     if not isinstance(table, Mapping):
         fail(path, table, "must be a table")
-    reject_unknown(table, _SCENE_KEYS, f"{path}.")
+    reject_unknown(table, _SCENE_KEYS, f"{path}.", listed=True)
     if "name" not in table:
         raise ValueError(f"missing key {path}.name")
     name = table["name"]
@@ -236,7 +236,7 @@ def _target(path, table) -> dict:
     if len(goals) != 1:
         fail(path, dict(table), "must name exactly one summary column and its goal, e.g. "
              "tip_clearance = 0.3")
-    reject_unknown({goals[0]: None}, list(target_columns()), f"{path}.")
+    reject_unknown({goals[0]: None}, list(target_columns()), f"{path}.", listed=True)
     vary = table["vary"]
     if not isinstance(vary, str) or not vary:
         fail(f"{path}.vary", vary, "must be a dotted case key, e.g. \"lay.top_tension\"")
@@ -265,14 +265,13 @@ def _check_target(path, target, case, axes):
 
 def _base_case(path, source, folder) -> Case:
     """The case ``source`` names: a bundled example (a bare name), else a
-    file relative to ``folder``."""
+    file relative to ``folder`` (:func:`pipelay_fast.input.examples.case_file`)."""
     if not isinstance(source, str) or not source:
         fail(path, source, "must be a bundled example name or a case file path")
-    examples = files("pipelay_fast").joinpath("examples")
-    bundled = examples.joinpath(f"{source}.toml")
-    if "/" not in source and not source.endswith(".toml") and bundled.is_file():
-        return load_case(Path(str(bundled)))
-    file = folder / source
+    try:
+        file = case_file(source, folder)
+    except ValueError as err:
+        raise ValueError(f"{path} = {err}") from None
     if not file.is_file():
         fail(path, source, f"is neither a bundled example nor a file (looked for {file})")
     return load_case(file)
@@ -305,14 +304,14 @@ def _axes(path, table) -> dict:
     """Axis name -> tuple of values [SI] of a ``vary`` table."""
     if not isinstance(table, Mapping):
         fail(path, table, "must be a table of axes")
-    reject_unknown(table, list(AXES), f"{path}.")
+    reject_unknown(table, list(AXES), f"{path}.", listed=True)
     return {name: _values(f"{path}.{name}", spec) for name, spec in table.items()}
 
 
 def _values(path, spec) -> tuple[float, ...]:
     """An axis's values from a list or a {start, stop, num | step} table (ends included)."""
     if isinstance(spec, Mapping):
-        reject_unknown(spec, ["start", "stop", "num", "step"], f"{path}.")
+        reject_unknown(spec, ["start", "stop", "num", "step"], f"{path}.", listed=True)
         for key in ("start", "stop"):
             if key not in spec:
                 raise ValueError(f"missing key {path}.{key}")
