@@ -249,8 +249,10 @@ def homotopy(pb: Problem):
 
 def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None = None):
     """Newton from the current state; on failure, the load-path homotopy
-    from the state u0 the solve started from (:func:`homotopy`), its load
-    factor alpha from 0 to 1 (:func:`continuation`).
+    from that state u0, the one the mesh's solve started from (before any
+    switch of regime at the stinger's tip: a switched state is Newton's
+    stopped iterate, out of balance by up to 3e10 N on the lay table), with
+    its load factor alpha from 0 to 1 (:func:`homotopy`, :func:`continuation`).
     ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     Returns the reactions and a dict of iteration counts.
@@ -259,7 +261,8 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     zero = np.zeros_like(pb.u)
     # (the boundaries start where the guess puts them; the kernel holds
     # them until the pipe is in equilibrium there)
-    status, react, info, iters, start = newton_in_regime(
+    start = snapshot(pb)
+    status, react, info, iters, _start = newton_in_regime(
         case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
