@@ -30,7 +30,7 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.engine.continuation import _residual
+from pipelay_fast.engine.continuation import _residual, homotopy
 from pipelay_fast.engine.problem import build_problem
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.contact import friction_forces
@@ -125,7 +125,7 @@ def check(pb, case=None):
     |M^T G| on its constrained columns [N, N m] (what the offset leaves out)."""
     maps = node_maps(pb, case)
     g_plain = plain_residual(pb)
-    g = _residual(pb)
+    g, _te = _residual(pb)
     tol = 1e-9 * np.abs(g_plain).max()
     removed = np.zeros(pb.nn)
     for k, (m, held) in enumerate(maps):
@@ -186,3 +186,35 @@ def test_a_bearing_points_normal_is_removed(nd):
             pb.u[k * ndn + 1] = 1e-3  # y: an out-of-balance lateral force at the roller
     nodes = pb.bnodes[B_PT:]
     assert (check(pb)[nodes] > 1.0).all()
+
+
+def top_tension(pb, g):
+    """The top's effective tension [N]: the top reaction G (global frame)
+    along the pipe's tangent there."""
+    base = pb.ends.top_node * pb.ndn
+    t = pb.u[base + pb.nd:base + 2 * pb.nd]
+    return float(g[base:base + pb.nd] @ t / np.linalg.norm(t))
+
+
+@pytest.mark.parametrize("name", ["s67.toml", "j125_3d.toml"])
+def test_at_load_factor_0_the_guess_solves_the_top_tension_row(name):
+    """The guess built for 580 kN, its target then doubled: at load factor
+    0 the homotopy's top target is the guess's own top tension (the plain
+    residual's top reaction along the tangent), so that its top row holds
+    as its free rows do (:func:`check`); it runs linearly to the case's
+    target, which it is, to the bit, at 1."""
+    case = pf.load_case(EXAMPLES / name)
+    pb = build_problem(case)
+    target = 2.0 * pb.ends.top_target
+    pb.ends.top_target = target
+    te0 = top_tension(pb, plain_residual(pb))
+    assert abs(te0 - target) > 0.4 * target  # (the guess is far from the target)
+    load = homotopy(pb)
+    offset, _ = load(0.0, False)
+    np.testing.assert_allclose(pb.kernel_ends(offset).top_target, te0, rtol=1e-9)
+    check(pb, case)  # (the offset: minus the free rows' residual)
+    load(0.25, False)
+    np.testing.assert_allclose(pb.kernel_ends(offset).top_target, te0 + 0.25 * (target - te0),
+                               rtol=1e-12)
+    load(1.0, False)
+    assert pb.kernel_ends(offset).top_target == target

@@ -132,7 +132,9 @@ class Settings:
     the call does not hold the boundaries (set by :mod:`.solver` and
     :meth:`Problem.start_step`, cleared by the call); ``factors``
     (N_FACTORS,): the load path's factors on the current and friction
-    (layout ``F_*``).
+    (layout ``F_*``); ``top_target`` [N]: the top tension's target on the
+    load path (the homotopy's, :func:`.continuation.homotopy`), None for the
+    ends' (the case's).
     """
 
     fref: float
@@ -140,6 +142,7 @@ class Settings:
     tolerance: float | None = None
     in_balance: bool = False
     factors: np.ndarray = field(default_factory=lambda: load_factors(1.0, False))
+    top_target: float | None = None
 
 
 @dataclass
@@ -209,9 +212,11 @@ class Problem:
         return bool(self.contacts.kind[L.ROW_CURVE] == L.SUP_CURVE)
 
     def kernel_ends(self, g_off) -> Ends:
-        """The Newton kernel's ends, with the residual's offset ``g_off`` (nn ndn,) [N]."""
+        """The Newton kernel's ends, with the residual's offset ``g_off`` (nn ndn,) [N]
+        and the load path's top-tension target (:class:`Settings`)."""
         e = self.ends
-        return Ends(e.f_node, g_off, self.tb, e.slide_dof, e.top_node, float(e.top_target))
+        target = e.top_target if self.settings.top_target is None else self.settings.top_target
+        return Ends(e.f_node, g_off, self.tb, e.slide_dof, e.top_node, float(target))
 
     def on_gravity_path(self):
         """No current and no friction: the friction path's first stage."""

@@ -110,6 +110,7 @@ from .layout import (
     I_RES,
     I_STATUS,
     I_TOP_RES,
+    I_TOP_TE,
     N_INFO,
     ROW_BED,
     ROW_CURVE,
@@ -357,6 +358,7 @@ def _newton_kernel(nd):
                 if want_tangent or converged or not finite or residual_only:
                     break
                 want_tangent = True
+            info[I_TOP_TE] = te_top
             if residual_only:
                 _free_residual(nd, u, sup, w, react)
                 return L.OK
