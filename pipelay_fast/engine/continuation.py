@@ -230,9 +230,8 @@ def homotopy(pb: Problem):
     the top's target to T0 + alpha (T - T0) (``pb.settings.top_target``; T
     at alpha = 1 exactly), T0 the top's effective tension at u0, so that u0
     solves the pipe's equations and the top's at alpha = 0. The contact
-    boundaries' conditions keep no offset (measured with one: the lay
-    table's sweep fails as often, its cold starts over 13 tensions take 42 %
-    more iterations, 1594 against 1122). A u0 whose top tension is not
+    boundaries' conditions keep no offset (with one, the lay table's sweep,
+    sweeps/lay_table.toml, fails as often and takes more iterations). A u0 whose top tension is not
     positive keeps T (the kernel solves for the bottom tension while its
     target is positive). The caller clears ``pb.settings.top_target`` when
     the path ends."""
@@ -252,7 +251,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     """Newton from the current state; on failure, the load-path homotopy
     from that state u0, the one the mesh's solve started from (before any
     switch of regime at the stinger's tip: a switched state is Newton's
-    stopped iterate, out of balance by up to 3e10 N on the lay table), with
+    stopped iterate, which may be far out of balance), with
     its load factor alpha from 0 to 1 (:func:`homotopy`, :func:`continuation`).
     ``budget``: the solve's Newton iterations left (None: a fresh one).
 
