@@ -256,10 +256,23 @@ def reference(case: pf.Case) -> dict:
             tension["T_top"] -= jump
         r = slay_elastica(ei, w_sub, w_dry, depth, st.a, st.lower, st.upper, **tension)
         out = {"top_tension": r["top_tension"] + jump, "bottom_tension": r["bottom_tension"],
-               "sagbend_max_moment": r["sagbend_max_moment"],
+               "sagbend_max_moment": (r["sagbend_max_moment"] if r["regime"] == "liftoff"
+                                      else _sag_below_tip(r, st.lower[1])),
                "overbend_max_moment": r["overbend_max_moment"], "regime": r["regime"]}
     out["max_strain"] = ref_strain(case, r, ei, ea)
     return out
+
+
+def _sag_below_tip(r: dict, z_tip: float) -> float:
+    """The largest sagging moment [N m] below the tip of an S-lay reference
+    bearing on it: the engine's sagbend ends at the tip (lift-off), the
+    reference's takes in the stretch hovering above it. Its largest sampled
+    node refined on 2001 points between the nodes either side."""
+    below = np.flatnonzero(r["z"] <= z_tip)
+    s, m = r["s"][below], r["moment"][below]
+    k = int(np.argmax(m))
+    fine = np.linspace(s[max(k - 1, 0)], s[min(k + 1, s.size - 1)], 2001)
+    return max(float(np.max(r["free_state"](fine)[3])), 0.0)
 
 
 def _b(st) -> float:
