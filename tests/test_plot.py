@@ -41,32 +41,102 @@ def s67():
     return pf.solve(pf.load_case(EXAMPLES / "s67.toml"))
 
 
+MARKS = ("touchdown", "lift-off", "tip")
+
+
+def _marks(ax, count) -> list[float]:
+    """The x of a panel's last ``count`` lines (its vertical marks), each
+    checked to be vertical."""
+    xs = []
+    for line in ax.lines[-count:]:
+        x = np.asarray(line.get_xdata(), dtype=float)
+        assert x[0] == x[-1]
+        xs.append(float(x[0]))
+    return xs
+
+
 def test_result_plot_draws_the_lay(s67, tmp_path):
     path = tmp_path / "lay.png"
     fig = s67.plot(path)
     assert png_size(path) == (round(PANEL_SIZE[0] * DPI), round(4 * PANEL_SIZE[1] * DPI))
     assert path.stat().st_size > 20_000
     elevation, moment, vm, util = fig.axes  # 2D: no plan
-    cols, case = s67.columns, s67.case
-    # pipe, seabed, water line, stinger, touchdown
-    assert len(elevation.lines) == 5
-    pipe = elevation.lines[0]
-    np.testing.assert_array_equal(pipe.get_xdata(), cols["z"])
-    np.testing.assert_array_equal(pipe.get_ydata(), cols["x"])
-    assert _holds(elevation.get_xlim(), cols["z"])
+    cols, case, sm = s67.columns, s67.case, s67.summary
+    s = cols["s"]
+    for ax in fig.axes:  # every panel against s, its x axis the elevation's
+        np.testing.assert_array_equal(ax.lines[0].get_xdata(), s)
+        assert ax.get_shared_x_axes().joined(ax, elevation)
+    # touchdown, lift-off and the tip on every panel, where the summary has them
+    tdp, lift, tip = _marks(elevation, 3)
+    assert [line.get_label() for line in elevation.lines[-3:]] == list(MARKS)
+    assert np.interp(tdp, s, cols["z"]) == pytest.approx(sm["tdp_z"], abs=1e-9)
+    assert np.interp(lift, s, cols["z"]) == pytest.approx(sm["liftoff_z"], abs=1e-9)
+    assert np.interp(tip, s, cols["z"]) == pytest.approx(case.lay.stinger.lower[1], abs=1e-9)
+    for ax in fig.axes[1:]:
+        assert _marks(ax, 3) == [tdp, lift, tip]
+    # pipe, seabed, water line, stinger, then the marks
+    assert len(elevation.lines) == 4 + 3
+    np.testing.assert_array_equal(elevation.lines[0].get_ydata(), cols["x"])
     assert _holds(elevation.get_ylim(), [0.0, case.environment.water_depth, cols["x"].max()])
-    stinger = elevation.lines[3]
-    assert stinger.get_xdata()[[0, -1]].tolist() == [265.0, 400.0]
-    assert elevation.lines[4].get_xdata()[0] == s67.summary["tdp_z"]
-    np.testing.assert_allclose(moment.lines[0].get_ydata(), cols["moment"] / 1e3)
-    assert _holds(moment.get_ylim(), cols["moment"] / 1e3)
-    assert len(vm.lines) == 2 and vm.lines[1].get_ydata()[0] == case.pipe.smys / 1e6
+    # the signed in-plane moment: sagging (> 0) between touchdown and the
+    # inflection, hogging (< 0) on the stinger above lift-off
+    m = moment.lines[0].get_ydata()
+    np.testing.assert_allclose(m, cols["moment_y"] / 1e3)
+    assert "hogging" in moment.get_ylabel() and "sagging" in moment.get_ylabel()
+    assert (m[s > lift] < 0.0).all() and m.max() > 0.0
+    assert tdp < s[np.argmax(m)] < lift
+    assert _holds(moment.get_ylim(), m)
+    # von Mises and the SMYS line at pipe.smys, labelled with its value
+    smys = vm.lines[1]
+    assert smys.get_ydata()[0] == case.pipe.smys / 1e6
+    assert smys.get_label() == f"SMYS {case.pipe.smys / 1e6:.0f} MPa"
     assert _holds(vm.get_ylim(), cols["von_mises"] / 1e6)
-    # strain over its limit, the load-controlled check, the line at 1
-    assert len(util.lines) == 3
-    ratio = util.lines[0].get_ydata()
-    assert ratio.max() == pytest.approx(s67.summary["overbend_strain_utilisation"], rel=1e-12)
-    assert _holds(util.get_ylim(), util.lines[1].get_ydata())
+    # sagbend load-controlled, overbend strain / limit, the line at 1, the marks
+    assert len(util.lines) == 3 + 3
+    sag, over, one = (line.get_ydata() for line in util.lines[:3])
+    assert one[0] == 1.0
+    assert max(np.nanmax(sag), np.nanmax(over)) == pytest.approx(sm["max_utilisation"],
+                                                                   abs=1e-9)
+    # each check only where the code applies it: the strain limit on the
+    # hogging pipe above touchdown, the load-controlled one from touchdown
+    # to lift-off on the rest
+    hogging = (s >= tdp) & (cols["moment_y"] < 0.0)
+    assert np.array_equal(np.isfinite(over), hogging)
+    assert np.array_equal(np.isfinite(sag), (s >= tdp) & (s <= lift) & ~hogging)
+    assert np.nanmax(over) == pytest.approx(sm["overbend_max_strain"]
+                                            / case.checks.overbend_strain_limit, rel=1e-12)
+    assert _holds(util.get_ylim(), np.concatenate([sag[np.isfinite(sag)],
+                                                   over[np.isfinite(over)]]))
+
+
+def test_bearing_on_the_tip_is_marked(tmp_path):
+    """The roller stinger of s125_rollers bears on its last roller (its tip)."""
+    result = pf.solve(pf.load_case(EXAMPLES / "s125_rollers.toml"))
+    assert result.summary["bears_on_tip"]
+    fig = result.plot()
+    elevation = fig.axes[0]
+    tip_s = float(result.rollers["s"].iloc[-1])
+    star = next(line for line in elevation.lines if line.get_label().startswith("bears on tip"))
+    assert star.get_xdata()[0] == tip_s
+    tip = next(line for line in elevation.lines if line.get_label().startswith("tip"))
+    assert tip.get_xdata()[0] == tip_s and tip.get_linestyle() == "-"
+    util = fig.axes[-1]
+    top = max(np.nanmax(line.get_ydata()) for line in util.lines[:2])
+    assert top == pytest.approx(result.summary["max_utilisation"], abs=1e-9)
+
+
+def test_jlay_utilisation_is_the_sagbend_peak():
+    """J-lay: no overbend, no lift-off or tip; the load-controlled curve above
+    touchdown peaks at the summary's max_utilisation (a clamped top's rise
+    above the sagbend's peak is not drawn)."""
+    result = pf.solve(pf.load_case(EXAMPLES / "j125.toml"))
+    fig = result.plot()
+    sm, cols = result.summary, result.columns
+    (tdp,) = _marks(fig.axes[0], 1)
+    assert np.interp(tdp, cols["s"], cols["z"]) == pytest.approx(sm["tdp_z"], abs=1e-9)
+    sag, over = (line.get_ydata() for line in fig.axes[-1].lines[:2])
+    assert np.isnan(over).all()
+    assert np.nanmax(sag) == pytest.approx(sm["max_utilisation"], abs=1e-9)
 
 
 def test_3d_lay_has_a_plan_and_no_checks_shows_strain(tmp_path):
@@ -76,9 +146,10 @@ def test_3d_lay_has_a_plan_and_no_checks_shows_strain(tmp_path):
     fig = result.plot(path)
     assert png_size(path) == (round(PANEL_SIZE[0] * DPI), round(5 * PANEL_SIZE[1] * DPI))
     plan, util = fig.axes[1], fig.axes[4]
+    np.testing.assert_array_equal(plan.lines[0].get_xdata(), result.columns["s"])
     np.testing.assert_array_equal(plan.lines[0].get_ydata(), result.columns["y"])
     assert _holds(plan.get_ylim(), result.columns["y"])
-    assert util.get_ylabel() == "strain [%]" and len(util.lines) == 1
+    assert util.get_ylabel() == "strain [%]" and len(util.lines) == 1 + 3
 
 
 @pytest.mark.parametrize(("suffix", "magic"), [(".svg", b"<?xml"), (".pdf", b"%PDF")])
