@@ -165,6 +165,11 @@ A_SWEEP = {"name": "a_sweep", "set": {"solver.element_length": 8.0},
                        "vary": {"a": [-0.0010, -0.0012, -0.0014]}}]}
 
 
+def _labelled(ax, start: str):
+    """The lines of ``ax`` whose label starts with ``start``."""
+    return [line for line in ax.lines if line.get_label().startswith(start)]
+
+
 def test_sweep_plot_marks_the_chosen_a(tmp_path):
     root = tmp_path / "a"
     run_sweep(load_sweep(A_SWEEP), root, workers=1, progress=False)
@@ -175,34 +180,62 @@ def test_sweep_plot_marks_the_chosen_a(tmp_path):
     assert png_size(path) == (round(PANEL_SIZE[0] * DPI), round(PANEL_SIZE[1] * DPI))
     (ax,) = fig.axes
     summary = read_summary(root).sort_values("a")
-    over, sag, mark, least_mark = ax.lines
+    over, sag, smys = ax.lines[:3]
     np.testing.assert_array_equal(over.get_xdata(), summary["a"])
     np.testing.assert_allclose(over.get_ydata(), summary["overbend_max_von_mises"] / 1e6)
     np.testing.assert_allclose(sag.get_ydata(), summary["sagbend_max_von_mises"] / 1e6)
+    # the SMYS line at the pipe's SMYS
+    pipe = pf.load_case(EXAMPLES / "s67.toml").pipe
+    assert smys.get_ydata()[0] == pytest.approx(pipe.smys / 1e6, rel=1e-12)
+    assert smys.get_label() == f"SMYS {pipe.smys / 1e6:.0f} MPa"
+    # the chosen a, printed to the grid's step 2e-4: 4 decimals
+    (mark,) = _labelled(ax, "equal peaks a")
+    (least_mark,) = _labelled(ax, "min stress a")
     assert np.isfinite(chosen) and mark.get_xdata()[0] == chosen
     assert np.isfinite(least) and least_mark.get_xdata()[0] == least
+    assert mark.get_label() == f"equal peaks a = {chosen:.4f}"
     assert _holds(ax.get_xlim(), summary["a"])
     assert _holds(ax.get_ylim(), summary[["overbend_max_von_mises",
                                           "sagbend_max_von_mises"]].to_numpy() / 1e6)
     assert ax.get_title().endswith("top tension 580 kN")  # the case's given tension, in kN
+    # a minimum tip clearance half-way between two grid points' binds inside
+    # the grid: the range is shaded, and its binding end is a line where the
+    # clearance interpolated along the grid equals the limit
+    clearance = summary["tip_clearance"].to_numpy()
+    limit = 0.5 * (clearance[0] + clearance[1])
+    table = select(root, refine=False, limits={"min_tip_clearance": limit})
+    low, high = table["a_feasible_min"].iloc[0], table["a_feasible_max"].iloc[0]
+    (ax,) = plot_sweep(root).axes
+    (span,) = ax.patches
+    assert span.get_x() == low
+    assert span.get_x() + span.get_width() == pytest.approx(high, rel=1e-12)
+    (bound,) = _labelled(ax, "tip_clearance >=")
+    end = bound.get_xdata()[0]
+    assert end in (low, high)
+    assert np.interp(end, summary["a"], clearance) == pytest.approx(limit, abs=1e-12)
 
 
 def test_sweep_plot_draws_no_lay_table_for_several_cases_per_depth(tmp_path):
     """Two depths with three values of a each: a sweep over a, not a lay
-    table (one case per depth); its panels are the two against a."""
+    table (one case per depth); its panels are the two against a, the
+    shallower scene's first."""
     sweep = {"name": "two", "set": {"solver.element_length": 8.0}, "scenes": [
-        {"name": f"S{d}", "case": "s67", "water_depth": float(d),
+        {"name": name, "case": "s67", "water_depth": float(d),
          "stinger_lower": [d - 25.5, 265.0], "stinger_upper": [d + 5.0, 400.0],
-         "vary": {"a": [-0.0010, -0.0012, -0.0014]}} for d in (67, 80)]}
+         "vary": {"a": [-0.0010, -0.0012, -0.0014]}} for name, d in (("deep", 80),
+                                                                     ("shallow", 67))]}
     root = tmp_path / "two"
     run_sweep(load_sweep(sweep), root, workers=1, progress=False)
     fig = plot_sweep(root)
     visible = [ax for ax in fig.axes if ax.get_visible()]
     assert len(visible) == 2
     assert all(ax.get_xlabel() == "a [1/m]" for ax in visible)
+    # shallowest first, whatever the scenes' names
+    assert [ax.get_title().split()[0] for ax in visible] == ["shallow", "deep"]
 
 
-DEPTH_SWEEP = {"name": "depths", "set": {"solver.element_length": 8.0}, "scenes": [
+DEPTH_SWEEP = {"name": "depths", "set": {"solver.element_length": 8.0},
+               "select": {"top_tension": [400e3, 900e3], "max_utilisation": 0.9}, "scenes": [
     {"name": f"S{d}", "case": "s67", "water_depth": float(d),
      "stinger_lower": [d - 25.5, 265.0], "stinger_upper": [d + 5.0, 400.0]}
     for d in (67, 80, 95)]}
@@ -220,7 +253,9 @@ def test_sweep_plot_draws_the_lay_table_against_depth(tmp_path, capsys):
     np.testing.assert_array_equal(tension.lines[0].get_xdata(), [67.0, 80.0, 95.0])
     np.testing.assert_allclose(tension.lines[0].get_ydata(), summary["top_tension"] / 1e3)
     np.testing.assert_allclose(util.lines[0].get_ydata(), summary["max_utilisation"])
-    assert len(util.lines) == 2  # the utilisations and the line at 1
+    # the limits of [select] as lines: the tension window, the utilisation's
+    assert len(util.lines) == 2 and util.lines[1].get_ydata()[0] == 0.9
+    assert [line.get_ydata()[0] for line in tension.lines[1:]] == [400.0, 900.0]
     assert _holds(util.get_ylim(), summary["max_utilisation"])
 
 
