@@ -13,7 +13,9 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.cli import main
-from pipelay_fast.output.plot import DPI, PANEL_SIZE
+from pipelay_fast.output.design import interior_peak, lcc_profile, utilisation_along
+from pipelay_fast.output.io import read_result, write_result
+from pipelay_fast.output.plot import DPI, PANEL_SIZE, marks
 from pipelay_fast.study.dataset import read_summary
 from pipelay_fast.study.plot import plot_sweep
 from pipelay_fast.study.runner import run_sweep
@@ -137,6 +139,39 @@ def test_jlay_utilisation_is_the_sagbend_peak():
     sag, over = (line.get_ydata() for line in fig.axes[-1].lines[:2])
     assert np.isnan(over).all()
     assert np.nanmax(sag) == pytest.approx(sm["max_utilisation"], abs=1e-9)
+
+
+def test_jlay_clamped_top_rise_is_left_out():
+    """J-lay's sagbend utilisation is the interior peak above touchdown
+    (a clamped top's rise is not in it): a profile whose top three nodes
+    carry 1.5, 2 and 3 times the sagbend peak's moment, so that the
+    load-controlled utilisation rises to the top above the peak, has that
+    rise left out and the peak kept."""
+    result = pf.solve(pf.load_case(EXAMPLES / "j125.toml"))
+    cols = {k: np.array(v, copy=True) for k, v in result.columns.items()}
+    lcc = lcc_profile(result.case, cols, result.functional)
+    behind = cols["s"] >= marks(result)["touchdown"]
+    peak = interior_peak(lcc[behind])
+    at_peak = np.flatnonzero(lcc == peak)[0]
+    for name in ("moment_x", "moment_y", "moment_z"):  # (the section peak's moment, raised)
+        cols[name][-3:] = cols[name][at_peak] * np.array([1.5, 2.0, 3.0])
+    raised = lcc_profile(result.case, cols, result.functional)
+    assert raised[-1] > raised[-2] > raised[-3] > peak  # the rise to the top
+    over, sag = utilisation_along(result.case, cols, marks(result)["touchdown"], None, None,
+                                  result.functional)
+    assert np.isnan(over).all() and np.isnan(sag[-3:]).all()
+    assert np.nanmax(sag) == interior_peak(raised[behind]) == pytest.approx(peak, rel=1e-12)
+
+
+def test_a_written_result_plots_the_same_marks(s67, tmp_path):
+    """A solve written to disk and read back (no solver state) marks
+    touchdown, lift-off and the tip where the solved result does."""
+    write_result(s67, tmp_path / "out")
+    again = read_result(tmp_path / "out")
+    assert marks(again) == marks(s67)
+    util = again.plot().axes[-1]
+    top = max(np.nanmax(line.get_ydata()) for line in util.lines[:2])
+    assert top == pytest.approx(s67.summary["max_utilisation"], abs=1e-9)
 
 
 def test_3d_lay_has_a_plan_and_no_checks_shows_strain(tmp_path):
