@@ -141,9 +141,10 @@ class Result:
 
     def plot(self, path=None):
         """The lay's figure (:func:`pipelay_fast.output.plot.plot_result`):
-        elevation, plan in 3D, moment, von Mises and utilisation along the
-        pipe; written to ``path`` (PNG, or SVG/PDF by the suffix) when given.
-        Returns the matplotlib Figure."""
+        elevation, lateral offset in 3D, signed in-plane moment, von Mises
+        with SMYS and the utilisations, all against s with touchdown,
+        lift-off and the tip marked; written to ``path`` (PNG, or SVG/PDF by
+        the suffix) when given. Returns the matplotlib Figure."""
         from .plot import plot_result
 
         return plot_result(self, path)
