@@ -14,8 +14,8 @@ import numpy as np
 from ..input.checks import design_load_effects, lcc_axial_ratio, lcc_utilisation
 from ..kernels.geometry import point_clearance
 
-__all__ = ["DESIGN_UNITS", "design_columns", "functional_effects", "interior_peak",
-           "lcc_profile", "lcc_sections", "tip_clearance"]
+__all__ = ["DESIGN_UNITS", "bend_regions", "design_columns", "fibre_strain", "functional_effects",
+           "interior_peak", "lcc_profile", "lcc_sections", "tip_clearance", "utilisation_along"]
 
 DESIGN_UNITS = {
     "layback": "m", "tip_clearance": "m", "departure_angle_deg": "deg", "tdp_tension": "N",
@@ -36,6 +36,60 @@ def interior_peak(values) -> float:
         return float(v.max())
     inner = (v[1:-1] >= v[:-2]) & (v[1:-1] >= v[2:])
     return float(v[1:-1][inner].max()) if inner.any() else float(v.max())
+
+
+def bend_regions(cols: dict, s_tdp: float, s_liftoff: float | None, stinger: bool):
+    """(overbend, sagbend): boolean masks of the nodes of each region of the
+    profile ``cols`` with touchdown at ``s_tdp`` and lift-off at
+    ``s_liftoff`` [m] (None: the top). Above touchdown the hogging nodes
+    (in-plane moment ``moment_y`` < 0) are the overbend, the others up to
+    lift-off the sagbend. Without a stinger (J-lay): (None, None), the span
+    above touchdown having no overbend and its sagbend peak being
+    :func:`interior_peak`'s."""
+    if not stinger:
+        return None, None
+    s = cols["s"]
+    beyond = s >= s_tdp
+    hog = beyond & (cols["moment_y"] < 0.0)
+    sag = beyond & ~hog & (s <= (s_liftoff if s_liftoff is not None else s[-1]))
+    return hog, sag
+
+
+def fibre_strain(pipe, cols: dict) -> np.ndarray:
+    """Extreme-fibre strain [-] of every section: |axial strain| (an
+    extensible pipe's) plus the bending strain kappa D/2."""
+    axial = np.abs(cols["axial_strain"]) if pipe.extensible else 0.0
+    return axial + cols["curvature"] * (0.5 * pipe.outer_diameter)
+
+
+def utilisation_along(case, cols: dict, s_tdp: float, overbend, sagbend,
+                      functional: dict | None = None):
+    """(overbend [-], sagbend [-]): the utilisations of every section of the
+    profile ``cols`` where :func:`design_columns` checks them, NaN elsewhere
+    (masks as :func:`bend_regions` gives them). Overbend: the extreme-fibre
+    strain over ``checks.overbend_strain_limit`` on the ``overbend`` nodes;
+    sagbend: the load-controlled utilisation (:func:`lcc_sections`) on the
+    ``sagbend`` nodes, or without a stinger (``sagbend`` None) above
+    touchdown less the rise to an end above :func:`interior_peak` (a
+    clamped top's). Their largest value is ``max_utilisation``. Both all
+    NaN without ``[checks]``."""
+    s, checks = cols["s"], case.checks
+    over = np.full(s.size, math.nan)
+    sag = over.copy()
+    if checks is None:
+        return over, sag
+    if overbend is not None:
+        strain = fibre_strain(case.pipe, cols) / checks.overbend_strain_limit
+        over[overbend] = strain[overbend]
+    lcc = lcc_sections(case, cols, functional)[0]
+    if sagbend is None:
+        behind = s >= s_tdp
+        sag[behind] = lcc[behind]
+        if behind.any():
+            sag[sag > interior_peak(lcc[behind])] = math.nan  # (NaN compares False)
+    else:
+        sag[sagbend] = lcc[sagbend]
+    return over, sag
 
 
 def tip_clearance(r, rp, s, tip, up) -> float:
@@ -156,8 +210,7 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
         tip = np.array([x_l, z_l]) if nd == 2 else np.array([x_l, 0.0, z_l])
         up = up2 if nd == 2 else np.array([up2[0], 0.0, up2[1]])
         clearance = tip_clearance(r, rp, s, tip, up)
-    axial = np.abs(cols["axial_strain"]) if pipe.extensible else 0.0
-    fibre = axial + cols["curvature"] * (0.5 * pipe.outer_diameter)
+    fibre = fibre_strain(pipe, cols)
     nan = math.nan
     behind = s >= s_tdp
     over_strain = float(fibre[overbend].max()) if overbend is not None and overbend.any() else nan

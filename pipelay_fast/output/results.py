@@ -19,7 +19,7 @@ from ..engine.state import Solution
 from ..input.case import Case
 from ..kernels import layout as L
 from ..kernels.geometry import centreline_fields
-from .design import DESIGN_UNITS, design_columns, interior_peak
+from .design import DESIGN_UNITS, bend_regions, design_columns, interior_peak
 
 PROFILE_UNITS = {
     "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
@@ -141,9 +141,10 @@ class Result:
 
     def plot(self, path=None):
         """The lay's figure (:func:`pipelay_fast.output.plot.plot_result`):
-        elevation, plan in 3D, moment, von Mises and utilisation along the
-        pipe; written to ``path`` (PNG, or SVG/PDF by the suffix) when given.
-        Returns the matplotlib Figure."""
+        elevation, lateral offset in 3D, signed in-plane moment, von Mises
+        with SMYS and the utilisations, all against s with touchdown,
+        lift-off and the tip marked; written to ``path`` (PNG, or SVG/PDF by
+        the suffix) when given. Returns the matplotlib Figure."""
         from .plot import plot_result
 
         return plot_result(self, path)
@@ -351,10 +352,9 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
     (None without rollers) and ``functional``, the profile columns of its functional load case, for
     the code check (:func:`pipelay_fast.output.design.lcc_sections`).
 
-    Overbend and sagbend are told apart by the sign of the in-plane bending
-    moment (moment_y) above touchdown: the hogging nodes (moment_y < 0) are
-    the overbend, the others up to lift-off the sagbend. J-lay has no
-    overbend (NaN). The lay design answers
+    Overbend and sagbend are
+    :func:`pipelay_fast.output.design.bend_regions`' (by the sign of the
+    in-plane moment above touchdown); J-lay has no overbend (NaN). The lay design answers
     (layback, tip clearance, strains, utilisations) are
     :func:`pipelay_fast.output.design.design_columns`'.
 
@@ -374,10 +374,8 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
     te = cols["effective_tension"]
     nan = math.nan
     vm, mom = cols["von_mises"], cols["moment"]
-    hog = sag = None
+    hog, sag = bend_regions(cols, s_tdp, s_liftoff, stinger is not None)
     if stinger is not None:
-        hog = beyond & (cols["moment_y"] < 0.0)
-        sag = beyond & ~hog & (s <= (s_liftoff if s_liftoff is not None else s[-1]))
         over_vm = float(vm[hog].max()) if hog.any() else nan
         over_m = float(mom[hog].max()) if hog.any() else nan
         sag_vm = float(vm[sag].max()) if sag.any() else nan

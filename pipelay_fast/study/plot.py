@@ -1,10 +1,12 @@
 """The figure of a sweep's results directory (matplotlib, the ``plot`` extra).
 
 :func:`plot_sweep`: the overbend and sagbend peaks of von Mises stress
-against ``a`` for each S-lay scene and current, the chosen ``a``
-(``selection.parquet``, from ``select``) marked, as the paper's Figures 3,
-5, 7 and 9; and, when a method was solved at several depths, the lay table
-against depth (top tension, max utilisation).
+against ``a`` for each S-lay scene and current, shallowest scene first, with
+the SMYS line and ``select``'s answers (``selection.parquet``): the feasible
+range shaded, the limits binding at its ends and the chosen ``a`` as
+vertical lines, as the paper's Figures 3, 5, 7 and 9; and, when a method
+was solved at several depths, the lay table against depth (top tension with
+the ``[select]`` tension window, max utilisation with its limit).
 
 Figures are built without pyplot (no display needed, nothing global changed);
 ``path`` writes them, the format from its suffix (PNG by default, SVG, PDF).
@@ -12,8 +14,10 @@ Figures are built without pyplot (no display needed, nothing global changed);
 
 from __future__ import annotations
 
+import json
 import math
 import os
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -21,10 +25,13 @@ import pandas as pd
 
 from ..output.plot import figure, save
 from .dataset import read_summary
+from .limits import DEFAULT_MAX_UTILISATION, check_limits
 from .select import design_variable
 from .sweep import AXES
 
 __all__ = ["plot_sweep"]
+
+LEGEND_WIDTH = 48  # characters a line of a legend's title holds (display only)
 
 # the columns that make one curve over a (as select's groups)
 GROUP_KEYS = ("scene", "dimension", "current_speed", "current_heading_deg",
@@ -37,12 +44,12 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
 
     One panel per S-lay scene, dimension, current and given tension whose
     cases span several values of a stinger design axis (``a``, or a roller
-    stinger's ``stinger_radius`` or ``roller_shift``): overbend and sagbend
-    peak von Mises stress against it, with ``select``'s equal-peaks and
-    least-stress values (when ``selection.parquet`` holds them) as vertical
-    lines; then, for each
-    method solved at several water depths with one case per depth (a lay
-    table), top tension and max utilisation against depth.
+    stinger's ``stinger_radius`` or ``roller_shift``), ordered by water
+    depth: :func:`_design_panel`'s. Then, for each method solved at several
+    water depths with one case per depth (a lay table), top tension (with
+    the ``[select]`` table's ``top_tension`` window of ``root/sweep.json``
+    as lines) and max utilisation (with its ``max_utilisation`` limit, by
+    default DEFAULT_MAX_UTILISATION) against depth.
 
     Raises
     ------
@@ -61,6 +68,7 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
         if variable in g and g[variable].nunique() > 1:
             groups.append((dict(zip(GROUP_KEYS, k, strict=True)), variable,
                            g.sort_values(variable)))
+    groups.sort(key=lambda group: float(group[2]["water_depth"].min()))  # shallow first
     # a lay table: one case per water depth (a sweep with several cases at a
     # depth, over a or the current, is drawn against a above instead)
     depth_groups = [(m, g.sort_values("water_depth")) for m, g in ok.groupby("method", sort=True)
@@ -73,30 +81,20 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     fig = figure(math.ceil(panels / cols), cols)
     axes = np.atleast_1d(fig.subplots(math.ceil(panels / cols), cols)).ravel()
     selection = _selection(root)
+    limits = _limits(root)
     for ax, (key, variable, g) in zip(axes, groups, strict=False):
-        ax.plot(g[variable], g["overbend_max_von_mises"] / 1e6, "o-", color="C0",
-                label="overbend")
-        ax.plot(g[variable], g["sagbend_max_von_mises"] / 1e6, "s-", color="C1",
-                label="sagbend")
-        for what, style in (("equal_peaks", "--"), ("min_stress", ":")):
-            chosen = _chosen(selection, key, f"{variable}_{what}")
-            if chosen is not None:
-                ax.axvline(chosen, color="C3", ls=style, lw=1.0,
-                           label=f"{what.replace('_', ' ')} {variable} = {chosen:.6g}")
-        given = [_given(name, key[name]) for name in GROUP_KEYS[4:] if np.isfinite(key[name])]
-        ax.set(xlabel=f"{variable} [{AXES[variable][2]}]", ylabel="peak von Mises [MPa]",
-               title=f"{key['scene']} {key['dimension']}, current {key['current_speed']:g} m/s "
-                     f"at {key['current_heading_deg']:g} deg" + "".join(f", {t}" for t in given))
-        ax.legend(fontsize="small")
-        ax.grid(alpha=0.3)
+        _design_panel(ax, key, variable, g, selection)
     rest = axes[len(groups):]
     for i, (method, g) in enumerate(depth_groups):
         ax_t, ax_u = rest[2 * i], rest[2 * i + 1]
         ax_t.plot(g["water_depth"], g["top_tension"] / 1e3, "o-", color="C0")
+        for bound in limits.get("top_tension", ()):  # the tensioner's window
+            ax_t.axhline(bound / 1e3, color="C3", lw=1.0, ls="--")
         ax_t.set(xlabel="water depth [m]", ylabel="top tension [kN]",
                  title=f"{method}-lay table: top tension")
         ax_u.plot(g["water_depth"], g["max_utilisation"], "o-", color="C3")
-        ax_u.axhline(1.0, color="k", lw=1.0, ls="--")
+        ax_u.axhline(limits.get("max_utilisation", DEFAULT_MAX_UTILISATION), color="k", lw=1.0,
+                     ls="--")
         ax_u.set(xlabel="water depth [m]", ylabel="max utilisation [-]",
                  title=f"{method}-lay table: max utilisation")
         for a in (ax_t, ax_u):
@@ -108,6 +106,60 @@ def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     return fig
 
 
+def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
+    """One group's panel: the overbend and sagbend peaks of von Mises stress
+    [MPa] against the design axis ``variable``, the SMYS line, ``select``'s
+    feasible range shaded with a line at each end a limit binds (labelled
+    with the limit), and its equal-peaks and least-stress values as
+    vertical lines; values of the axis printed to :func:`resolution`'s
+    decimals."""
+    x = g[variable].to_numpy(dtype=float)
+    digits = resolution(x)
+    ax.plot(x, g["overbend_max_von_mises"] / 1e6, "o-", color="C0", label="overbend")
+    ax.plot(x, g["sagbend_max_von_mises"] / 1e6, "s-", color="C1", label="sagbend")
+    ratio = g["max_von_mises_over_smys"].to_numpy(dtype=float)
+    if np.isfinite(ratio).any():  # SMYS = max_von_mises / max_von_mises_over_smys
+        i = int(np.nanargmax(ratio))
+        smys = float(g["max_von_mises"].iloc[i]) / ratio[i]
+        ax.axhline(smys / 1e6, color="C3", lw=1.0, label=f"SMYS {smys / 1e6:.0f} MPa")
+    low = _chosen(selection, key, f"{variable}_feasible_min")
+    high = _chosen(selection, key, f"{variable}_feasible_max")
+    if low is not None and high is not None:
+        ax.axvspan(low, high, color="C2", alpha=0.15,
+                   label=f"feasible {variable} [{low:.{digits}f}, {high:.{digits}f}]")
+        for end, side, style in ((low, "min", "-."), (high, "max", (0, (5, 2, 1, 2)))):
+            binds = _chosen_text(selection, key, f"feasible_{side}_binds")
+            if binds and binds != "grid end":
+                ax.axvline(end, color="C2", ls=style, lw=1.2, label=binds)
+    for what, style in (("equal_peaks", "--"), ("min_stress", ":")):
+        chosen = _chosen(selection, key, f"{variable}_{what}")
+        if chosen is not None:
+            ax.axvline(chosen, color="C3", ls=style, lw=1.0,
+                       label=f"{what.replace('_', ' ')} {variable} = {chosen:.{digits}f}")
+    ax.xaxis.get_major_formatter().set_useOffset(False)
+    ax.xaxis.get_major_formatter().set_scientific(False)
+    given = [_given(name, key[name]) for name in GROUP_KEYS[4:] if np.isfinite(key[name])]
+    ax.set(xlabel=f"{variable} [{AXES[variable][2]}]", ylabel="peak von Mises [MPa]",
+           title=f"{key['scene']} {key['dimension']}, depth {g['water_depth'].iloc[0]:g} m, "
+                 f"current {key['current_speed']:g} m/s at {key['current_heading_deg']:g} deg"
+                 + "".join(f", {t}" for t in given))
+    ruled_out = _chosen_text(selection, key, "ruled_out_by")  # (when no grid point is feasible)
+    title = (textwrap.fill(f"no feasible {variable}: {ruled_out}", LEGEND_WIDTH) if ruled_out
+             else None)
+    ax.legend(fontsize="small", title=title, title_fontsize="x-small")
+    ax.grid(alpha=0.3)
+
+
+def resolution(x) -> int:
+    """The decimals a grid ``x`` resolves: the fewest that keep its distinct
+    values distinct (a grid of step 2e-4 from -0.001: 4); 0 for one value."""
+    values = np.unique(np.asarray(x, dtype=float))
+    digits = 0
+    while np.unique(np.round(values, digits)).size < values.size:
+        digits += 1
+    return digits
+
+
 def _given(name: str, value: float) -> str:
     """A panel's given tension [kN] or pipe length [m], for its title."""
     label = name.removeprefix("given_").replace("_", " ")
@@ -116,26 +168,47 @@ def _given(name: str, value: float) -> str:
     return f"{label} {value / 1e3:.6g} kN"
 
 
+def _limits(root: Path) -> dict:
+    """The ``[select]`` limits of ``root/sweep.json``
+    (:func:`.limits.check_limits`'); {} without the file or the table."""
+    file = root / "sweep.json"
+    spec = json.loads(file.read_text()) if file.is_file() else {}
+    return check_limits("select", spec.get("select", {}))
+
+
 def _selection(root: Path):
     """``root/selection.parquet`` as a DataFrame; None when absent."""
     file = root / "selection.parquet"
     return pd.read_parquet(file) if file.is_file() else None
 
 
+def _chosen_text(selection, key: dict, column: str) -> str:
+    """The text column ``column`` of the group ``key``'s selection row ("" when none)."""
+    row = _row(selection, key, column)
+    return "" if row is None else str(row[column].iloc[0])
+
+
+def _row(selection, key: dict, column: str):
+    """The selection rows of the group ``key`` (NaN keys match NaN), None
+    without a selection, the column or a row."""
+    if selection is None or column not in selection:
+        return None
+    match = np.ones(len(selection), dtype=bool)
+    for name, value in key.items():
+        values = selection[name]
+        if isinstance(value, float) and math.isnan(value):
+            match &= values.isna().to_numpy()
+        else:
+            match &= (values == value).to_numpy()
+    row = selection[match]
+    return None if row.empty else row
+
+
 def _chosen(selection, key: dict, choice: str):
     """``select``'s choice ``choice`` (a column: ``a_equal_peaks``,
     ``stinger_radius_min_stress``, ...) of the group ``key`` (NaN keys match
     NaN); None when it has none."""
-    if selection is None or choice not in selection:
-        return None
-    match = np.ones(len(selection), dtype=bool)
-    for name, value in key.items():
-        column = selection[name]
-        if isinstance(value, float) and math.isnan(value):
-            match &= column.isna().to_numpy()
-        else:
-            match &= (column == value).to_numpy()
-    row = selection[match]
-    if row.empty or not np.isfinite(row[choice].iloc[0]):
+    row = _row(selection, key, choice)
+    if row is None or not np.isfinite(row[choice].iloc[0]):
         return None
     return float(row[choice].iloc[0])
