@@ -17,7 +17,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -30,8 +29,6 @@ from .select import design_variable
 from .sweep import AXES
 
 __all__ = ["plot_sweep"]
-
-LEGEND_WIDTH = 48  # characters a line of a legend's title holds (display only)
 
 # the columns that make one curve over a (as select's groups)
 GROUP_KEYS = ("scene", "dimension", "current_speed", "current_heading_deg",
@@ -144,7 +141,8 @@ def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
                  f"current {key['current_speed']:g} m/s at {key['current_heading_deg']:g} deg"
                  + "".join(f", {t}" for t in given))
     ruled_out = _chosen_text(selection, key, "ruled_out_by")  # (when no grid point is feasible)
-    title = (textwrap.fill(f"no feasible {variable}: {ruled_out}", LEGEND_WIDTH) if ruled_out
+    # one clause of the reason a line
+    title = ("\n".join(f"no feasible {variable}: {ruled_out}".split("; ")) if ruled_out
              else None)
     ax.legend(fontsize="small", title=title, title_fontsize="x-small")
     ax.grid(alpha=0.3)
