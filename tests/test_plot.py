@@ -223,12 +223,12 @@ def test_sweep_plot_marks_the_chosen_a(tmp_path):
     pipe = pf.load_case(EXAMPLES / "s67.toml").pipe
     assert smys.get_ydata()[0] == pytest.approx(pipe.smys / 1e6, rel=1e-12)
     assert smys.get_label() == f"SMYS {pipe.smys / 1e6:.0f} MPa"
-    # the chosen a, printed to the grid's step 2e-4: 4 decimals
+    # the chosen a, printed as select's table prints it (six decimals)
     (mark,) = _labelled(ax, "equal peaks a")
     (least_mark,) = _labelled(ax, "min stress a")
     assert np.isfinite(chosen) and mark.get_xdata()[0] == chosen
     assert np.isfinite(least) and least_mark.get_xdata()[0] == least
-    assert mark.get_label() == f"equal peaks a = {chosen:.4f}"
+    assert mark.get_label() == f"equal peaks a = {chosen:.6f}"
     assert _holds(ax.get_xlim(), summary["a"])
     assert _holds(ax.get_ylim(), summary[["overbend_max_von_mises",
                                           "sagbend_max_von_mises"]].to_numpy() / 1e6)

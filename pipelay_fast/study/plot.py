@@ -26,6 +26,7 @@ from ..output.plot import figure, save
 from .dataset import read_summary
 from .limits import DEFAULT_MAX_UTILISATION, check_limits
 from .select import design_variable
+from .select_format import design_value
 from .sweep import AXES
 
 __all__ = ["plot_sweep"]
@@ -108,10 +109,9 @@ def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
     [MPa] against the design axis ``variable``, the SMYS line, ``select``'s
     feasible range shaded with a line at each end a limit binds (labelled
     with the limit), and its equal-peaks and least-stress values as
-    vertical lines; values of the axis printed to :func:`resolution`'s
-    decimals."""
+    vertical lines; the values chosen printed as ``select`` prints them
+    (:func:`.select_format.design_value`: they lie between grid points)."""
     x = g[variable].to_numpy(dtype=float)
-    digits = resolution(x)
     ax.plot(x, g["overbend_max_von_mises"] / 1e6, "o-", color="C0", label="overbend")
     ax.plot(x, g["sagbend_max_von_mises"] / 1e6, "s-", color="C1", label="sagbend")
     ratio = g["max_von_mises_over_smys"].to_numpy(dtype=float)
@@ -123,7 +123,7 @@ def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
     high = _chosen(selection, key, f"{variable}_feasible_max")
     if low is not None and high is not None:
         ax.axvspan(low, high, color="C2", alpha=0.15,
-                   label=f"feasible {variable} [{low:.{digits}f}, {high:.{digits}f}]")
+                   label=f"feasible {variable} [{design_value(low)}, {design_value(high)}]")
         for end, side, style in ((low, "min", "-."), (high, "max", (0, (5, 2, 1, 2)))):
             binds = _chosen_text(selection, key, f"feasible_{side}_binds")
             if binds and binds != "grid end":
@@ -132,7 +132,7 @@ def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
         chosen = _chosen(selection, key, f"{variable}_{what}")
         if chosen is not None:
             ax.axvline(chosen, color="C3", ls=style, lw=1.0,
-                       label=f"{what.replace('_', ' ')} {variable} = {chosen:.{digits}f}")
+                       label=f"{what.replace('_', ' ')} {variable} = {design_value(chosen)}")
     ax.xaxis.get_major_formatter().set_useOffset(False)
     ax.xaxis.get_major_formatter().set_scientific(False)
     given = [_given(name, key[name]) for name in GROUP_KEYS[4:] if np.isfinite(key[name])]
@@ -146,16 +146,6 @@ def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
              else None)
     ax.legend(fontsize="small", title=title, title_fontsize="x-small")
     ax.grid(alpha=0.3)
-
-
-def resolution(x) -> int:
-    """The decimals a grid ``x`` resolves: the fewest that keep its distinct
-    values distinct (a grid of step 2e-4 from -0.001: 4); 0 for one value."""
-    values = np.unique(np.asarray(x, dtype=float))
-    digits = 0
-    while np.unique(np.round(values, digits)).size < values.size:
-        digits += 1
-    return digits
 
 
 def _given(name: str, value: float) -> str:

@@ -11,7 +11,7 @@ import pandas as pd
 
 from .sweep import AXES
 
-__all__ = ["LEGEND", "format_selection"]
+__all__ = ["LEGEND", "design_value", "format_selection"]
 
 LEGEND_WIDTH = 100  # characters a legend line is wrapped at
 
@@ -60,19 +60,20 @@ def format_selection(table: pd.DataFrame) -> str:
         v = r["variable"]
         key = (r["scene"], r["dimension"], _current(r), f"{v}[{AXES[v][2]}]")
         choices.append(_row(
-            width, *key, _a(r[f"{v}_min_stress"]), _mpa(r["min_max_von_mises"]),
-            _a(r[f"{v}_equal_peaks"]), _mpa(r["equal_peaks_von_mises"]),
+            width, *key, design_value(r[f"{v}_min_stress"]), _mpa(r["min_max_von_mises"]),
+            design_value(r[f"{v}_equal_peaks"]), _mpa(r["equal_peaks_von_mises"]),
             _num(r["equal_peaks_max_utilisation"]), _num(r["equal_peaks_tip_clearance"]),
-            _num(r["equal_peaks_max_von_mises_over_smys"]), _flags(r), _a(r["reference_a"]),
-            r["note"]))
+            _num(r["equal_peaks_max_von_mises_over_smys"]), _flags(r),
+            design_value(r["reference_a"]), r["note"]))
         yielded = f"{r['n_yielded']}/{r['n_grid']}"
         if not r["feasible"]:
             limits.append(_limits_row(width, *key, "infeasible", "", "", "", "", "", yielded,
                                       r["ruled_out_by"]))
             continue
         limits.append(_limits_row(
-            width, *key, _a(r[f"{v}_feasible_min"]), _a(r[f"{v}_feasible_max"]),
-            _a(r[f"{v}_best"]), _num(r["best_max_utilisation"]), _mpa(r["best_max_von_mises"]),
+            width, *key, design_value(r[f"{v}_feasible_min"]),
+            design_value(r[f"{v}_feasible_max"]), design_value(r[f"{v}_best"]),
+            _num(r["best_max_utilisation"]), _mpa(r["best_max_von_mises"]),
             _yes(r["equal_peaks_feasible"]), yielded,
             f"{r['feasible_min_binds']} | {r['feasible_max_binds']}"))
     applied = sorted(set(table["limits"]))
@@ -115,7 +116,9 @@ def _yes(value) -> str:
     return "n/a" if pd.isna(value) else ("yes" if value else "no")
 
 
-def _a(value: float) -> str:
+def design_value(value: float) -> str:
+    """A value of a design axis as ``select`` prints it (and the sweep
+    figure labels it): six decimals, "n/a" when not finite."""
     return "n/a" if not math.isfinite(value) else f"{value:.6f}"
 
 
