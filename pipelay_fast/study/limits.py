@@ -217,7 +217,9 @@ def shortfall_text(x, margins, variable: str) -> str:
         spans = ", ".join(f"[{r.low:.6g}, {r.high:.6g}]"
                           for r in feasible_ranges(x, {limit: m}))
         each.append(f"{limit_text(limit)} holds for {variable} in {spans}")
-    scaled = np.array([np.asarray(m, dtype=float) / max(abs(limit.value), 1e-300)
+    # each shortfall relative to its limit's value (a limit of 0, as a
+    # clearance of 0 m: in its own unit)
+    scaled = np.array([np.asarray(m, dtype=float) / (abs(limit.value) or 1.0)
                        for limit, m in margins.items()])
     i = int(np.nanargmax(np.nanmin(scaled, axis=0)))
     short = [f"{limit_text(limit)} short by {_quantity(-m[i], limit.unit)}"
