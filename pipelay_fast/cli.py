@@ -214,9 +214,15 @@ def _solve(args: argparse.Namespace) -> int:
 
 
 def format_summary(summary: dict) -> str:
-    """The summary as aligned ``name  value  unit`` lines, in display units."""
-    rows = []
+    """The summary as aligned ``name  value  unit`` lines, in display units;
+    the fields that do not apply to the case (None or NaN: a roller's on a
+    quadratic stinger, the overbend's in J-lay, a check's without
+    ``[checks]``) named on one last line instead."""
+    rows, absent = [], []
     for name, value in summary.items():
+        if _format_value(value) == "n/a":
+            absent.append(name)
+            continue
         unit = SUMMARY_UNITS.get(name, "")
         if unit in DISPLAY_UNITS and isinstance(value, numbers.Real):
             unit, factor = DISPLAY_UNITS[unit]
@@ -224,9 +230,11 @@ def format_summary(summary: dict) -> str:
         rows.append((name, _format_value(value), unit))
     name_width = max(len(name) for name, _, _ in rows)
     value_width = max(len(text) for _, text, _ in rows)
-    return "\n".join(
-        f"{name:<{name_width}}  {text:>{value_width}}  {unit}".rstrip() for name, text, unit in rows
-    )
+    lines = [f"{name:<{name_width}}  {text:>{value_width}}  {unit}".rstrip()
+             for name, text, unit in rows]
+    if absent:
+        lines.append(f"(not applicable to this case: {', '.join(absent)})")
+    return "\n".join(lines)
 
 
 def format_flags(summary: dict) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -9,6 +10,7 @@ import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 
+import pipelay_fast as pf
 from pipelay_fast.cli import main
 from pipelay_fast.input.case import load_case
 from pipelay_fast.output.io import read_units
@@ -115,3 +117,21 @@ def test_a_first_run_says_the_kernels_compile(tmp_path, capsys, monkeypatch):
         monkeypatch.setattr(notice, "_given", False)  # a new process
         assert main(["solve", str(J125), *(["--quiet"] if quiet else [])]) == 0
         assert ("compiling the numerical kernels" in capsys.readouterr().err) == said
+
+
+def test_the_solve_printout_leaves_out_what_does_not_apply(capsys):
+    """On the quadratic stinger of s67 the roller fields have no value: no
+    "n/a" row, the names on the last line; every other summary field has
+    its row."""
+    assert main(["solve", "s67"]) == 0
+    out = capsys.readouterr().out
+    summary = pf.solve(pf.load_case("s67")).summary
+    absent = [k for k, v in summary.items()
+              if v is None or (isinstance(v, float) and math.isnan(v))]
+    assert "max_roller_reaction" in absent and "last_roller_in_contact" in absent
+    assert "n/a" not in out
+    (line,) = [x for x in out.splitlines() if x.startswith("(not applicable to this case: ")]
+    assert line == f"(not applicable to this case: {', '.join(absent)})"
+    for name in summary:
+        if name not in absent:
+            assert re.search(rf"^{name}\s", out, flags=re.MULTILINE), name
