@@ -229,6 +229,9 @@ def test_sweep_plot_marks_the_chosen_a(tmp_path):
     assert np.isfinite(chosen) and mark.get_xdata()[0] == chosen
     assert np.isfinite(least) and least_mark.get_xdata()[0] == least
     assert mark.get_label() == f"equal peaks a = {chosen:.6f}"
+    # the scene's published a (A_SWEEP's reference_a), marked where it is
+    (reference,) = _labelled(ax, "reference a")
+    assert reference.get_xdata()[0] == A_SWEEP["scenes"][0]["reference_a"]
     assert _holds(ax.get_xlim(), summary["a"])
     assert _holds(ax.get_ylim(), summary[["overbend_max_von_mises",
                                           "sagbend_max_von_mises"]].to_numpy() / 1e6)

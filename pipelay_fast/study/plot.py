@@ -108,8 +108,9 @@ def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
     """One group's panel: the overbend and sagbend peaks of von Mises stress
     [MPa] against the design axis ``variable``, the SMYS line, ``select``'s
     feasible range shaded with a line at each end a limit binds (labelled
-    with the limit), and its equal-peaks and least-stress values as
-    vertical lines; the values chosen printed as ``select`` prints them
+    with the limit), its equal-peaks and least-stress values and the
+    scene's ``reference_a`` (a published a) as vertical lines; the values
+    chosen printed as ``select`` prints them
     (:func:`.select_format.design_value`: they lie between grid points)."""
     x = g[variable].to_numpy(dtype=float)
     ax.plot(x, g["overbend_max_von_mises"] / 1e6, "o-", color="C0", label="overbend")
@@ -133,6 +134,10 @@ def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
         if chosen is not None:
             ax.axvline(chosen, color="C3", ls=style, lw=1.0,
                        label=f"{what.replace('_', ' ')} {variable} = {design_value(chosen)}")
+    reference = _chosen(selection, key, "reference_a") if variable == "a" else None
+    if reference is not None:  # the scene's published a (its reference_a)
+        ax.axvline(reference, color="k", ls="--", lw=0.8, alpha=0.6,
+                   label=f"reference a = {design_value(reference)}")
     ax.xaxis.get_major_formatter().set_useOffset(False)
     ax.xaxis.get_major_formatter().set_scientific(False)
     given = [_given(name, key[name]) for name in GROUP_KEYS[4:] if np.isfinite(key[name])]
