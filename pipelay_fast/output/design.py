@@ -15,7 +15,7 @@ from ..input.checks import design_load_effects, lcc_axial_ratio, lcc_utilisation
 from ..kernels.geometry import point_clearance
 
 __all__ = ["DESIGN_UNITS", "bend_regions", "design_columns", "fibre_strain", "functional_effects",
-           "interior_peak", "lcc_profile", "lcc_sections", "tip_clearance", "utilisation_along"]
+           "interior_peak", "lcc_sections", "tip_clearance", "utilisation_along"]
 
 DESIGN_UNITS = {
     "layback": "m", "tip_clearance": "m", "departure_angle_deg": "deg", "tdp_tension": "N",
@@ -73,15 +73,23 @@ def utilisation_along(case, cols: dict, s_tdp: float, overbend, sagbend,
     touchdown less the rise to an end above :func:`interior_peak` (a
     clamped top's). Their largest value is ``max_utilisation``. Both all
     NaN without ``[checks]``."""
+    over, sag, _axial = _utilisations(case, cols, s_tdp, overbend, sagbend, functional)
+    return over, sag
+
+
+def _utilisations(case, cols: dict, s_tdp: float, overbend, sagbend, functional):
+    """:func:`utilisation_along`'s two profiles and the load-controlled
+    check's axial ratio of every section (:func:`lcc_sections`; all NaN
+    without ``[checks]``)."""
     s, checks = cols["s"], case.checks
     over = np.full(s.size, math.nan)
     sag = over.copy()
     if checks is None:
-        return over, sag
+        return over, sag, over.copy()
     if overbend is not None:
         strain = fibre_strain(case.pipe, cols) / checks.overbend_strain_limit
         over[overbend] = strain[overbend]
-    lcc = lcc_sections(case, cols, functional)[0]
+    lcc, axial = lcc_sections(case, cols, functional)
     if sagbend is None:
         behind = s >= s_tdp
         sag[behind] = lcc[behind]
@@ -89,7 +97,14 @@ def utilisation_along(case, cols: dict, s_tdp: float, overbend, sagbend,
             sag[sag > interior_peak(lcc[behind])] = math.nan  # (NaN compares False)
     else:
         sag[sagbend] = lcc[sagbend]
-    return over, sag
+    return over, sag, axial
+
+
+def _peak(values) -> float:
+    """The largest finite value of ``values``; NaN when none is finite."""
+    v = np.asarray(values)
+    finite = np.isfinite(v)
+    return float(v[finite].max()) if finite.any() else math.nan
 
 
 def tip_clearance(r, rp, s, tip, up) -> float:
@@ -170,12 +185,6 @@ def lcc_sections(case, cols: dict, functional: dict | None = None):
     return utilisation[governing, at], ratio[governing, at]
 
 
-def lcc_profile(case, cols: dict, functional: dict | None = None) -> np.ndarray:
-    """The load-controlled utilisation [-] of every section of the profile
-    ``cols``, the first of :func:`lcc_sections`; NaN without ``[checks]``."""
-    return lcc_sections(case, cols, functional)[0]
-
-
 def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
                    bearing: bool, departure_angle: float,
                    roller_clearance: float | None = None, functional: dict | None = None) -> dict:
@@ -220,16 +229,11 @@ def design_columns(case, cols: dict, r, rp, s_tdp: float, overbend, sagbend,
         sag_strain = float(fibre[sagbend].max()) if sagbend.any() else nan
     over_u = sag_u = sag_axial = nan
     if checks is not None:
-        over_u = over_strain / checks.overbend_strain_limit
-        lcc, lcc_axial = lcc_sections(case, cols, functional)
-        region = behind if sagbend is None else sagbend
-        checked = lcc[region]
-        if sagbend is None:
-            sag_u = interior_peak(checked)
-        elif sagbend.any():
-            sag_u = float(checked.max(initial=0.0))
-        if region.any() and sag_u > 0.0:
-            sag_axial = float(lcc_axial[region][np.argmax(checked == sag_u)])
+        # the peaks of the profiles the figure draws (utilisation_along)
+        over, sag, lcc_axial = _utilisations(case, cols, s_tdp, overbend, sagbend, functional)
+        over_u, sag_u = _peak(over), _peak(sag)
+        if sag_u > 0.0:
+            sag_axial = float(lcc_axial[np.argmax(sag == sag_u)])
     values = [u for u in (over_u, sag_u) if not math.isnan(u)]
     return {
         "layback": float(layback),
