@@ -77,7 +77,7 @@ def test_example_round_trips_through_load_case(tmp_path, capsys):
 
     assert main(["example", "j12"]) == 2
     err = capsys.readouterr().err
-    assert "no bundled example 'j12' (did you mean 'j125'?)" in err
+    assert "no bundled example 'j12' (did you mean j125?)" in err
     for name in ("j125", "j125_3d", "s67", "s67_3d", "s125", "s125_3d"):
         assert name in err.split("the examples:")[1]
 

@@ -39,7 +39,7 @@ def test_an_unknown_example_name_lists_the_examples_and_the_closest(load):
     with pytest.raises(ValueError) as err:
         load("s76")
     message = str(err.value)
-    assert "'s76' is neither a bundled example nor a file (did you mean 's67'?)" in message
+    assert "'s76' is neither a bundled example nor a file (did you mean s67?)" in message
     listed = message.split("the examples: ")[1].split(" (looked")[0].split(", ")
     assert listed == example_names() == sorted(p.stem for p in EXAMPLES.glob("*.toml"))
 

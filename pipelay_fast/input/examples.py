@@ -10,10 +10,11 @@ first line is a comment describing it in one sentence
 
 from __future__ import annotations
 
-import difflib
 import os
 from importlib.resources import files
 from pathlib import Path
+
+from .validate import did_you_mean
 
 __all__ = ["case_file", "example_description", "example_names", "example_path",
            "is_bare_name"]
@@ -40,11 +41,9 @@ def example_path(name: str) -> Path:
 
 
 def _suggestion(name) -> tuple[str, str]:
-    """(" (did you mean 'x'?)" or "", "the examples: ...") for an unknown example ``name``."""
+    """(" (did you mean x?)" or "", "the examples: ...") for an unknown example ``name``."""
     names = example_names()
-    close = difflib.get_close_matches(str(name), names, n=1)
-    return (f" (did you mean {close[0]!r}?)" if close else "",
-            f"the examples: {', '.join(names)}")
+    return did_you_mean(name, names), f"the examples: {', '.join(names)}"
 
 
 def example_description(name: str) -> str:
