@@ -45,11 +45,8 @@ def _element_forces_impl(nd, le, ue, model, sec, torque, fe, ke, want_tangent, d
         return spatial
 
     def either(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
-        if nd == 2:
-            element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm)
-        else:
-            element_force_ws(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle,
-                             ws, wm)
+        element_forces_py(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle,
+                          ws, wm)  # (the branch on nd at run time)
     return either
 
 

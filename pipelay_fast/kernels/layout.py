@@ -128,7 +128,7 @@ I_RES = 2  # weighted residual (max norm) at exit [-]
 I_DELTA = 3  # largest constraint violation at exit [m, rad]
 I_TOP_RES = 4  # relative top-tension residual [-]
 I_PAST = 5  # PAST_TIP: how far [m] along the pipe the step would take lift-off past the tip
-I_TOP_TE = 6  # the top's effective tension at the last evaluation [N] (0: not given)
+I_TOP_TE = 6  # a call with maxit 0: the top's effective tension [N] (0: not given)
 N_INFO = 7
 
 # --- current profiles ---------------------------------------------------------

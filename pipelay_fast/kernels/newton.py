@@ -358,8 +358,8 @@ def _newton_kernel(nd):
                 if want_tangent or converged or not finite or residual_only:
                     break
                 want_tangent = True
-            info[I_TOP_TE] = te_top
             if residual_only:
+                info[I_TOP_TE] = te_top
                 _free_residual(nd, u, sup, w, react)
                 return L.OK
             # ---- test
