@@ -126,12 +126,10 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     step from its own start. ``maxit``: each call's iterations at most
     (None: solver.max_iterations).
 
-    Returns (status, reactions, info, iterations of every call, the state
-    the last call started from).
+    Returns (status, reactions, info, iterations of every call).
     """
     spent = 0  # iterations of the calls that ended in a switch of regime
     for switches in range(T.MAX_TIP_SWITCHES + 1):
-        start = snapshot(pb)
         can_switch = pb.lo_node >= 0 and switches < T.MAX_TIP_SWITCHES
         status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
                                               switch=can_switch or predicted, maxit=maxit)
@@ -143,7 +141,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
             bear_on_tip(case, pb, float(info[I_PAST]))
         else:
             lift_off_above_tip(case, pb)
-    return status, react, info, int(info[I_ITER]) + spent, start
+    return status, react, info, int(info[I_ITER]) + spent
 
 
 def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name: str,
@@ -192,7 +190,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
                if predicted and hardest > 0
                else None)
         try:
-            status, react, info, used, _start = newton_in_regime(case, pb, g_off, budget,
+            status, react, info, used = newton_in_regime(case, pb, g_off, budget,
                                                                  where, predicted, cap)
         except ShortLaid:
             if not predicted:
@@ -202,7 +200,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
             # from the last converged state, as the cold start
             restore(pb, saved)
             g_off, _ = load(trial, False)
-            status, react, info, again, _start = newton_in_regime(case, pb, g_off, budget,
+            status, react, info, again = newton_in_regime(case, pb, g_off, budget,
                                                                   where)
             used += again
         if status == L.OK:
@@ -231,9 +229,9 @@ def homotopy(pb: Problem):
     at alpha = 1 exactly), T0 the top's effective tension at u0, so that u0
     solves the pipe's equations and the top's at alpha = 0. The contact
     boundaries' conditions keep no offset (with one, the lay table's sweep,
-    sweeps/lay_table.toml, fails as often and takes more iterations). A u0 whose top tension is not
-    positive keeps T (the kernel solves for the bottom tension while its
-    target is positive). The caller clears ``pb.settings.top_target`` when
+    sweeps/lay_table.toml, fails as often and takes more iterations). A u0
+    whose top tension is not positive keeps T (the kernel solves for the
+    bottom tension while its target is positive). The caller clears ``pb.settings.top_target`` when
     the path ends."""
     g0, te0 = _residual(pb)
     target = pb.ends.top_target
@@ -262,7 +260,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     # (the boundaries start where the guess puts them; the kernel holds
     # them until the pipe is in equilibrium there)
     start = snapshot(pb)
-    status, react, info, iters, _start = newton_in_regime(
+    status, react, info, iters = newton_in_regime(
         case, pb, zero, budget, "the first Newton solve on a mesh")
     if status == L.OK:
         return react, {"iterations": iters, "load_steps": 1}
