@@ -13,7 +13,7 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.cli import main
-from pipelay_fast.output.design import interior_peak, lcc_profile, utilisation_along
+from pipelay_fast.output.design import interior_peak, lcc_sections, utilisation_along
 from pipelay_fast.output.io import read_result, write_result
 from pipelay_fast.output.plot import DPI, PANEL_SIZE, marks
 from pipelay_fast.study.dataset import read_summary
@@ -149,13 +149,13 @@ def test_jlay_clamped_top_rise_is_left_out():
     rise left out and the peak kept."""
     result = pf.solve(pf.load_case(EXAMPLES / "j125.toml"))
     cols = {k: np.array(v, copy=True) for k, v in result.columns.items()}
-    lcc = lcc_profile(result.case, cols, result.functional)
+    lcc = lcc_sections(result.case, cols, result.functional)[0]
     behind = cols["s"] >= marks(result)["touchdown"]
     peak = interior_peak(lcc[behind])
     at_peak = np.flatnonzero(lcc == peak)[0]
     for name in ("moment_x", "moment_y", "moment_z"):  # (the section peak's moment, raised)
         cols[name][-3:] = cols[name][at_peak] * np.array([1.5, 2.0, 3.0])
-    raised = lcc_profile(result.case, cols, result.functional)
+    raised = lcc_sections(result.case, cols, result.functional)[0]
     assert raised[-1] > raised[-2] > raised[-3] > peak  # the rise to the top
     over, sag = utilisation_along(result.case, cols, marks(result)["touchdown"], None, None,
                                   result.functional)
