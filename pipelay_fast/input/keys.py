@@ -362,8 +362,9 @@ from the table dataclasses in pipelay_fast/input/; do not edit by hand
 
 Every key of a case file, table by table, read from the code: the unit and
 description from each table's dataclass docstring, the default from the
-dataclass, the check from the validation its class runs on construction,
-the source from the clauses and scripts the description cites. Values are
+dataclass, the check from the validation its class runs on construction
+(in quotes, the words of an error it raises), the source from the clauses
+and scripts the description cites. Values are
 SI; heights x are measured from the seabed. A default of "required" must be
 given; an empty default means the key may be left out, with the meaning its
 description gives. A bad value raises `ValueError` naming the key by the
