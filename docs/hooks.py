@@ -24,6 +24,7 @@ INCLUDED = {
     "sweeps/README.md": "sweeps.md",
     "benchmarks/README.md": "benchmarks/index.md",
     "benchmarks/speed_vs_error.md": "benchmarks/speed_vs_error.md",
+    "benchmarks/paper_studies.md": "benchmarks/paper_studies.md",
 }
 _LINK = re.compile(r"(!?)\[([^\]]*)\]\(([^)\s]+)\)")
 
