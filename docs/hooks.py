@@ -1,7 +1,8 @@
 """MkDocs hook: the Markdown files kept beside what they describe (the README,
 sweeps/README.md, the benchmark report and its README) become pages of the
 site, and every page's relative links, written for reading the repository
-on its own, are pointed at the pages they become.
+on its own, are pointed at the pages they become; the docstrings' reST
+roles (mkdocstrings renders ``:func:`name``` as text) read as code.
 
 A link to a file that is a page is rewritten relative to the linking page; a
 link to any other file of the repository (a script, an example, a figure a
@@ -54,6 +55,15 @@ def on_page_markdown(markdown, page, config, files):
             f"#{anchor})" if anchor else ")")
 
     return _LINK.sub(rewrite, markdown)
+
+
+def on_page_content(html, page, config, files):
+    """Docstrings' reST roles (``:func:`name```, rendered as ``:func:<code>``)
+    as plain code: mkdocstrings renders them as text."""
+    return _ROLE.sub(r"\1", html)
+
+
+_ROLE = re.compile(r":(?:mod|func|class|meth|attr|data|exc|obj):(<code>)~?")
 
 
 def _repository_path(page: str) -> str:
