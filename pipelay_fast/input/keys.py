@@ -287,8 +287,9 @@ def _call_checks(call: ast.Call, local: dict, module):
         return
     each = "each " if "[" in path else ""  # the check of a list's items
     if helper == "choice" and len(args) > 2:
-        allowed = eval(compile(ast.Expression(args[2]), "<keys>", "eval"), vars(module))
-        yield name, f"{each}one of " + ", ".join(f'"{a}"' for a in allowed)
+        allowed = _constant(args[2], module)
+        if allowed is not None:
+            yield name, f"{each}one of " + ", ".join(f'"{a}"' for a in allowed)
     elif helper == "integer" and len(args) > 2:
         yield name, f"{each}an integer >= {ast.literal_eval(args[2])}"
     elif helper == "flag":
@@ -298,6 +299,21 @@ def _call_checks(call: ast.Call, local: dict, module):
     elif helper == "fail" and len(args) > 2:
         message = _message(_text(args[2], local))
         yield name, f'"{message}"' if message else ""
+
+
+def _constant(node, module):
+    """The value of a literal, of a module constant, or of ``tuple(CONSTANT)``;
+    None for any other expression."""
+    if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+            and node.func.id in ("tuple", "list") and len(node.args) == 1):
+        inner = _constant(node.args[0], module)
+        return None if inner is None else tuple(inner)
+    if isinstance(node, ast.Name):
+        return getattr(module, node.id, None)
+    try:
+        return ast.literal_eval(node)
+    except ValueError:
+        return None
 
 
 def _strings(node, local: dict, seen=()) -> list[str]:
