@@ -93,7 +93,7 @@ class Solver:
     tolerance : float
         Relative convergence tolerance [-], in (0, 1e-2); default 1e-8.
     max_iterations, max_load_steps : int
-        Newton iterations per step, and load steps per load path (the
+        Newton iterations per step, and load steps per load path [-] (the
         homotopy from the first guess, the current's path); defaults 100
         and 64.
     max_iterations_total : int

@@ -194,7 +194,7 @@ class RollerStinger:
         Added to the heights x of the rollers ``shifted`` [m] (after any
         rounding); default 0. The sweep axis ``roller_shift`` varies it.
     shifted : list of int or None
-        The rollers ``height_shift`` moves (indices from the vessel down,
+        The rollers ``height_shift`` moves (indices [-] from the vessel down,
         from 0); None (default): all of them.
 
     A roller stinger needs ``lay.top`` (where the vessel holds the pipe) and
@@ -354,7 +354,7 @@ class Lay:
     pipe_length: float | None = None
     top: tuple[float, float] | None = None
     top_angle: float | None = None
-    stinger: Stinger | None = None
+    stinger: Stinger | RollerStinger | None = None
     torque: float = 0.0
     distributed_moment: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
