@@ -4,16 +4,19 @@ named numeric case keys (``pipelay_fast.solve(case, sensitivities=[...])``).
 
 Each key p is moved by +-h through the case's own build
 (:meth:`pipelay_fast.input.case.Case.with_changes`); the engine carries the
-solved state to each side on its own mesh with its regime held, by Newton
-from the converged state (:func:`pipelay_fast.engine.sensitivity.neighbour_solution`,
-the implicit function theorem); each side is post-processed as a solve is
+solved state to each side, on the mesh a solve of that side grades at the
+solution's boundaries, with its regime held, by Newton from the converged
+state (:func:`pipelay_fast.engine.sensitivity.neighbour_solutions`, the
+implicit function theorem); each side is post-processed as a solve is
 (:func:`.results.build_profile`, :func:`.results.build_summary`) and a
 column's derivative is the central difference (f(p + h) - f(p - h)) / 2h,
-exact to O(h^2) with no re-solve and no re-mesh. NaN, with the reason, where
-the column is not differentiable at p: a side's regime differs (a contact
-or slip set, the tip's regime), a peak sits on another node on either side,
-the two one-sided differences disagree by more than :data:`KINK`, or the
-column depends on the functional load case's second solve.
+exact to O(h^2) with no re-solve from the first guess. NaN, with the
+reason, where the column is not differentiable at p: a side's regime
+differs (the mesh's node count, a contact or slip set, the tip's regime),
+a peak sits on another node on either side, the two one-sided differences
+disagree by more than :data:`KINK`, the column depends on the functional
+load case's second solve, or the answer followed the current's path with
+seabed friction (3D).
 """
 
 from __future__ import annotations
@@ -31,17 +34,18 @@ from .design import bend_regions
 from .results import SUMMARY_UNITS, build_profile, build_rollers, build_summary
 
 # the key's relative step h / |p| (an absolute step of STEP in the key's SI
-# unit where p = 0), from the step-size study of benchmarks/bench_sensitivity.py:
-# the central difference's O(h^2) error and the sides' round-off / h both
-# below 1e-7 of the derivative from 1e-5 to 1e-3
+# unit where p = 0), from the step-size study of benchmarks/bench_sensitivity.py
+# (S67 2D, four keys, against full solves): the largest relative difference
+# 3e-4 at 1e-3 (the O(h^2) error), 1e-5 at 1e-4, 3e-5 at 1e-5 and 1e-3 at
+# 1e-6 (the sides' round-off / h)
 STEP = 1e-4
 # the one-sided differences (f(p + h) - f(p)) / h and (f(p) - f(p - h)) / h
 # of a smooth column differ by h f'' (a relative 1e-4 at STEP); by more than
 # this share of the larger, the column has a kink or a jump within +-h
 KINK = 0.1
 # a side's change of a column below this share of its value is round-off (the
-# sides, solved to 1e-12, agree with each other to 1e-10 of it): no kink is
-# sought in it
+# sides agree with each other to 1e-10 of it, S67 2D's overbend peak at the
+# top by the water depth): no kink is sought in it
 NOISE = 1e-8
 
 KEY_UNITS = {
