@@ -98,7 +98,7 @@ def _central(case, key, p, h) -> dict:
 def reference(case, key) -> dict:
     """Richardson-extrapolated central differences of full solves, per column."""
     p = float(get_path(case.to_dict(), key))
-    h = REFERENCE_STEP * abs(p)
+    h = REFERENCE_STEP * (abs(p) or 1.0)  # (an absolute step where p = 0, as S.STEP)
     fine, coarse = _central(case, key, p, h), _central(case, key, p, 2.0 * h)
     return {name: (4.0 * fine[name] - coarse[name]) / 3.0 for name in fine}
 
@@ -113,7 +113,7 @@ def compare(case, summary, table, key, ref) -> dict:
         value, got = summary[name], table.loc[name, key]
         if not math.isfinite(got):
             out[name] = "NaN: " + table.loc[name, "reason"].split(f"{key}: ", 1)[-1][:70]
-        elif abs(fd * p) <= INSENSITIVE * abs(value):
+        elif abs(fd * (p or 1.0)) <= INSENSITIVE * abs(value):
             out[name] = "insensitive"
         else:
             out[name] = abs(got - fd) / abs(fd)
