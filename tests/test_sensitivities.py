@@ -97,6 +97,11 @@ def test_j125_2d_current_and_depth():
              at_least=2)
 
 
+def test_s67_3d_in_plane_current():
+    """S-lay solved in 3D (the current in the lay plane: no friction path): d/da."""
+    _compare(_case("s67", **{"solver.dimension": "3d"}), ["lay.stinger.a"], at_least=4)
+
+
 def test_regime_switch_is_nan_with_reason(monkeypatch):
     """S67 lifts off 1.2 m above the tip, 3.5e-5 1/m in a from bearing on it:
     a step of 5e-5 1/m crosses the switch, and every column is NaN with the
