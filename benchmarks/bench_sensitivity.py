@@ -47,8 +47,8 @@ STUDY_STEPS = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
 REFERENCE_STEP = 1e-3
 # a key's own reference step (absolute, its unit): S67's rollers change
 # contact (22 to 21) 3e-3 m up and move the overbend peak to another roller
-# between 1e-4 and 3e-4 m (a kink), so the reference's step is 1e-4 m there
-OWN_STEP = {"lay.stinger.height_shift": 1e-4}
+# between 1e-4 and 3e-4 m (a kink), so the reference's steps are 5e-5 and 1e-4 m there
+OWN_STEP = {"lay.stinger.height_shift": 5e-5}
 REFERENCE_TOL = 1e-11
 INSENSITIVE = 1e-3
 INPUTS = ("a", "stinger_radius", "roller_shift", "water_depth", "current_speed",
