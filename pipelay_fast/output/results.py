@@ -110,6 +110,11 @@ class Result:
         The profile columns of the case's functional load case (the case
         without its current) when its code check splits the current off
         (:meth:`pipelay_fast.input.checks.Checks.splits_current`), else None.
+    sensitivities : pandas.DataFrame or None
+        The derivatives of the summary's numeric columns by the keys that
+        ``pipelay_fast.solve(case, sensitivities=[...])`` named
+        (:func:`pipelay_fast.output.sensitivity.sensitivity_table`); None
+        when none were asked for.
     """
 
     def __init__(self, case: Case, summary: dict, columns: dict, state=None,
@@ -121,6 +126,7 @@ class Result:
         self.roller_columns = roller_columns
         self.state = state
         self.target = None
+        self.sensitivities = None
         self._profile = None
         self._rollers = None
 
