@@ -24,13 +24,14 @@ import dataclasses
 import math
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
 from .checks import Checks, check_inputs
 from .environment import Current, Environment, Seabed
 from .examples import case_file
+from .frame import check_vessel, to_seabed
 from .lay import Lay, RollerStinger, Stinger
 from .limits import ROUNDOFF, check_case
 from .pipe import Pipe
@@ -168,10 +169,16 @@ class Case:
     name : str
         Case name (file stem by default).
     pipe, environment, seabed, lay, solver
-        The tables.
+        The tables; ``lay`` is held in the seabed frame, whatever its
+        ``lay.frame`` (:func:`pipelay_fast.input.frame.to_seabed`).
     checks : Checks or None
         Table ``[checks]``, the code-check inputs; None: no code checks (their
         summary columns are NaN).
+    given_lay : Lay
+        The lay as given, in its own frame (``lay.frame``): what
+        :meth:`to_dict` writes and :meth:`with_changes` changes. Set on
+        construction; not compared (a waterline-frame case equals its
+        seabed-frame twin when their seabed-frame lays are equal).
     """
 
     name: str
@@ -181,6 +188,7 @@ class Case:
     lay: Lay
     solver: Solver
     checks: Checks | None = None
+    given_lay: Lay = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -189,10 +197,14 @@ class Case:
             instance(part, getattr(self, part), cls)
         if self.checks is not None:
             instance("checks", self.checks, Checks)
+        depth = self.environment.water_depth
+        assign(self, "given_lay", self.lay)
+        assign(self, "lay", to_seabed(self.lay, depth))
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
-        check_case(self)  # the model's limits first, then what the code checks need
+        check_case(self)  # the model's limits first, then the vessel, then the code checks
+        check_vessel(self.given_lay, self.lay, depth)
         check_inputs(self.pipe, self.checks)
 
     @property
@@ -285,6 +297,9 @@ class Case:
     def to_dict(self) -> dict:
         """Nested dict of TOML-able values; ``load_case(case.to_dict()) == case``."""
         tables = {"name": self.name} | {part: plain(getattr(self, part)) for part in _TABLES}
+        tables["lay"] = plain(self.given_lay)
+        if tables["lay"]["frame"] == "seabed":
+            del tables["lay"]["frame"]  # the default: a seabed-frame case's tables as before
         tables["seabed"].setdefault("stiffness", "rigid")
         if self.checks is not None:
             tables["checks"] = plain(self.checks)
@@ -417,7 +432,8 @@ def with_tables(base: Case, tables: Mapping, changed) -> Case:
     sweep builds one case per axis value). Raises ValueError as
     :func:`load_case` does."""
     parts = {part: _build(cls, tables.get(part, {}), part) if part in changed
-             else getattr(base, part) for part, cls in _TABLES.items()}
+             else getattr(base, "given_lay" if part == "lay" else part)
+             for part, cls in _TABLES.items()}
     for part, cls in _OPTIONAL_TABLES.items():
         if part not in changed:
             parts[part] = getattr(base, part)
