@@ -177,8 +177,9 @@ class Case:
     given_lay : Lay
         The lay as given, in its own frame (``lay.frame``): what
         :meth:`to_dict` writes and :meth:`with_changes` changes. Set on
-        construction; not compared (a waterline-frame case equals its
-        seabed-frame twin when their seabed-frame lays are equal).
+        construction, and compared: two cases are equal when their tables
+        are (a waterline-frame case and its seabed-frame twin have equal
+        ``lay`` and differ in ``given_lay``).
     """
 
     name: str
@@ -188,7 +189,7 @@ class Case:
     lay: Lay
     solver: Solver
     checks: Checks | None = None
-    given_lay: Lay = field(init=False, repr=False, compare=False)
+    given_lay: Lay = field(init=False, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:

@@ -1,0 +1,236 @@
+"""The vessel frame (``lay.frame``): the waterline frame gives the seabed
+frame's bits, the depth axis moves only the seabed, and the bad inputs are
+refused naming their key and value."""
+
+from __future__ import annotations
+
+import dataclasses
+from decimal import Decimal
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pipelay_fast as pf
+from pipelay_fast.input.frame import raised
+from pipelay_fast.study.dataset import read_summary
+from pipelay_fast.study.runner import run_sweep
+from pipelay_fast.study.sweep import Sweep, target_bounds
+from pipelay_fast.study.sweep_file import load_sweep
+from tests.helpers import EXAMPLES
+
+SWEEPS = Path(__file__).resolve().parents[1] / "sweeps"
+
+
+def waterline(name, lay):
+    """The bundled example ``name`` with its lay table replaced by ``lay`` in
+    the waterline frame."""
+    tables = pf.load_case(EXAMPLES / f"{name}.toml").to_dict()
+    tables["lay"] = {**{k: v for k, v in tables["lay"].items() if k not in ("top", "stinger")},
+                     **lay, "frame": "waterline"}
+    return pf.load_case(tables)
+
+
+S67_WATERLINE = {"stinger": {"a": -0.0012, "lower": [-25.5, 265.0], "upper": [5.0, 400.0]}}
+S125_WATERLINE = {"stinger": {"a": -0.0011, "lower": [-47.0, 305.0], "upper": [3.0, 440.0]}}
+
+
+def same_bits(a, b):
+    """Every profile column and summary value of two Results identical (the
+    solve time aside, and the case id, a hash of the tables as written)."""
+    assert a.columns.keys() == b.columns.keys()
+    for key in a.columns:
+        x, y = np.asarray(a.columns[key]), np.asarray(b.columns[key])
+        assert np.array_equal(x, y, equal_nan=x.dtype.kind in "fc"), key
+    for key, value in a.summary.items():
+        if key not in ("solve_seconds", "case_id"):
+            other = b.summary[key]
+            assert value == other or (value != value and other != other), key
+
+
+@pytest.mark.parametrize(("name", "lay"), [("s67", S67_WATERLINE), ("s125", S125_WATERLINE)])
+def test_the_papers_scenes_in_the_waterline_frame_give_the_same_bits(name, lay):
+    """S67 (tip 25.5 m below the water, upper end 5 m above) and S125 (47 m
+    below, 3 m above): the seabed-frame lay equals the example's, and the
+    solve gives the same bits."""
+    seabed = pf.load_case(EXAMPLES / f"{name}.toml")
+    case = waterline(name, lay)
+    assert case.lay == seabed.lay and case.given_lay.frame == "waterline"
+    assert case.given_lay.stinger.lower == tuple(lay["stinger"]["lower"])
+    same_bits(pf.solve(case), pf.solve(seabed))
+
+
+def test_rollers_written_as_decimal_elevations_are_the_seabed_floats():
+    """S67's 23 rollers written as elevations (their heights less 67 m, in
+    decimal) are the example's floats: the conversion adds decimals, where the
+    float sum 67.0 + e misses some of them by an ulp."""
+    seabed = pf.load_case(EXAMPLES / "s67_rollers.toml")
+    rollers = [[float(Decimal(repr(x)) - 67), z] for x, z in seabed.lay.stinger.rollers]
+    case = waterline("s67_rollers", {"top": [5.0, 400.0], "top_angle": seabed.lay.top_angle,
+                                     "stinger": {"rollers": rollers, "roller_type": "v"}})
+    assert case.lay == seabed.lay
+    assert any(67.0 + e != x for (e, _), (x, _) in zip(rollers, seabed.lay.stinger.rollers,
+                                                      strict=True))
+
+
+def test_the_conversion_is_the_correctly_rounded_decimal_sum():
+    """raised(d, e) is the float nearest the exact sum of the decimals d and
+    e (fractions), for depths and elevations of one and two decimals."""
+    rng = np.random.default_rng(7)
+    for _ in range(2000):
+        d = f"{rng.integers(100, 30000) / 10:.1f}"
+        e = f"{rng.integers(-9000, 2000) / 100:.2f}"
+        assert raised(float(d), float(e)) == float(Fraction(d) + Fraction(e)), (d, e)
+    assert raised(30.0, -25.3) == 4.7 != 30.0 + -25.3
+
+
+def test_the_case_keeps_its_frame_through_its_tables():
+    """to_dict writes the elevations as given; load_case reads them back to the
+    same case; a seabed-frame case's tables have no frame key."""
+    case = waterline("s67", S67_WATERLINE)
+    tables = case.to_dict()
+    assert tables["lay"]["frame"] == "waterline"
+    assert tables["lay"]["stinger"]["lower"] == [-25.5, 265.0]
+    assert pf.load_case(tables) == case
+    assert "frame" not in pf.load_case(EXAMPLES / "s67.toml").to_dict()["lay"]
+    assert case != pf.load_case(EXAMPLES / "s67.toml")  # equal lays, different tables
+
+
+@pytest.mark.parametrize("depth", [30.0, 45.3, 150.0, 300.0])
+def test_water_depth_moves_the_seabed_and_not_the_vessel(depth):
+    case = waterline("s67", S67_WATERLINE).with_changes({"environment.water_depth": depth})
+    st = case.lay.stinger
+    assert st.lower == (float(Fraction(str(depth)) - Fraction("25.5")), 265.0)
+    assert st.upper == case.lay.top == (float(Fraction(str(depth)) + 5), 400.0)
+    assert st.a == -0.0012 and case.given_lay.stinger.lower == (-25.5, 265.0)
+
+
+# --------------------------------------------------------------------------- bad input
+
+
+def refused(case, changes):
+    with pytest.raises(ValueError) as info:
+        case.with_changes(changes)
+    return str(info.value)
+
+
+def test_an_unknown_frame_is_refused():
+    message = refused(pf.load_case(EXAMPLES / "s67.toml"), {"lay.frame": "sea"})
+    assert message.startswith("lay.frame = 'sea' must be one of 'seabed', 'waterline'")
+
+
+@pytest.mark.parametrize(("changes", "start"), [
+    ({"environment.water_depth": 20.0}, "lay.stinger.lower = [-25.5, 265.0] is below the seabed"),
+    ({"lay.stinger.lower": [-70.0, 265.0]},
+     "lay.stinger.lower = [-70.0, 265.0] is below the seabed"),
+])
+def test_a_waterline_tip_below_the_seabed_is_refused(changes, start):
+    message = refused(waterline("s67", S67_WATERLINE), changes)
+    assert message.startswith(start) and "environment.water_depth" in message
+
+
+def test_a_waterline_hang_off_below_the_seabed_is_refused():
+    case = waterline("j125", {"top": [5.0, 440.0]})
+    message = refused(case, {"lay.top": [-130.0, 440.0]})
+    assert message.startswith("lay.top = [-130.0, 440.0] is not above the seabed")
+
+
+def test_a_waterline_roller_below_the_seabed_is_refused():
+    seabed = pf.load_case(EXAMPLES / "s67_rollers.toml")
+    rollers = [[x - 67.0, z] for x, z in seabed.lay.stinger.rollers]
+    case = waterline("s67_rollers", {"top": [5.0, 400.0], "top_angle": seabed.lay.top_angle,
+                                     "stinger": {"rollers": rollers}})
+    message = refused(case, {"environment.water_depth": 20.0})
+    assert message.startswith(f"lay.stinger.rollers[22] = {rollers[-1]} is below the seabed")
+
+
+@pytest.mark.parametrize("frame", ["seabed", "waterline"])
+def test_a_vessel_end_higher_above_the_water_than_the_tip_is_below_is_refused(frame):
+    """The issue's case: the S67 stinger copied into 45 m of water stands
+    72 - 45 = 27 m above it, its tip 45 - 41.5 = 3.5 m below; in the
+    waterline frame, an upper end 30 m above the water over a tip 25.5 m
+    below."""
+    if frame == "seabed":
+        base, changes = pf.load_case(EXAMPLES / "s67.toml"), {"environment.water_depth": 45.0}
+        key, above, below = "lay.stinger.upper = [72.0, 400.0]", "27 m", "3.5 m"
+    else:
+        base, changes = waterline("s67", S67_WATERLINE), {"lay.stinger.upper": [30.0, 400.0]}
+        key, above, below = "lay.stinger.upper = [30.0, 400.0]", "30 m", "25.5 m"
+    message = refused(base, changes)
+    assert message.startswith(f"{key} stands {above} above the still water")
+    assert f"is {below} below it" in message
+
+
+def test_a_roller_vessel_top_higher_above_the_water_than_its_last_roller_is_refused():
+    base = pf.load_case(EXAMPLES / "s67_rollers.toml")
+    message = refused(base, {"environment.water_depth": 45.0})
+    assert message.startswith("lay.top = [72.0, 400.0] stands 27 m above the still water")
+    assert "the last roller" in message
+
+
+def test_a_depth_axis_on_a_seabed_frame_case_is_refused():
+    sweep = {"case": "s67", "vary": {"depth": [60.0, 90.0]}}
+    with pytest.raises(ValueError, match=r"^vary\.depth = \[60\.0, 90\.0\] needs a vessel in "
+                                         r"the waterline frame.*lay\.frame = 'seabed'"):
+        load_sweep(sweep)
+    scene = {"name": "A", "case": "s67", "vary": {"depth": [60.0]}}
+    with pytest.raises(ValueError, match=r"^scenes\[0\]\.vary\.depth = \[60\.0\]"):
+        load_sweep({"scenes": [scene]})
+
+
+# --------------------------------------------------------------------------- depth sweeps
+
+
+def hand_shifted(method, depth):
+    """The lay table's case at ``depth`` [m] built in the seabed frame, its
+    vessel heights shifted by hand, as sweeps/lay_table.toml wrote them
+    before the waterline frame."""
+    still = {"environment.current.speed": 0.0, "environment.water_depth": depth}
+    if method == "S":
+        return pf.load_case(EXAMPLES / "s67.toml").with_changes(
+            still | {"lay.stinger.lower": [depth - 25.5, 265.0],
+                     "lay.stinger.upper": [depth + 5.0, 400.0], "name": "S"})
+    return pf.load_case(EXAMPLES / "j125.toml").with_changes(
+        still | {"lay.top": [depth + 5.0, 440.0], "pipe.inner_diameter": 0.55, "name": "J"})
+
+
+@pytest.mark.parametrize("file", ["lay_table.toml", "depth.toml"])
+def test_a_depth_sweep_gives_the_hand_shifted_cases(file):
+    """Case by case, the depth axis of one vessel in the waterline frame gives
+    the hand-shifted seabed-frame case: every table equal in the seabed frame,
+    with the lay table's brackets (100 kN + 1.3 w x_tip; 1.05 times the
+    hanging weight)."""
+    sweep = load_sweep(SWEEPS / file)
+    cases = sweep.cases()
+    assert {c.scene for c in cases} == {"S", "J"}
+    for c in cases:
+        depth = c.values["depth"]
+        hand = hand_shifted(c.scene, depth)
+        for part in ("pipe", "environment", "seabed", "lay", "solver", "checks"):
+            assert getattr(c.case, part) == getattr(hand, part), (c.scene, depth, part)
+        lo = (1e5 + 1.3 * 1241.0 * (depth - 25.5) if c.scene == "S"
+              else 1.05 * (3306.0 * depth + 7287.0 * 5.0))
+        assert target_bounds(c.source.target, c.case)[0] == pytest.approx(lo, rel=1e-12)
+
+
+def test_a_depth_sweep_solves_as_the_hand_shifted_cases(tmp_path):
+    """The depth sweep's answers at two depths of each vessel are the bits of
+    the target solve of the hand-shifted case on the same bracket."""
+    sweep = load_sweep(SWEEPS / "depth.toml")
+    scenes = tuple(dataclasses.replace(s, axes={"depth": ends})
+                   for s, ends in zip(sweep.scenes, ((60.0, 150.0), (250.0, 2000.0)),
+                                      strict=True))
+    run_sweep(Sweep("ends", scenes), tmp_path / "out", workers=1, progress=False)
+    rows = read_summary(tmp_path / "out").set_index(["scene", "water_depth"])
+    for scene in scenes:
+        t = scene.target
+        for depth in scene.axes["depth"]:
+            hand = hand_shifted(scene.name, depth)
+            result = pf.solve_for(hand, {t["column"]: t["goal"]}, t["vary"],
+                                  target_bounds(t, hand))
+            row = rows.loc[(scene.name, depth)]
+            assert row["status"] == "ok", row["message"]
+            assert row["target_value"] == result.target["value"]
+            assert row["layback"] == result.summary["layback"]
+            assert row[t["column"]] == pytest.approx(t["goal"], rel=1e-6)
