@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import pipelay_fast as pf
-from pipelay_fast.input.frame import raised
+from pipelay_fast.input.frame import raised, vessel_note
 from pipelay_fast.study.dataset import read_summary
 from pipelay_fast.study.runner import run_sweep
 from pipelay_fast.study.sweep import Sweep, target_bounds
@@ -61,17 +61,25 @@ def test_the_papers_scenes_in_the_waterline_frame_give_the_same_bits(name, lay):
     same_bits(pf.solve(case), pf.solve(seabed))
 
 
-def test_rollers_written_as_decimal_elevations_are_the_seabed_floats():
-    """S67's 23 rollers written as elevations (their heights less 67 m, in
-    decimal) are the example's floats: the conversion adds decimals, where the
-    float sum 67.0 + e misses some of them by an ulp."""
-    seabed = pf.load_case(EXAMPLES / "s67_rollers.toml")
-    rollers = [[float(Decimal(repr(x)) - 67), z] for x, z in seabed.lay.stinger.rollers]
-    case = waterline("s67_rollers", {"top": [5.0, 400.0], "top_angle": seabed.lay.top_angle,
-                                     "stinger": {"rollers": rollers, "roller_type": "v"}})
+@pytest.mark.parametrize("name", ["s67_rollers", "s67_radius"])
+def test_roller_stingers_written_as_decimal_elevations_give_the_same_bits(name):
+    """S67 on its 23 rollers, and on rollers placed on a radius from the
+    top, written as elevations (the heights less 67 m, in decimal): the
+    seabed-frame lay is the example's, and the solve (through the roller
+    guide's quadratic stinger) gives the same bits. The conversion adds
+    decimals, where the float sum 67.0 + e misses some rollers by an ulp."""
+    seabed = pf.load_case(EXAMPLES / f"{name}.toml")
+    lay = seabed.to_dict()["lay"]
+    lay["top"][0] = float(Decimal(repr(lay["top"][0])) - 67)
+    given = lay["stinger"].get("rollers", [])
+    for roller in given:
+        roller[0] = float(Decimal(repr(roller[0])) - 67)
+    case = waterline(name, {k: lay[k] for k in ("top", "top_angle", "stinger")})
     assert case.lay == seabed.lay
-    assert any(67.0 + e != x for (e, _), (x, _) in zip(rollers, seabed.lay.stinger.rollers,
-                                                      strict=True))
+    if given:
+        assert any(67.0 + e != x for (e, _), (x, _) in zip(given, seabed.lay.stinger.rollers,
+                                                          strict=True))
+    same_bits(pf.solve(case), pf.solve(seabed))
 
 
 def test_the_conversion_is_the_correctly_rounded_decimal_sum():
@@ -145,28 +153,38 @@ def test_a_waterline_roller_below_the_seabed_is_refused():
     assert message.startswith(f"lay.stinger.rollers[22] = {rollers[-1]} is below the seabed")
 
 
-@pytest.mark.parametrize("frame", ["seabed", "waterline"])
-def test_a_vessel_end_higher_above_the_water_than_the_tip_is_below_is_refused(frame):
+def test_a_stinger_copied_into_shallower_water_is_noted_in_the_message():
     """The issue's case: the S67 stinger copied into 45 m of water stands
-    72 - 45 = 27 m above it, its tip 45 - 41.5 = 3.5 m below; in the
-    waterline frame, an upper end 30 m above the water over a tip 25.5 m
-    below."""
-    if frame == "seabed":
-        base, changes = pf.load_case(EXAMPLES / "s67.toml"), {"environment.water_depth": 45.0}
-        key, above, below = "lay.stinger.upper = [72.0, 400.0]", "27 m", "3.5 m"
-    else:
-        base, changes = waterline("s67", S67_WATERLINE), {"lay.stinger.upper": [30.0, 400.0]}
-        key, above, below = "lay.stinger.upper = [30.0, 400.0]", "30 m", "25.5 m"
-    message = refused(base, changes)
-    assert message.startswith(f"{key} stands {above} above the still water")
-    assert f"is {below} below it" in message
+    72 - 45 = 27 m above it, its tip 45 - 41.5 = 3.5 m below. It solves, and
+    the result's message says so, naming the key and its value; in its own
+    depth the message is empty."""
+    s67 = pf.load_case(EXAMPLES / "s67.toml")
+    copied = pf.solve(s67.with_changes({"environment.water_depth": 45.0}))
+    assert copied.summary["status"] == "ok"
+    message = copied.summary["message"]
+    assert message.startswith("lay.stinger.upper = [72.0, 400.0] stands 27 m above the still "
+                              "water (lay.frame = 'seabed', environment.water_depth = 45.0 m)")
+    assert "(lay.stinger.lower = [41.5, 265.0]) is only 3.5 m below it" in message
+    assert pf.solve(s67).summary["message"] == ""
 
 
-def test_a_roller_vessel_top_higher_above_the_water_than_its_last_roller_is_refused():
-    base = pf.load_case(EXAMPLES / "s67_rollers.toml")
-    message = refused(base, {"environment.water_depth": 45.0})
-    assert message.startswith("lay.top = [72.0, 400.0] stands 27 m above the still water")
-    assert "the last roller" in message
+@pytest.mark.parametrize(("name", "changes", "start", "tip"), [
+    ("s67", {"lay.stinger.upper": [30.0, 400.0]},
+     "lay.stinger.upper = [30.0, 400.0] stands 30 m", "is only 25.5 m below it"),
+    ("s67_rollers", {"environment.water_depth": 45.0},
+     "lay.top = [72.0, 400.0] stands 27 m", "the last roller = [41.5, 265.0]) is only 3.5 m"),
+])
+def test_the_note_names_the_vessel_end_in_the_cases_frame(name, changes, start, tip):
+    """The note's rule on the case's own geometry: the vessel end's height
+    above the water against the tip's depth below it, in either frame; a
+    roller stinger's vessel end is lay.top and its tip the last roller."""
+    base = pf.load_case(EXAMPLES / f"{name}.toml")
+    if name == "s67":
+        base = waterline("s67", S67_WATERLINE)
+    case = base.with_changes(changes)
+    note = vessel_note(case.given_lay, case.lay, case.environment.water_depth)
+    assert note.startswith(start) and tip in note
+    assert vessel_note(base.given_lay, base.lay, base.environment.water_depth) == ""
 
 
 def test_a_depth_axis_on_a_seabed_frame_case_is_refused():

@@ -5,7 +5,9 @@ tables: ``pipe``, ``environment`` (+ ``current``), ``seabed``, ``lay``
 (+ ``stinger``), ``solver``, and optionally ``checks``, the code-check inputs
 of :class:`pipelay_fast.input.checks.Checks`). Every value is in SI units;
 coordinates follow the paper: ``x`` is the height above the seabed, ``y``
-lateral, ``z`` along the lay. Part of the input layer.
+lateral, ``z`` along the lay; the vessel's heights may be given from the
+still water level instead (``lay.frame``, :mod:`pipelay_fast.input.frame`).
+Part of the input layer.
 
 Every dataclass checks itself on construction, so a case built in Python, loaded
 from a file or modified with :meth:`Case.with_changes` is always valid. A bad
@@ -31,7 +33,7 @@ import numpy as np
 from .checks import Checks, check_inputs
 from .environment import Current, Environment, Seabed
 from .examples import case_file
-from .frame import check_vessel, to_seabed
+from .frame import to_seabed
 from .lay import Lay, RollerStinger, Stinger
 from .limits import ROUNDOFF, check_case
 from .pipe import Pipe
@@ -204,8 +206,7 @@ class Case:
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
-        check_case(self)  # the model's limits first, then the vessel, then the code checks
-        check_vessel(self.given_lay, self.lay, depth)
+        check_case(self)  # the model's limits first, then what the code checks need
         check_inputs(self.pipe, self.checks)
 
     @property

@@ -38,7 +38,8 @@ class Stinger:
         straight ramp (a = 0).
     lower, upper : (float, float)
         End points (x, z) [m]: the tip (x_L, z_L) and the vessel end (x_U, z_U);
-        b [-] and c [m] follow from them.
+        b [-] and c [m] follow from them. x in the frame of ``lay.frame``
+        (above the seabed by default).
 
     The geometry is checked up front: a concave-up stinger (a > 0) would hold
     the pipe at its ends only, not along the one contiguous stretch the model
@@ -174,7 +175,7 @@ class RollerStinger:
     rollers : list of (float, float) or None
         (x, z) [m] of each roller, from the vessel down: z falling and x
         falling from one to the next, all above the seabed and below and
-        behind ``lay.top``.
+        behind ``lay.top``; x in the frame of ``lay.frame``.
     radius, arc_length, spacing : float or None
         Or the rollers placed on a path from ``lay.top`` along
         ``lay.top_angle``: ``straight_length`` [m] straight, then a circular
@@ -322,9 +323,9 @@ class Lay:
         Unstretched length with a fixed lower end [m].
         Exactly one of the three tension keys is given.
     top : (float, float)
-        (x, z) of the pipe's upper end [m]; for S-lay on a quadratic stinger
-        its upper end; required with a roller stinger (where the vessel
-        holds the pipe, above the rollers).
+        (x, z) of the pipe's upper end [m], x in the frame of ``frame``; for
+        S-lay on a quadratic stinger its upper end; required with a roller
+        stinger (where the vessel holds the pipe, above the rollers).
     top_angle : float, "pinned" or None
         Prescribed top angle from horizontal [deg], in (0, 90], or "pinned".
         Omitted: pinned for J-lay; for S-lay the firing line, the pipe held
