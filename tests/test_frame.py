@@ -252,3 +252,33 @@ def test_a_depth_sweep_solves_as_the_hand_shifted_cases(tmp_path):
             assert row["target_value"] == result.target["value"]
             assert row["layback"] == result.summary["layback"]
             assert row[t["column"]] == pytest.approx(t["goal"], rel=1e-6)
+
+
+def test_select_chooses_a_at_each_depth_of_a_depth_axis(tmp_path):
+    """A scene over a and depth: one selection row per depth, its grid the
+    cases of that depth alone (the least peak stress of the grid is that
+    depth's), refined by solves at that depth; the text tells the depths
+    apart."""
+    from pipelay_fast.study.select import select
+    from pipelay_fast.study.select_format import format_selection
+
+    sweep = {"name": "ad", "set": {"solver.element_length": 8.0, "lay.frame": "waterline"},
+             "scenes": [{"name": "S", "case": "s67", "stinger_lower": [-25.5, 265.0],
+                         "stinger_upper": [5.0, 400.0], "water_depth": 100.0,
+                         "vary": {"a": [-0.0010, -0.0012, -0.0014], "depth": [67.0, 80.0]}}]}
+    root = tmp_path / "ad"
+    run_sweep(load_sweep(sweep), root, workers=1, progress=False)
+    summary = read_summary(root)
+    grid = select(root, refine=False)
+    refined = select(root, write=False)
+    assert grid["water_depth"].tolist() == refined["water_depth"].tolist() == [67.0, 80.0]
+    for depth, row in zip((67.0, 80.0), grid.itertuples(), strict=True):
+        rows = summary[summary["water_depth"] == depth]
+        assert len(rows) == 3 and row.n_grid == 3
+        assert row.min_max_von_mises == rows["max_von_mises"].min()
+    # 67 m: the least stress inside the grid, refined by solves at that depth,
+    # not the scene case's 100 m (80 m: least at the grid's end, no solve)
+    assert refined["n_solves"].iloc[0] > 0
+    assert refined["min_max_von_mises"].iloc[0] <= grid["min_max_von_mises"].iloc[0]
+    text = format_selection(refined)
+    assert "S@67m" in text and "S@80m" in text
