@@ -282,3 +282,14 @@ def test_select_chooses_a_at_each_depth_of_a_depth_axis(tmp_path):
     assert refined["min_max_von_mises"].iloc[0] <= grid["min_max_von_mises"].iloc[0]
     text = format_selection(refined)
     assert "S@67m" in text and "S@80m" in text
+    pytest.importorskip("matplotlib")
+    from pipelay_fast.study.plot import plot_sweep
+
+    select(root)  # (written: the figure reads it)
+    panels = [ax for ax in plot_sweep(root).axes if ax.get_visible()]
+    assert [ax.get_title().split(",")[1] for ax in panels] == [" depth 67 m", " depth 80 m"]
+    for ax, depth in zip(panels, (67.0, 80.0), strict=True):  # each its depth's 3 cases
+        rows = summary[summary["water_depth"] == depth].sort_values("a")
+        (overbend,) = [line for line in ax.get_lines() if line.get_label() == "overbend"]
+        assert np.allclose(overbend.get_ydata(), rows["overbend_max_von_mises"] / 1e6,
+                           rtol=1e-12)
