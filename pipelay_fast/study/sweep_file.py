@@ -32,10 +32,11 @@ scenes only, J-lay scenes ignore it), a roller stinger's ``stinger_radius``
 the water depth of a vessel in the waterline frame, ``lay.frame =
 "waterline"``, which moves the seabed and not the vessel; refused on a
 seabed-frame case, whose vessel would move with the seabed); a tension axis
-replaces whichever tension the base case gives. Scene keys: ``case``, ``method`` ("S" or "J"),
-``water_depth``, ``stinger_lower``, ``stinger_upper``, ``top`` ((x, z), m: the
-J-lay hang-off, or where the vessel holds the pipe above a roller stinger),
-``top_angle`` (deg), ``reference_a``, ``set``, ``vary`` and ``target``.
+replaces whichever tension the base case gives. Scene keys: ``case``,
+``method`` ("S" or "J"), ``water_depth``, ``stinger_lower``, ``stinger_upper``,
+``top`` ((x, z), m, x in the case's ``lay.frame``: the J-lay hang-off, or
+where the vessel holds the pipe above a roller stinger), ``top_angle`` (deg),
+``reference_a``, ``set``, ``vary`` and ``target``.
 
 A structural mistake (unknown key, a value of the wrong type, a bad range, a
 scene whose base case is invalid) refuses the whole file with a ValueError
