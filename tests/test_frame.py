@@ -293,3 +293,16 @@ def test_select_chooses_a_at_each_depth_of_a_depth_axis(tmp_path):
         (overbend,) = [line for line in ax.get_lines() if line.get_label() == "overbend"]
         assert np.allclose(overbend.get_ydata(), rows["overbend_max_von_mises"] / 1e6,
                            rtol=1e-12)
+
+
+def test_a_depth_bracket_survives_the_stored_spec():
+    """sweep.json's spec gives back the scenes' frame and depth-moved
+    brackets: at 300 m the S bracket starts 1613.3 N/m x 270 m above its
+    107 259.85 N at 30 m."""
+    sweep = load_sweep(SWEEPS / "lay_table.toml")
+    back = Sweep.from_spec(sweep.to_spec())
+    assert back.scenes == sweep.scenes
+    case = next(c for c in back.cases() if c.scene == "S" and c.values["depth"] == 300.0)
+    assert case.case.given_lay.frame == "waterline"
+    lo, hi = target_bounds(case.source.target, case.case)
+    assert (lo, hi) == (pytest.approx(107259.85 + 1613.3 * 270.0, rel=1e-15), 3e6)
