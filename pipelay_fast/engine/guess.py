@@ -335,7 +335,8 @@ def guide_case(case: Case) -> Case:
     the top angle so that it follows the rollers of a long radius (a
     curve through the last roller that ignores the top angle can lie well
     above them); both measured on random roller stingers,
-    benchmarks/bench_rollers.py part 3. Raises ValueError as
+    benchmarks/bench_rollers.py part 3. Its heights are in the seabed frame
+    (``lay.frame`` the default), as the engine reads them. Raises ValueError as
     :meth:`pipelay_fast.input.case.Case.with_changes` does."""
     lay = case.lay
     pts = lay.roller_positions()
@@ -357,4 +358,5 @@ def guide_case(case: Case) -> Case:
     if solver.min_element_length is not None:
         coarse["solver.min_element_length"] = T.GUIDE_COARSENING * solver.min_element_length
     return case.with_changes({"lay.stinger": {"a": a, "lower": [x_l, z_l], "upper": [x_u, z_u]},
-                              "lay.top": None, "lay.top_angle": angle, **coarse})
+                              "lay.top": None, "lay.top_angle": angle, "lay.frame": None,
+                              **coarse})

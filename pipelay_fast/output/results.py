@@ -17,6 +17,7 @@ import pandas as pd
 from ..engine.model import pin_jump
 from ..engine.state import Solution
 from ..input.case import Case
+from ..input.frame import vessel_note
 from ..kernels import layout as L
 from ..kernels.geometry import centreline_fields
 from .design import DESIGN_UNITS, bend_regions, design_columns, interior_peak
@@ -421,7 +422,7 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,
         "status": "ok",
-        "message": "",
+        "message": vessel_note(case.given_lay, case.lay, case.environment.water_depth),
         "top_tension": float(te[-1]),
         "bottom_tension": (sol.bottom_tension if sol.bottom_tension is not None
                            else float(te[0])),
