@@ -105,9 +105,10 @@ def tables(root: type = Case) -> list[tuple[str, type]]:
 
 
 def _fields(cls):
-    """(field, resolved annotation) pairs of a dataclass."""
+    """(field, resolved annotation) pairs of a dataclass's keys: its fields
+    but those it derives itself (``init=False``, e.g. ``Case.given_lay``)."""
     hints = typing.get_type_hints(cls)
-    return [(f, hints[f.name]) for f in dataclasses.fields(cls)]
+    return [(f, hints[f.name]) for f in dataclasses.fields(cls) if f.init]
 
 
 def _leaves(hint):
