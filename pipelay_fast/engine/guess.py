@@ -26,6 +26,7 @@ from ..input.case import Case
 from . import tuning as T
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
+from .supports import seabed_height
 
 
 @dataclass
@@ -49,6 +50,9 @@ class Guess:
         along the stinger's curve continued below the tip it would lift off
         (the guess then leaves from the tip; the pipe bears on it,
         :func:`pipelay_fast.engine.boundaries.bear_on_tip`). None otherwise.
+    x_tdp : float
+        Height of touchdown [m] on a sloped seabed whose catenary ``cat``
+        touches down on it (:func:`sloped_span`; heights from there), else 0.
     """
 
     cat: Catenary
@@ -57,6 +61,7 @@ class Guess:
     total: float
     liftoff_z: float | None = None
     tip_past: float | None = None
+    x_tdp: float = 0.0
 
 
 def weights(case: Case):
@@ -109,6 +114,27 @@ def free_span(case: Case) -> Catenary:
             f"and {z_top + x_top:g} m (hanging vertically from the top)"
         )
     return Catenary(h, w1, w2, depth, x_top)
+
+
+def sloped_span(case: Case, flat: Catenary):
+    """(the J-lay catenary from ``lay.top_tension`` touching down tangent to
+    the sloped seabed, touchdown's height x [m]), from the flat seabed's
+    ``flat``: touchdown's height is the seabed's under the catenary that
+    starts there, a fixed point, iterated while its steps shrink (they
+    shrink by about tan(slope) / tan(top angle) each)."""
+    lay = case.lay
+    x_top, z_top = lay.top
+    depth = case.environment.water_depth
+    tan0 = math.tan(case.seabed.slope)
+    x_td = float(seabed_height(case, z_top - flat.span))
+    step = math.inf
+    while True:
+        cat = from_top_tension(lay.top_tension, flat.w1, flat.w2, depth - x_td, x_top - x_td,
+                               tan0)
+        new = float(seabed_height(case, z_top - cat.span))
+        if not abs(new - x_td) < step:
+            return cat, x_td
+        step, x_td = abs(new - x_td), new
 
 
 def _tension_root(gap, weight, slack, taut):
@@ -270,13 +296,15 @@ def first_guess(case: Case, laid_of) -> Guess:
     :func:`slay_liftoff`."""
     lay = case.lay
     if lay.method == "J":
-        cat = free_span(case)
+        cat, x_tdp = free_span(case), 0.0
+        if case.seabed.slope != 0.0 and lay.top_tension is not None:
+            cat, x_tdp = sloped_span(case, cat)
         susp = cat.length
         if lay.pipe_length is not None:
             laid = lay.pipe_length - susp
         else:
             laid = laid_of(cat)
-        return Guess(cat, laid, None, laid + susp)
+        return Guess(cat, laid, None, laid + susp, x_tdp=x_tdp)
     if lay.pipe_length is not None:
         z_lo, cat, arc, past = _slay_span(case, _slay_bottom_tension(case))
         laid = lay.pipe_length - cat.length - arc
@@ -302,6 +330,8 @@ def shape(case: Case, g: Guess, s):
     th = np.where(on_bed, 0.0, th)
     te = np.where(on_bed, cat.h, te)
     kappa = np.where(on_bed, 0.0, np.cos(th) ** 2 * np.asarray(case.effective_weight(x)) / cat.h)
+    if case.seabed.slope != 0.0:
+        x, z, th = _onto_slope(case, g, s, x, z, th, z_tdp)
     if g.s_liftoff is not None:
         st = lay.stinger
         on_st = s >= g.s_liftoff
@@ -316,6 +346,30 @@ def shape(case: Case, g: Guess, s):
         te[on_st] = cat.h + _rise(cat.w1, cat.w2, depth, x[on_st])
         kappa[on_st] = 2.0 * st.a / (1.0 + slope**2) ** 1.5
     return x, z, th, te, kappa
+
+
+def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
+    """The guess (x, z [m], theta [rad] at arc lengths ``s`` [m], touchdown
+    at ``z_tdp`` [m]) onto a sloped seabed: the laid pipe on the slope's
+    line; the suspended span of a catenary touching down on the slope
+    (:func:`sloped_span`) raised to touchdown's height, a flat seabed's
+    sheared (its heights moved by the seabed's height under them, in full at
+    touchdown and not at the span's upper end; Newton corrects the rest).
+    The stinger's part is kept."""
+    angle = case.seabed.slope
+    on_bed = s < g.laid
+    z = np.where(on_bed, z_tdp - (g.laid - s) * math.cos(angle), z)
+    span = ~on_bed if g.s_liftoff is None else (~on_bed) & (s < g.s_liftoff)
+    if g.cat.tan0 != 0.0:  # the catenary touches down on the slope: its heights from there
+        x = np.where(on_bed, seabed_height(case, z), np.where(span, x + g.x_tdp, x))
+        return x, z, np.where(on_bed, angle, th)
+    x_end = float(g.cat.at(g.cat.length)[0])
+    share = np.clip(1.0 - x / x_end, 0.0, 1.0)
+    f = seabed_height(case, z)
+    tan_t = np.tan(th) * (1.0 - f / x_end) + math.tan(angle) * share
+    x = np.where(on_bed, f, np.where(span, x + f * share, x))
+    th = np.where(on_bed, angle, np.where(span, np.arctan(tan_t), th))
+    return x, z, th
 
 
 @functools.lru_cache(maxsize=256)

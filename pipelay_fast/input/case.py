@@ -29,7 +29,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from .checks import Checks, check_inputs
-from .environment import Current, Environment, Seabed
+from .environment import Current, Environment, Seabed, check_slope
 from .examples import case_file
 from .lay import Lay, RollerStinger, Stinger
 from .limits import ROUNDOFF, check_case
@@ -192,6 +192,7 @@ class Case:
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
+        check_slope(self)
         check_case(self)  # the model's limits first, then what the code checks need
         check_inputs(self.pipe, self.checks)
 
