@@ -160,13 +160,16 @@ def _tension_root(gap, weight, slack, taut):
     return h if 0.0 < h < math.inf else None
 
 
-def slay_liftoff(case: Case, bottom_tension: float | None = None):
+def slay_liftoff(case: Case, bottom_tension: float | None = None, x_td: float = 0.0,
+                 tan0: float = 0.0):
     """(z of lift-off [m], horizontal tension h [N], how far [m] below the
     tip on the stinger's curve continued the pipe would lift off, None when
     it lifts off above the tip or no lift-off is found) for S-lay.
 
     The tension comes from the lay's keys, or from ``bottom_tension`` [N] when
-    given (the pipe-length case searches over it). Where the pipe would leave
+    given (the pipe-length case searches over it); the catenary touches down
+    at height ``x_td`` [m] at the slope ``tan0`` (a sloped seabed, there
+    Te = h sqrt(1 + tan0^2)). Where the pipe would leave
     below the stinger's tip, the guess leaves from the tip, and the third
     value says how far below: the pipe bears on the tip, and
     :func:`.boundaries.regained_span` gives the gap span from it
@@ -188,10 +191,13 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         bottom = lay.bottom_tension if bottom_tension is None else bottom_tension
         return bottom + _rise(w1, w2, depth, x)
 
+    sec0 = math.sqrt(1.0 + tan0 * tan0)
+    rise_td = _rise(w1, w2, depth, x_td)
+
     def mismatch(z):
         x = float(st.height(z))
         cos_psi = 1.0 / math.sqrt(1.0 + float(st.slope(z)) ** 2)
-        return tension(x) * (1.0 - cos_psi) - _rise(w1, w2, depth, x)
+        return tension(x) * (1.0 - cos_psi * sec0) - (_rise(w1, w2, depth, x) - rise_td)
 
     # The cable's lift-off, on the stinger or on its curve continued below
     # the tip, down to the seabed or TIP_PAST_REACH stinger z ranges below
@@ -219,7 +225,7 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
                 past = None  # within the guess's error of the tip: Newton decides
     x_lo = float(st.height(z_lo))
     t_lo = tension(x_lo)
-    h = float(t_lo - _rise(w1, w2, depth, x_lo))
+    h = float(t_lo - (_rise(w1, w2, depth, x_lo) - rise_td)) / sec0
     if h <= 0.0:
         raise ValueError(
             f"lay.top_tension = {lay.top_tension:g} N cannot hold the pipe off the stinger: "
@@ -246,12 +252,26 @@ def _search_range(st):
 
 
 def _slay_span(case: Case, bottom_tension=None):
-    """Lift-off, catenary and stinger arc of an S-lay guess."""
+    """Lift-off, catenary, stinger arc, how far past the tip
+    (:func:`slay_liftoff`) and touchdown's height [m] of an S-lay guess. On a
+    sloped seabed (the top tension given) the catenary touches down tangent
+    to it: touchdown's height is the seabed's under the catenary that starts
+    there, a fixed point iterated while its steps shrink (as
+    :func:`sloped_span`)."""
     w1, w2 = weights(case)
     st = case.lay.stinger
-    z_lo, h, past = slay_liftoff(case, bottom_tension)
-    cat = Catenary(h, w1, w2, case.environment.water_depth, float(st.height(z_lo)))
-    return z_lo, cat, float(st.arc_length(z_lo, st.upper[1])), past
+    depth = case.environment.water_depth
+    sloped = case.seabed.slope != 0.0 and bottom_tension is None
+    tan0 = math.tan(case.seabed.slope) if sloped else 0.0
+    x_td, step = 0.0, math.inf
+    while True:
+        z_lo, h, past = slay_liftoff(case, bottom_tension, x_td, tan0)
+        x_lo = float(st.height(z_lo))
+        cat = Catenary(h, w1, w2, depth - x_td, x_lo - x_td, tan0)
+        new = float(seabed_height(case, z_lo - cat.span)) if sloped else x_td
+        if not abs(new - x_td) < step:
+            return z_lo, cat, float(st.arc_length(z_lo, st.upper[1])), past, x_td
+        step, x_td = abs(new - x_td), new
 
 
 def _slay_bottom_tension(case: Case) -> float:
@@ -264,7 +284,7 @@ def _slay_bottom_tension(case: Case) -> float:
     w1, w2 = weights(case)
 
     def gap(h):
-        z_lo, cat, arc, _past = _slay_span(case, h)
+        z_lo, cat, arc, _past, _x = _slay_span(case, h)
         return (z_lo - cat.span) - (length - cat.length - arc)
 
     # h -> 0: lift-off at the seabed, one flexural length (-> inf) up the
@@ -306,13 +326,13 @@ def first_guess(case: Case, laid_of) -> Guess:
             laid = laid_of(cat)
         return Guess(cat, laid, None, laid + susp, x_tdp=x_tdp)
     if lay.pipe_length is not None:
-        z_lo, cat, arc, past = _slay_span(case, _slay_bottom_tension(case))
+        z_lo, cat, arc, past, x_tdp = _slay_span(case, _slay_bottom_tension(case))
         laid = lay.pipe_length - cat.length - arc
     else:
-        z_lo, cat, arc, past = _slay_span(case)
+        z_lo, cat, arc, past, x_tdp = _slay_span(case)
         laid = laid_of(cat)
     s_lo = laid + cat.length
-    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, tip_past=past)
+    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, tip_past=past, x_tdp=x_tdp)
 
 
 def shape(case: Case, g: Guess, s):

@@ -42,7 +42,7 @@ from . import layout as L
 from ._jit import jit, phase
 from .assembly import element_forces
 from .element_shapes import WORK_SIZE, hermite
-from .layout import B_LO, B_TD, SUP_SEABED, SUP_POINT
+from .layout import B_LO, B_TD, SUP_POINT, SUP_SEABED
 from .supports import (
     frame_angle,
     in_curve_coords,
@@ -157,12 +157,13 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
 def _hold_on_line(nd, u, sup, k, top_node, w):
     """The nodes line support ``k`` holds, held on it (``w.cmask``,
     ``w.delta``, as :func:`_constraint_set`; the prescribed ends' unknowns
-    left as they are). The seabed: on it and tangent to it in the node's
-    frame (its own, turned by its angle) at its contacts, tangent at every contact node, touchdown's included,
-    and at the lower end (resting on a rigid seabed, or on an elastic one's
-    foundation). A support in curve coordinates: on it (c = 0) and tangent
-    to it (c' = 0) at its contacts, but at the lowest, the contact node with
-    free pipe below it (lift-off), whose tangency is lift-off's equation;
+    left as they are). The seabed, in the node's frame (its own, turned by
+    its angle): on it at its contacts, and tangent to it at every contact
+    node, touchdown's included, and at the lower end (resting on a rigid
+    seabed, or on an elastic one's foundation). A support in curve
+    coordinates: on it (c = 0) and tangent to it (c' = 0) at its contacts,
+    but at the lowest, the contact node with free pipe below it (lift-off),
+    whose tangency is lift-off's equation;
     the held top excepted. One call per support, not per node: the
     constraint set is built every iteration."""
     kind = sup.kind[k]

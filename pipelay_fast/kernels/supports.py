@@ -28,9 +28,9 @@ path in the iteration:
 The seabed is a plane x = level + tan(angle) (z - z0) (layout ``SB_*``); at
 angle 0 its arithmetic reduces to the flat seabed's to the bit (tan 0 = sin
 0 = 0, cos 0 = 1 exactly), and :func:`tangency` keeps the flat seabed's own
-branch where the general form would round differently (x' against x' - 0 z'). The small ones are phases
-(:func:`._jit.phase`, inlined into their callers), so that they add no
-kernel of their own to compile.
+branch where the general form would round differently (x' against x' - 0
+z'). The small ones are phases (:func:`._jit.phase`, inlined into their
+callers), so that they add no kernel of their own to compile.
 """
 
 from __future__ import annotations
@@ -50,8 +50,8 @@ from .layout import (
     ST_ZL,
     ST_ZU,
     SUP_CURVE,
-    SUP_SEABED,
     SUP_POINT,
+    SUP_SEABED,
 )
 
 

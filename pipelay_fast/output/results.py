@@ -344,7 +344,6 @@ def build_profile(case: Case, sol: Solution) -> dict:
     }
 
 
-
 def _bottom_tension(case: Case, sol: Solution, s, te, s_tdp: float) -> float:
     """The bottom tension [N]: on a flat seabed the effective tension at the
     lower end (the solve's, when it slides); on a sloped one the effective
