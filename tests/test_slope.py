@@ -188,3 +188,68 @@ def test_slay_on_a_slope_matches_the_elastica(slope):
     assert abs(d["sag_moment"]) < 3e-3, d
     assert abs(d["tdp_z"]) < 0.01, d
     assert abs(d["liftoff_z"]) < 0.01, d
+
+
+@pytest.mark.parametrize(("name", "dimension"), [("j125_2d", "2d"), ("s67", "2d"),
+                                                 ("s67", "3d")])
+def test_slope_zero_is_the_flat_seabed_to_the_bit(name, dimension):
+    """A seabed of slope 0 through any origin is the flat seabed: the same
+    answer to the bit (its arithmetic reduces exactly: tan 0 = sin 0 = 0,
+    cos 0 = 1)."""
+    flat = pf.load_case(name).with_changes({"checks": None, "solver.dimension": dimension})
+    zero = flat.with_changes({"seabed.slope_deg": 0.0, "seabed.slope_origin": 123.4})
+    a, b = pf.solve(flat), pf.solve(zero)
+    assert a.summary["status"] == "ok"
+    for col, values in a.columns.items():
+        assert np.array_equal(values, b.columns[col]), col
+    for key, value in a.summary.items():
+        if key not in ("case_id", "solve_seconds"):
+            assert value == b.summary[key] or value != value, key  # (NaN: not applicable)
+
+
+def test_the_seabed_line_under_the_pipe():
+    """The laid pipe lies on the plane x = (z - z0) tan(alpha), and the
+    seabed's normal reaction over each laid node balances the pipe's weight
+    per length's normal share, w cos(alpha), over the laid stretch (its
+    nodes' reactions summed over their length, touchdown's node apart)."""
+    case = _case("j125_2d", 6.0, 150.0)
+    r = pf.solve(case)
+    cols = r.columns
+    tan_a = math.tan(math.radians(6.0))
+    laid = np.asarray(cols["contact"]) == "seabed"
+    x, z = np.asarray(cols["x"]), np.asarray(cols["z"])
+    assert np.abs(x[laid] - (z[laid] - 150.0) * tan_a).max() < 1e-9
+    s = np.asarray(cols["s"])
+    k = np.flatnonzero(laid)[1:-2]  # inner laid nodes, away from touchdown's reaction
+    w, _ = weights(case)
+    share = 0.5 * (s[k + 1] - s[k - 1])
+    per_length = np.asarray(cols["seabed_reaction"])[k] / share
+    assert per_length == pytest.approx(w * math.cos(math.radians(6.0)), rel=1e-6)
+
+
+@pytest.mark.parametrize(("changes", "key"), [
+    ({"seabed.slope_deg": 30.5}, "seabed.slope_deg"),
+    ({"seabed.slope_deg": -31.0}, "seabed.slope_deg"),
+    ({"seabed.slope_deg": float("nan")}, "seabed.slope_deg"),
+    ({"seabed.slope_deg": "steep"}, "seabed.slope_deg"),
+    ({"seabed.slope_deg": True}, "seabed.slope_deg"),
+    ({"seabed.slope_origin": float("inf")}, "seabed.slope_origin"),
+    ({"seabed.slope_deg": 5.0, "seabed.stiffness": 1e6}, "seabed.stiffness"),
+    ({"seabed.slope_deg": 5.0, "lay.top_tension": None, "lay.bottom_tension": 4e5},
+     "lay.bottom_tension"),
+    ({"seabed.slope_deg": 5.0, "environment.current.speed": 1.0}, "seabed.lateral_friction"),
+])
+def test_a_bad_slope_is_refused_naming_the_key(changes, key):
+    """A slope beyond 30 deg either way, one that is not a finite number, and
+    what a slope does not support (an elastic seabed, a given bottom
+    tension, friction on the current's path) are refused naming the key."""
+    base = pf.load_case("j125_2d").with_changes({"environment.current.speed": 0.0})
+    with pytest.raises(ValueError, match=key.replace(".", r"\.")):
+        base.with_changes(changes)
+
+
+def test_thirty_degrees_is_accepted():
+    """The limit itself is a valid input."""
+    case = pf.load_case("j125_2d").with_changes({"environment.current.speed": 0.0,
+                                                 "seabed.slope_deg": -30.0})
+    assert case.seabed.slope_deg == -30.0
