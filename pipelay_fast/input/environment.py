@@ -172,10 +172,11 @@ class Seabed:
 
 def check_slope(case) -> None:
     """Refuse what a sloped seabed (``seabed.slope_deg`` not 0) does not
-    support, naming the keys: an elastic seabed, seabed friction on the
-    current's path, and a given bottom tension (on a slope the laid pipe's
-    tension changes along it, so the tension at the modelled lower end is
-    not a property of the lay)."""
+    support, naming the keys: an elastic seabed, a given bottom tension (on a
+    slope the laid pipe's tension changes along it, so the tension at the
+    modelled lower end is not a property of the lay), the vessel's top, the
+    stinger's tip or a roller at or below the seabed, and seabed friction on
+    the current's path."""
     bed = case.seabed
     if bed.slope_deg == 0.0:
         return
@@ -187,6 +188,18 @@ def check_slope(case) -> None:
         raise ValueError(f"{head}: lay.bottom_tension = {case.lay.bottom_tension!r} N is "
                          "refused on a slope (the laid pipe's tension changes along it); "
                          "give lay.top_tension or lay.pipe_length")
+    lay = case.lay
+    points = [("lay.top", lay.top)]
+    if lay.curve is not None:
+        points.append(("lay.stinger.lower", lay.curve.lower))
+    rollers = lay.roller_positions()
+    if rollers is not None:
+        points += [(f"lay.stinger.rollers[{i}]", tuple(p)) for i, p in enumerate(rollers)]
+    tan_a = math.tan(bed.slope)
+    for key, (x, z) in points:
+        if x <= (z - bed.slope_origin) * tan_a:
+            raise ValueError(f"{head} with seabed.slope_origin = {bed.slope_origin!r} m puts "
+                             f"the seabed at or above {key} = {[float(x), float(z)]}")
     friction = bed.lateral_friction > 0.0 or bed.axial_friction > 0.0
     if friction and case.environment.current.speed > 0.0:
         raise ValueError(f"{head}: seabed friction (seabed.lateral_friction = "
