@@ -120,21 +120,50 @@ def sloped_span(case: Case, flat: Catenary):
     """(the J-lay catenary from ``lay.top_tension`` touching down tangent to
     the sloped seabed, touchdown's height x [m]), from the flat seabed's
     ``flat``: touchdown's height is the seabed's under the catenary that
-    starts there, a fixed point, iterated while its steps shrink (they
-    shrink by about tan(slope) / tan(top angle) each)."""
+    starts there (:func:`on_seabed`)."""
     lay = case.lay
     x_top, z_top = lay.top
     depth = case.environment.water_depth
     tan0 = math.tan(case.seabed.slope)
-    x_td = float(seabed_height(case, z_top - flat.span))
-    step = math.inf
-    while True:
+
+    def under(x_td):
         cat = from_top_tension(lay.top_tension, flat.w1, flat.w2, depth - x_td, x_top - x_td,
                                tan0)
-        new = float(seabed_height(case, z_top - cat.span))
-        if not abs(new - x_td) < step:
-            return cat, x_td
-        step, x_td = abs(new - x_td), new
+        return float(seabed_height(case, z_top - cat.span)), cat
+
+    x_td, cat = on_seabed(float(seabed_height(case, z_top - flat.span)), under,
+                          _height_error(case, flat.h))
+    return cat, x_td
+
+
+def _height_error(case: Case, h: float) -> float:
+    """The guess's error [m] in touchdown's height on a sloped seabed:
+    touchdown a flexural length sqrt(EI/h) off (``h`` [N] the catenary's
+    tension) along the seabed, times tan(slope)."""
+    return abs(math.tan(case.seabed.slope)) * math.sqrt(case.pipe.bending_stiffness / h)
+
+
+def on_seabed(start: float, under, enough: float):
+    """(x, payload): touchdown's height x [m] on a sloped seabed, where
+    ``under(x)`` = (the seabed's height [m] under the touchdown of the
+    catenary that touches down at height x, that catenary's payload) meets
+    x. Secant steps on r(x) = under(x)[0] - x from ``start`` while |r|
+    shrinks, until it is below ``enough`` [m] (r is nearly linear: a few
+    steps). The guess's own error sets ``enough``: touchdown is a flexural
+    length sqrt(EI/h) off along the seabed (:mod:`.guess`), its height that
+    times tan(slope)."""
+    xa = start
+    ya, pa = under(xa)
+    ra = ya - xa
+    xb = ya
+    yb, pb = under(xb)
+    rb = yb - xb
+    while enough <= abs(rb) < abs(ra):
+        xc = xb - rb * (xb - xa) / (rb - ra)
+        yc, pc = under(xc)
+        xa, ra, pa = xb, rb, pb
+        xb, rb, pb = xc, yc - xc, pc
+    return (xb, pb) if abs(rb) <= abs(ra) else (xa, pa)
 
 
 def _tension_root(gap, weight, slack, taut):
@@ -256,22 +285,23 @@ def _slay_span(case: Case, bottom_tension=None):
     (:func:`slay_liftoff`) and touchdown's height [m] of an S-lay guess. On a
     sloped seabed (the top tension given) the catenary touches down tangent
     to it: touchdown's height is the seabed's under the catenary that starts
-    there, a fixed point iterated while its steps shrink (as
-    :func:`sloped_span`)."""
+    there (:func:`on_seabed`)."""
     w1, w2 = weights(case)
     st = case.lay.stinger
     depth = case.environment.water_depth
     sloped = case.seabed.slope != 0.0 and bottom_tension is None
     tan0 = math.tan(case.seabed.slope) if sloped else 0.0
-    x_td, step = 0.0, math.inf
-    while True:
+
+    def under(x_td):
         z_lo, h, past = slay_liftoff(case, bottom_tension, x_td, tan0)
-        x_lo = float(st.height(z_lo))
-        cat = Catenary(h, w1, w2, depth - x_td, x_lo - x_td, tan0)
-        new = float(seabed_height(case, z_lo - cat.span)) if sloped else x_td
-        if not abs(new - x_td) < step:
-            return z_lo, cat, float(st.arc_length(z_lo, st.upper[1])), past, x_td
-        step, x_td = abs(new - x_td), new
+        cat = Catenary(h, w1, w2, depth - x_td, float(st.height(z_lo)) - x_td, tan0)
+        return float(seabed_height(case, z_lo - cat.span)), (z_lo, cat, past)
+
+    x_td = 0.0
+    _x, (z_lo, cat, past) = under(0.0)
+    if sloped:
+        x_td, (z_lo, cat, past) = on_seabed(0.0, under, _height_error(case, cat.h))
+    return z_lo, cat, float(st.arc_length(z_lo, st.upper[1])), past, x_td
 
 
 def _slay_bottom_tension(case: Case) -> float:

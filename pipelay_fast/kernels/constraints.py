@@ -191,14 +191,16 @@ def _hold_on_line(nd, u, sup, k, top_node, w):
 
 
 @jit(by_dimension=True, _nrt=True)
-def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
+def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row, phi):
     """Touchdown's equation: the moment at touchdown on the free side, the
     residual [N m] of the first free element at the slope unknown of its lower
     node (on the seabed, its slope held), which vanishes with that moment as
     the continuum's does (the laid side carries none). It is the element's
     nodal residual, not the end moment of its cubic: that one converges an
     order slower, and the laid element's consistent-load couple would enter a
-    node-equilibrium form of it.
+    node-equilibrium form of it. The slope unknown is the node's frame's,
+    turned by ``phi`` [rad] (a sloped seabed's: the normal component of r',
+    x' cos(phi) - z' sin(phi), the turn of the tangent; x' when flat).
     ``row`` gets its derivative d/du; returns it and d/ds_T at fixed u."""
     ndn = 2 * nd + 1
     ne = 2 * ndn
@@ -210,6 +212,13 @@ def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
     sec = model.section[e]
     element_forces(nd, s_el[e], u[e * ndn:e * ndn + ne], model, sec, torques[e], fe, ke,
                    want, dfe, want, np.empty(WORK_SIZE), np.empty((3, 3)))
+    if phi != 0.0:  # the slope unknown of the node's frame (x' row of the turned pair)
+        c = math.cos(phi)
+        s = math.sin(phi)
+        fe[nd] = c * fe[nd] - s * fe[2 * nd - 1]
+        dfe[nd] = c * dfe[nd] - s * dfe[2 * nd - 1]
+        for j in range(ne):
+            ke[nd, j] = c * ke[nd, j] - s * ke[2 * nd - 1, j]
     if not want:
         return fe[nd], 0.0
     for i in range(row.shape[0]):

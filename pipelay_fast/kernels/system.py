@@ -119,7 +119,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     if bnodes[B_TD] >= 0:
         row = w.row_td if want_tangent else w.no_row
         m_td, own = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[B_TD],
-                                 mesh.s_b[B_TD], row)
+                                 mesh.s_b[B_TD], row, sup.phi_rp[bnodes[B_TD]])
         if want_tangent:
             w.own_td[0] = own
     return te_top, m_td
