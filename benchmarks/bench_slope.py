@@ -1,7 +1,7 @@
 """The sloped seabed's cost (issue 45, target 5): a sloped seabed's solve
 against the flat one's, same run.
 
-    python benchmarks/bench_slope.py [--repeats 7] [--slopes -8 -4 4 8]
+    python benchmarks/bench_slope.py [--repeats 21] [--slopes -8 -4 4 8]
 
 Scenes: J125, S67 and S125 in the plane (current off), in 2D and in 3D
 (``solver.dimension = "3d"``), the sloped seabed through x = 0 at the flat
@@ -55,7 +55,7 @@ def _timed(case):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--repeats", type=int, default=21)
     parser.add_argument("--slopes", type=float, nargs="+", default=[-8.0, -4.0, 4.0, 8.0])
     args = parser.parse_args(argv)
     print(_machine())

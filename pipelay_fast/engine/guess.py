@@ -131,8 +131,8 @@ def sloped_span(case: Case, flat: Catenary):
                                tan0)
         return float(seabed_height(case, z_top - cat.span)), cat
 
-    x_td, cat = on_seabed(float(seabed_height(case, z_top - flat.span)), under,
-                          _height_error(case, flat.h))
+    start = float(seabed_height(case, z_top - flat.span))
+    x_td, cat = on_seabed(start, under(start), under, _height_error(case, flat.h))
     return cat, x_td
 
 
@@ -143,17 +143,17 @@ def _height_error(case: Case, h: float) -> float:
     return abs(math.tan(case.seabed.slope)) * math.sqrt(case.pipe.bending_stiffness / h)
 
 
-def on_seabed(start: float, under, enough: float):
+def on_seabed(start: float, first, under, enough: float):
     """(x, payload): touchdown's height x [m] on a sloped seabed, where
     ``under(x)`` = (the seabed's height [m] under the touchdown of the
     catenary that touches down at height x, that catenary's payload) meets
-    x. Secant steps on r(x) = under(x)[0] - x from ``start`` while |r|
-    shrinks, until it is below ``enough`` [m] (r is nearly linear: a few
-    steps). The guess's own error sets ``enough``: touchdown is a flexural
-    length sqrt(EI/h) off along the seabed (:mod:`.guess`), its height that
-    times tan(slope)."""
+    x. Secant steps on r(x) = under(x)[0] - x from ``start`` (``first`` its
+    ``under``) while |r| shrinks, until it is below ``enough`` [m] (r is
+    nearly linear: a few steps). The guess's own error sets ``enough``:
+    touchdown is a flexural length sqrt(EI/h) off along the seabed
+    (:mod:`.guess`), its height that times tan(slope)."""
     xa = start
-    ya, pa = under(xa)
+    ya, pa = first
     ra = ya - xa
     xb = ya
     yb, pb = under(xb)
@@ -298,9 +298,10 @@ def _slay_span(case: Case, bottom_tension=None):
         return float(seabed_height(case, z_lo - cat.span)), (z_lo, cat, past)
 
     x_td = 0.0
-    _x, (z_lo, cat, past) = under(0.0)
+    first = under(0.0)
+    z_lo, cat, past = first[1]
     if sloped:
-        x_td, (z_lo, cat, past) = on_seabed(0.0, under, _height_error(case, cat.h))
+        x_td, (z_lo, cat, past) = on_seabed(0.0, first, under, _height_error(case, cat.h))
     return z_lo, cat, float(st.arc_length(z_lo, st.upper[1])), past, x_td
 
 
