@@ -256,3 +256,16 @@ def test_thirty_degrees_is_accepted():
     case = pf.load_case("j125_2d").with_changes({"environment.current.speed": 0.0,
                                                  "seabed.slope_deg": -30.0})
     assert case.seabed.slope_deg == -30.0
+
+
+@pytest.mark.parametrize(("name", "origin"), [("j125_2d", 134.0), ("s67", 60.0)])
+@pytest.mark.parametrize("slope", [-6.0, 6.0])
+def test_3d_without_lateral_load_is_the_plane_answer_on_a_slope(name, origin, slope):
+    """In 3D with no lateral load the sloped seabed's answer is the planar
+    one (the nodal frames turn x and z, y untouched): tension at touchdown,
+    touchdown, the sagbend's peak moment and stress to 1e-9."""
+    base = _case(name, slope, origin)
+    a = _engine(base.with_changes({"solver.dimension": "2d"}))
+    b = _engine(base.with_changes({"solver.dimension": "3d"}))
+    for key in ("bottom_tension", "tdp_z", "sagbend_max_moment", "max_von_mises"):
+        assert b[key] == pytest.approx(a[key], rel=1e-9), key
