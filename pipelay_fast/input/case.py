@@ -31,7 +31,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from .checks import Checks, check_inputs
-from .environment import Current, Environment, Seabed
+from .environment import Current, Environment, Seabed, check_slope
 from .examples import case_file
 from .frame import to_seabed
 from .lay import Lay, RollerStinger, Stinger
@@ -206,6 +206,7 @@ class Case:
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
+        check_slope(self)
         check_case(self)  # the model's limits first, then what the code checks need
         check_inputs(self.pipe, self.checks)
 

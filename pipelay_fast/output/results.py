@@ -351,6 +351,15 @@ def build_profile(case: Case, sol: Solution) -> dict:
     }
 
 
+def _bottom_tension(case: Case, sol: Solution, s, te, s_tdp: float) -> float:
+    """The bottom tension [N]: on a flat seabed the effective tension at the
+    lower end (the solve's, when it slides); on a sloped one the effective
+    tension at touchdown, ``te`` [N] at ``s_tdp`` [m] along ``s`` (along the
+    laid pipe it changes by the weight's component, seabed.slope_deg)."""
+    if case.seabed.slope != 0.0:
+        return float(np.interp(s_tdp, s, te))
+    return sol.bottom_tension if sol.bottom_tension is not None else float(te[0])
+
 def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = None,
                   functional: dict | None = None) -> dict:
     """The summary row (the columns of ``SUMMARY_UNITS``) of one solved case
@@ -424,8 +433,7 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
         "status": "ok",
         "message": vessel_note(case.given_lay, case.lay, case.environment.water_depth),
         "top_tension": float(te[-1]),
-        "bottom_tension": (sol.bottom_tension if sol.bottom_tension is not None
-                           else float(te[0])),
+        "bottom_tension": _bottom_tension(case, sol, s, te, s_tdp),
         "tdp_z": z_tdp,
         "liftoff_z": liftoff_z,
         "liftoff_angle_deg": liftoff_angle,
