@@ -172,3 +172,20 @@ def test_hermite_newton_confirms_and_corrects():
     assert 1e-6 < abs(calls[0] - math.log(2.0)) < 1e-5  # (the first trial alone misses)
     _, brent = brentq(lambda x: math.exp(x) - 2.0, 0.6, 0.8, xtol=1e-10, full_output=True)
     assert brent.function_calls - 2 > n
+
+
+def test_the_reasons_name_each_reason_once_with_its_rows():
+    """A reason holding "; " stays whole; a key the scene's case lacks is said."""
+    import pandas as pd
+
+    from pipelay_fast.study.sensitivity import sensitivity_values
+
+    why = f"{KEY}: 3D with friction; the slip set changes"
+    table = pd.DataFrame({KEY: [math.nan, math.nan, 2.0], "unit": ["Pa", "m", "m"],
+                          "reason": [why, why, ""]}, index=["p", "q", "r"])
+    values = sensitivity_values(table, [KEY], [KEY, "lay.top_tension"])
+    assert values[f"d_r__d_{KEY}"] == 2.0
+    assert values["sensitivity_reasons"] == (
+        f"{why} [p, q]; lay.top_tension: not a number in the scene's case")
+    assert sensitivity_values(None, (), [KEY]) == {
+        "sensitivity_reasons": f"{KEY}: not a number in the scene's case"}

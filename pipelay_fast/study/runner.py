@@ -213,7 +213,7 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
     notice_given()  # by the process that runs the sweep
     rows, parts, roller_parts, times = [], [], [], {"solve": 0.0, "solve_cpu": 0.0}
     for chain in task:
-        for sc, row, result, dt, cpu in solve_chain(chain, warm_start):
+        for sc, row, result, dt, cpu in solve_chain(chain, warm_start, sensitivities):
             rows.append(row)
             times["solve"] += dt
             times["solve_cpu"] += cpu
@@ -239,7 +239,7 @@ def _joined(parts: list[tuple[str, dict]]) -> dict | None:
             **{k: np.concatenate([columns[k] for _cid, columns in parts]) for k in first}}
 
 
-def solve_chain(chain: list[SweepCase], warm_start: bool = True):
+def solve_chain(chain: list[SweepCase], warm_start: bool = True, sensitivities: tuple = ()):
     """Yield (case, summary row, Result or None, wall and processor seconds in
     ``pf.solve``) along one chain.
 
@@ -249,7 +249,8 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
     SolveError, a gated case, a target out of reach) becomes a row with
     status "failed" and the reason in ``message``. A scene with a target solves each case for it
     (:func:`pipelay_fast.solve_for`, its first trial warm from the chain). A
-    scene with sensitivities adds their columns to each row
+    row has the columns of the sweep's ``sensitivities`` that its scene's
+    case gives, and the reasons for the others' NaN
     (:func:`pipelay_fast.study.sensitivity.sensitivity_values`).
     """
     previous = None
@@ -272,8 +273,9 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
         row = {**result.summary, **_given(sc), **base, "warm_started": warm is not None}
         if result.target is not None:
             row["target_value"] = result.target["value"]
-        if result.sensitivities is not None:
-            row.update(sensitivity_values(result.sensitivities, sc.source.sensitivities))
+        if sensitivities:
+            row.update(sensitivity_values(result.sensitivities, sc.source.sensitivities,
+                                          sensitivities))
         yield sc, row, result, dt, cpu
 
 

@@ -94,21 +94,24 @@ def sensitivity_columns(keys: Sequence[str]) -> dict[str, str]:
     return columns
 
 
-def sensitivity_values(table, keys: Sequence[str]) -> dict:
+def sensitivity_values(table, keys: Sequence[str], asked: Sequence[str] = ()) -> dict:
     """The sensitivity columns of one summary row from ``table`` (a
-    ``Result.sensitivities`` with a column for each of ``keys``), and the
-    reasons for NaN, each distinct reason once per key with the rows it
-    concerns ("key: reason [rows]")."""
-    values = {column_name(row, key): float(table.at[row, key])
-              for key in keys for row in table.index}
-    reasons: dict[str, list[str]] = {}
-    for row, text in table["reason"].items():
-        for part in filter(None, text.split("; ")):
-            reasons.setdefault(part, []).append(row)
-    every = len(table.index)
-    values[REASONS] = "; ".join(
-        f"{reason} [{'every row' if len(rows) == every else ', '.join(rows)}]"
-        for reason, rows in reasons.items())
+    ``Result.sensitivities`` with a column for each of ``keys``; None
+    without keys), and in ``sensitivity_reasons`` the reasons for NaN: each
+    distinct reason once, with the rows it concerns ("key: reason [rows]"),
+    and each of the sweep's keys ``asked`` not in ``keys`` as not given."""
+    values, rows_of = {}, {}
+    if table is not None:
+        values = {column_name(row, key): float(table.at[row, key])
+                  for key in keys for row in table.index}
+        for row, text in table["reason"].items():
+            if text:
+                rows_of.setdefault(text, []).append(row)
+    every = 0 if table is None else len(table.index)
+    reasons = [f"{text} [{'every row' if len(rows) == every else ', '.join(rows)}]"
+               for text, rows in rows_of.items()]
+    reasons += [f"{key}: not a number in the scene's case" for key in asked if key not in keys]
+    values[REASONS] = "; ".join(reasons)
     return values
 
 
