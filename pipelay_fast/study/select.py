@@ -14,15 +14,23 @@ and heading, tension) two choices are made from the grid of ``a`` values:
   evaluation a solve warm-started from the nearest case solved so far.
 * ``a_equal_peaks``: the ``a`` at which the overbend and sagbend peaks are
   equal, the root of ``overbend_max_von_mises - sagbend_max_von_mises`` found
-  by :func:`scipy.optimize.brentq` between the two grid points that bracket
-  it (the bracket of lowest stress when there are several), warm-started too.
+  between the two grid points that bracket it (the bracket of lowest stress
+  when there are several), warm-started too: by :func:`scipy.optimize.brentq`
+  on solves, or, where the sweep has both peaks' derivatives by the design
+  axis's key at both points (the sweep file's ``sensitivities``), by the
+  root of their cubic Hermite interpolant, confirmed and corrected by Newton
+  on solves (:mod:`.select_refine`; without ``refine``, that root
+  unconfirmed, the stress there interpolated linearly and the answers the
+  nearest grid point's). ``n_solves_equal_peaks`` counts its solves,
+  ``n_solves`` all the group's.
 
 At the equal-peaks ``a`` the selection also gives the lay's answers there:
 ``equal_peaks_max_utilisation`` (the DNVGL-ST-F101 checks, NaN without a
 ``[checks]`` table) and ``equal_peaks_tip_clearance`` [m].
 
 Refinement needs the scenes' base cases, which the sweep stores in
-``sweep.json``; ``refine=False`` reports the grid values only.
+``sweep.json``; ``refine=False`` reports the grid values only (and the
+roots the sensitivities give, unconfirmed).
 
 Limits (:mod:`.limits`: the sweep file's ``[select]`` table, or the
 ``limits`` argument, which overrides it key by key) bound summary columns:
@@ -32,10 +40,12 @@ and the roller reaction. From the grid, interpolated linearly between grid
 points, the selection gives the feasible range of ``a``
 (``a_feasible_min``, ``a_feasible_max``; the widest, when there are
 several; with ``refine``, an end a limit binds is the root of that
-limit's margin by warm-started solves, :func:`scipy.optimize.brentq`
-between the grid points around it), the limit binding at each end (``feasible_min_binds``,
-``feasible_max_binds``: "grid end" where none does), whether the
-equal-peaks ``a`` is inside a feasible range (``equal_peaks_feasible``)
+limit's margin between the grid points around it, found as the equal
+peaks are, from the limit column's derivatives where the sweep has them;
+without ``refine``, their Hermite root or the linear interpolation), the
+limit binding at each end (``feasible_min_binds``, ``feasible_max_binds``:
+"grid end" where none does), whether the equal-peaks ``a`` is inside a
+feasible range (``equal_peaks_feasible``)
 and, inside the range, ``a_best``: the ``a`` of the lowest
 ``max_utilisation`` (``max_von_mises`` without ``[checks]``;
 ``best_objective`` names it). Without a feasible point ``feasible`` is
