@@ -23,6 +23,7 @@ import time
 import tomllib
 from pathlib import Path
 
+from bench_jlay import machine_info
 from scipy.optimize import brentq
 
 import pipelay_fast as pf
@@ -58,8 +59,10 @@ def main() -> None:
     spec["sensitivities"] = ["lay.stinger.a"]
     sweep = load_sweep(spec, base_dir=REPO / "sweeps")
     report = run_sweep(sweep, args.out, workers=args.workers, progress=False)
-    out = {"sweep": {"seconds": report.seconds, "solve_seconds": report.solve_seconds,
-                     "solved": report.solved, "skipped": report.skipped}, "groups": []}
+    print(json.dumps(machine_info()))
+    out = {"machine": machine_info(), "groups": [],
+           "sweep": {"seconds": report.seconds, "solve_seconds": report.solve_seconds,
+                     "solved": report.solved, "skipped": report.skipped}}
     tables = {}
     for sens in (True, False):
         t0 = time.perf_counter()
