@@ -20,6 +20,7 @@ interpolant's slope there, kept inside the bracket.
 from __future__ import annotations
 
 import functools
+import itertools
 import math
 import numbers
 from collections.abc import Callable, Mapping, Sequence
@@ -34,9 +35,6 @@ __all__ = ["REASONS", "check_sensitivities", "column_name", "given_keys", "hermi
            "hermite_root", "sensitivity_columns", "sensitivity_values"]
 
 REASONS = "sensitivity_reasons"  # the text column of the reasons for NaN
-# a solved point is the root when Newton's next step from it is below the
-# tolerance; after this many solves the search bisects its bracket
-MAX_NEWTON_SOLVES = 6
 
 
 @functools.cache
@@ -143,15 +141,16 @@ def hermite_newton(f: Callable[[float], float], bracket: Mapping, xtol: float
     root when the Newton step f(x) / s from it is at most ``xtol``, s the
     Hermite interpolant's slope at the first trial, the secant through the
     last two trials at the next; else the next trial is x - f(x) / s inside
-    the bracket narrowed by the trial's sign (the bracket's middle where it
-    falls outside, or after MAX_NEWTON_SOLVES trials), until the bracket is
+    the bracket narrowed by the trial's sign, or the bracket's middle where
+    it falls outside or the step is not half the one before it at most
+    (Newton no faster than bisection: rtsafe's rule), until the bracket is
     narrower than ``xtol`` (the end of least |f| is then the root)."""
     (x0, (f0, d0)), (x1, (f1, d1)) = sorted(bracket.items())
     x, slope = hermite_root(x0, x1, f0, f1, d0, d1)
     lo, hi, f_lo = x0, x1, f0
     best = min(((abs(f0), x0), (abs(f1), x1)))
-    last = None
-    for n in range(1, 200):
+    last, before = None, math.inf
+    for n in itertools.count(1):  # (ends: the bracket halves every two trials at least)
         fx = f(x)
         best = min(best, (abs(fx), x))
         if fx == 0.0:
@@ -168,7 +167,7 @@ def hermite_newton(f: Callable[[float], float], bracket: Mapping, xtol: float
             hi = x
         if hi - lo <= xtol:
             return best[1], n
-        x = x - step
-        if not lo < x < hi or n >= MAX_NEWTON_SOLVES:
-            x = 0.5 * (lo + hi)
-    return best[1], n
+        if lo < x - step < hi and abs(step) <= 0.5 * abs(before):
+            x, before = x - step, step
+        else:
+            x, before = 0.5 * (lo + hi), 0.5 * (hi - lo)
