@@ -28,6 +28,7 @@ import json
 import math
 import os
 import uuid
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -117,11 +118,17 @@ class Dataset:
                     chunk.unlink()
 
     def _write_spec(self, sweep: Sweep):
-        """Store the scenes in ``sweep.json``; refuse a scene redefined under an old name."""
+        """Store the scenes in ``sweep.json``; refuse a scene redefined under
+        an old name, and other sensitivities' keys than the directory's."""
         path = self.root / "sweep.json"
         new = sweep.to_spec()
         if path.exists():
             old = json.loads(path.read_text())
+            if old.get("sensitivities", []) != new["sensitivities"]:
+                raise ValueError(
+                    f"{self.root} holds results with sensitivities "
+                    f"{old.get('sensitivities', [])}, this sweep asks for "
+                    f"{new['sensitivities']}: write it to a new directory")
             old_scenes = {s["name"]: s for s in old["scenes"]}
             for scene in new["scenes"]:
                 before = old_scenes.get(scene["name"])
@@ -176,9 +183,11 @@ class Chunk:
 
 
 def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None,
-                 rollers: dict | None = None) -> Chunk:
+                 rollers: dict | None = None, extra: Mapping | None = None) -> Chunk:
     """Encode the summary rows of one scene (and their profile and roller
-    columns) as a chunk.
+    columns) as a chunk; ``extra``: {column: unit} of the float columns the
+    summary has besides SUMMARY_COLUMNS (the sweep's sensitivities,
+    :func:`pipelay_fast.study.sensitivity.sensitivity_columns`, text where the unit is "").
 
     The file name hashes the chunk's case ids, the same in every table.
     """
@@ -191,7 +200,8 @@ def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None,
     roller_rows = None
     if rollers is not None:
         roller_rows = encode_arrays(rollers, ROLLER_COLUMNS, meta)
-    summary = _encode(summary_table(rows), SUMMARY_COLUMNS, meta)
+    extra = dict(extra or {})
+    summary = _encode(summary_table(rows, extra), {**SUMMARY_COLUMNS, **extra}, meta)
     failed = sum(r["status"] != "ok" for r in rows)
     return Chunk(scene, name, summary, profiles, len(rows), failed, roller_rows)
 
@@ -256,12 +266,13 @@ def _write_bytes(path: Path, data: bytes):
         raise
 
 
-def _summary_columns(rows: list[dict]):
-    """Each summary column's values from ``rows``, in the dataset's fixed
+def _summary_columns(rows: list[dict], extra: Mapping):
+    """Each summary column's values from ``rows`` (SUMMARY_COLUMNS, then
+    ``extra``, {column: unit}), in the dataset's fixed
     types: (name, values, kind), kind "int" (None where missing), "bool",
     "flag" (a bool, None where missing), "str" ("" where missing) or "float"
     (NaN where missing)."""
-    for column, unit in SUMMARY_COLUMNS.items():
+    for column, unit in {**SUMMARY_COLUMNS, **extra}.items():
         values = [row.get(column) for row in rows]
         if column in _INTEGER:
             yield column, [None if _missing(v) else _integer(column, v) for v in values], "int"
@@ -282,33 +293,36 @@ def _integer(column: str, value) -> int:
     return int(value)
 
 
-def summary_frame(rows: list[dict]) -> pd.DataFrame:
+def summary_frame(rows: list[dict], extra: Mapping | None = None) -> pd.DataFrame:
     """Summary rows as a DataFrame with the dataset's fixed column types
     (integers Int64, bookkeeping flags bool, an answer's flags boolean
-    (missing on a failed row), text str, the rest float64)."""
+    (missing on a failed row), text str, the rest float64); ``extra`` as
+    for :func:`encode_chunk`."""
     pandas_types = {"int": "Int64", "bool": bool, "flag": "boolean", "str": str,
                     "float": np.float64}
     return pd.DataFrame({column: pd.array(values, dtype=pandas_types[kind])
-                         for column, values, kind in _summary_columns(rows)})
+                         for column, values, kind in _summary_columns(rows, extra or {})})
 
 
 _ARROW_TYPES = {"int": pa.int64(), "bool": pa.bool_(), "flag": pa.bool_(),
                 "float": pa.float64()}
-_summary_schema = None
+_summary_schemas: dict = {}  # {the extra columns, (name, unit) pairs: the schema}
 
 
-def summary_table(rows: list[dict]) -> pa.Table:
+def summary_table(rows: list[dict], extra: Mapping | None = None) -> pa.Table:
     """Summary rows as the Arrow table :func:`summary_frame` would give
     (built from the rows' values; the pandas metadata, which tells pandas to
-    read the integers back as Int64, taken once from a one-row frame)."""
-    global _summary_schema
-    if _summary_schema is None:
-        _summary_schema = pa.Table.from_pandas(summary_frame(rows[:1]),
-                                               preserve_index=False).schema
+    read the integers back as Int64, taken once per set of ``extra``
+    columns from a one-row frame)."""
+    extra = dict(extra or {})
+    key = tuple(extra.items())
+    if key not in _summary_schemas:
+        _summary_schemas[key] = pa.Table.from_pandas(summary_frame(rows[:1], extra),
+                                                     preserve_index=False).schema
     arrays = [pa.array(values, type=_ARROW_TYPES.get(kind) or _pandas_string_type(),
                        from_pandas=True)  # NaN as null
-              for _column, values, kind in _summary_columns(rows)]
-    return pa.Table.from_arrays(arrays, schema=_summary_schema)
+              for _column, values, kind in _summary_columns(rows, extra)]
+    return pa.Table.from_arrays(arrays, schema=_summary_schemas[key])
 
 
 def _missing(value) -> bool:

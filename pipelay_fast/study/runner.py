@@ -31,6 +31,7 @@ from ..api.target import solve_for
 from ..input.errors import SolveError
 from ..output.results import SUMMARY_UNITS
 from .dataset import Dataset, encode_chunk, repeated_text
+from .sensitivity import sensitivity_columns, sensitivity_values
 from .sweep import INPUT_UNITS, Sweep, SweepCase, chains, target_bounds
 
 __all__ = ["BACKENDS", "SweepReport", "run_sweep", "solve_case", "solve_chain"]
@@ -154,8 +155,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
             announce_compile()  # here, once, rather than in each worker
         with (progress_bar(len(todo), enabled=progress) as bar,
               _backend(backend, workers, scheduler)):
-            for chunk, times, pid in _parallel(tasks, sweep.name, profiles, warm_start,
-                                               workers):
+            for chunk, times, pid in _parallel(tasks, (sweep.name, profiles, warm_start,
+                                                       sweep.sensitivities), workers):
                 t0 = time.perf_counter()
                 dataset.write_chunk(chunk)
                 report.write_seconds += time.perf_counter() - t0
@@ -200,8 +201,10 @@ def _default_chunk(n: int, workers: int) -> int:
 
 
 def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
-               warm_start: bool = True):
-    """Solve the chains of one task and encode them as a chunk (runs in a worker).
+               warm_start: bool = True, sensitivities: tuple = ()):
+    """Solve the chains of one task and encode them as a chunk (runs in a
+    worker), the summary with the columns of the sweep's ``sensitivities``
+    (:func:`pipelay_fast.study.sensitivity.sensitivity_columns`).
 
     Returns (the :class:`~pipelay_fast.study.dataset.Chunk`, times in seconds: "solve"
     and "solve_cpu" in ``pf.solve``, "task_cpu" of the whole task; the pid).
@@ -210,7 +213,7 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
     notice_given()  # by the process that runs the sweep
     rows, parts, roller_parts, times = [], [], [], {"solve": 0.0, "solve_cpu": 0.0}
     for chain in task:
-        for sc, row, result, dt, cpu in solve_chain(chain, warm_start):
+        for sc, row, result, dt, cpu in solve_chain(chain, warm_start, sensitivities):
             rows.append(row)
             times["solve"] += dt
             times["solve_cpu"] += cpu
@@ -219,7 +222,8 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
                                            **result.columns}))
             if result is not None and result.roller_columns is not None:
                 roller_parts.append((sc.case_id, result.roller_columns))
-    chunk = encode_chunk(sweep, task[0][0].scene, rows, _joined(parts), _joined(roller_parts))
+    chunk = encode_chunk(sweep, task[0][0].scene, rows, _joined(parts), _joined(roller_parts),
+                         sensitivity_columns(sensitivities))
     times["task_cpu"] = time.process_time() - start_cpu
     return chunk, times, os.getpid()
 
@@ -235,7 +239,7 @@ def _joined(parts: list[tuple[str, dict]]) -> dict | None:
             **{k: np.concatenate([columns[k] for _cid, columns in parts]) for k in first}}
 
 
-def solve_chain(chain: list[SweepCase], warm_start: bool = True):
+def solve_chain(chain: list[SweepCase], warm_start: bool = True, sensitivities: tuple = ()):
     """Yield (case, summary row, Result or None, wall and processor seconds in
     ``pf.solve``) along one chain.
 
@@ -244,7 +248,10 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
     (``warm_started`` in its row); a case that fails (invalid inputs,
     SolveError, a gated case, a target out of reach) becomes a row with
     status "failed" and the reason in ``message``. A scene with a target solves each case for it
-    (:func:`pipelay_fast.solve_for`, its first trial warm from the chain).
+    (:func:`pipelay_fast.solve_for`, its first trial warm from the chain). A
+    row has the columns of the sweep's ``sensitivities`` that its scene's
+    case gives, and the reasons for the others' NaN
+    (:func:`pipelay_fast.study.sensitivity.sensitivity_values`).
     """
     previous = None
     for sc in chain:
@@ -256,7 +263,7 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
         warm = previous if warm_start and _compatible(previous, sc) else None
         t0, c0 = time.perf_counter(), time.process_time()
         try:
-            result = solve_case(sc.case, warm, sc.source.target)
+            result = solve_case(sc.case, warm, sc.source.target, sc.source.sensitivities)
         except CASE_ERRORS as err:
             dt, cpu = time.perf_counter() - t0, time.process_time() - c0
             yield sc, _failed_row(sc, base, f"{type(err).__name__}: {err}"), None, dt, cpu
@@ -266,19 +273,23 @@ def solve_chain(chain: list[SweepCase], warm_start: bool = True):
         row = {**result.summary, **_given(sc), **base, "warm_started": warm is not None}
         if result.target is not None:
             row["target_value"] = result.target["value"]
+        if sensitivities:
+            row.update(sensitivity_values(result.sensitivities, sc.source.sensitivities,
+                                          sensitivities))
         yield sc, row, result, dt, cpu
 
 
-def solve_case(case, warm=None, target=None):
-    """``pf.solve`` of ``case`` started from the Result ``warm`` (None: cold);
-    with ``target`` (a scene's, see :class:`pipelay_fast.study.sweep.Scene`) the
-    target solve :func:`pipelay_fast.solve_for`.
+def solve_case(case, warm=None, target=None, sensitivities=()):
+    """``pf.solve`` of ``case`` started from the Result ``warm`` (None: cold),
+    with the derivatives by the keys ``sensitivities``; with ``target`` (a
+    scene's, see :class:`pipelay_fast.study.sweep.Scene`) the target solve
+    :func:`pipelay_fast.solve_for` (no sensitivities).
 
     The solver itself falls back to its own first guess when the warm start
     fails, so the answer does not depend on the start beyond its tolerance.
     """
     if target is None:
-        return solve(case, warm=warm)
+        return solve(case, warm=warm, sensitivities=list(sensitivities) or None)
     return solve_for(case, {target["column"]: target["goal"]}, target["vary"],
                      target_bounds(target, case), warm=warm)
 
@@ -310,9 +321,9 @@ def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:
 # --------------------------------------------------------------------------- scheduling
 
 
-def _parallel(tasks, sweep: str, profiles: bool, warm_start: bool, workers: int):
-    """Results of ``solve_task`` over ``tasks`` as they finish."""
-    args = (sweep, profiles, warm_start)
+def _parallel(tasks, args: tuple, workers: int):
+    """Results of ``solve_task`` over ``tasks`` (each with the further
+    arguments ``args``) as they finish."""
     if workers == 1 or len(tasks) <= 1:
         for task in tasks:
             yield solve_task(task, *args)

@@ -14,15 +14,23 @@ and heading, tension) two choices are made from the grid of ``a`` values:
   evaluation a solve warm-started from the nearest case solved so far.
 * ``a_equal_peaks``: the ``a`` at which the overbend and sagbend peaks are
   equal, the root of ``overbend_max_von_mises - sagbend_max_von_mises`` found
-  by :func:`scipy.optimize.brentq` between the two grid points that bracket
-  it (the bracket of lowest stress when there are several), warm-started too.
+  between the two grid points that bracket it (the bracket of lowest stress
+  when there are several), warm-started too: by :func:`scipy.optimize.brentq`
+  on solves, or, where the sweep has both peaks' derivatives by the design
+  axis's key at both points (the sweep file's ``sensitivities``), by the
+  root of their cubic Hermite interpolant, confirmed and corrected by Newton
+  on solves (:mod:`.select_refine`; without ``refine``, that root
+  unconfirmed, the stress there interpolated linearly and the answers the
+  nearest grid point's). ``n_solves_equal_peaks`` counts its solves,
+  ``n_solves`` all the group's.
 
 At the equal-peaks ``a`` the selection also gives the lay's answers there:
 ``equal_peaks_max_utilisation`` (the DNVGL-ST-F101 checks, NaN without a
 ``[checks]`` table) and ``equal_peaks_tip_clearance`` [m].
 
 Refinement needs the scenes' base cases, which the sweep stores in
-``sweep.json``; ``refine=False`` reports the grid values only.
+``sweep.json``; ``refine=False`` reports the grid values only (and the
+roots the sensitivities give, unconfirmed).
 
 Limits (:mod:`.limits`: the sweep file's ``[select]`` table, or the
 ``limits`` argument, which overrides it key by key) bound summary columns:
@@ -32,10 +40,12 @@ and the roller reaction. From the grid, interpolated linearly between grid
 points, the selection gives the feasible range of ``a``
 (``a_feasible_min``, ``a_feasible_max``; the widest, when there are
 several; with ``refine``, an end a limit binds is the root of that
-limit's margin by warm-started solves, :func:`scipy.optimize.brentq`
-between the grid points around it), the limit binding at each end (``feasible_min_binds``,
-``feasible_max_binds``: "grid end" where none does), whether the
-equal-peaks ``a`` is inside a feasible range (``equal_peaks_feasible``)
+limit's margin between the grid points around it, found as the equal
+peaks are, from the limit column's derivatives where the sweep has them;
+without ``refine``, their Hermite root or the linear interpolation), the
+limit binding at each end (``feasible_min_binds``, ``feasible_max_binds``:
+"grid end" where none does), whether the equal-peaks ``a`` is inside a
+feasible range (``equal_peaks_feasible``)
 and, inside the range, ``a_best``: the ``a`` of the lowest
 ``max_utilisation`` (``max_von_mises`` without ``[checks]``;
 ``best_objective`` names it). Without a feasible point ``feasible`` is
@@ -53,19 +63,19 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import minimize_scalar
 
 from ..output.io import write_table
 from .dataset import read_summary
 from .limits import (
-    Range,
     check_limits,
     feasible_ranges,
     group_limits,
     limit_text,
     shortfall_text,
 )
-from .runner import CASE_ERRORS, solve_case
+from .runner import CASE_ERRORS
+from .select_refine import XTOL_FRACTION, Evaluator, grid_root, refined_ends, slopes
 from .sweep import AXES, DESIGN_AXES, Scene, Sweep
 
 __all__ = ["SELECTION_UNITS", "select"]
@@ -84,7 +94,8 @@ SELECTION_UNITS = {
     "feasible_min_binds": "", "feasible_max_binds": "", "ruled_out_by": "",
     "equal_peaks_feasible": "", "a_best": "1/m", "best_objective": "",
     "best_max_utilisation": "-", "best_max_von_mises": "Pa",
-    "reference_a": "1/m", "n_solves": "", "note": "", "variable": "",
+    "reference_a": "1/m", "n_solves": "", "n_solves_equal_peaks": "", "note": "",
+    "variable": "",
     # a roller stinger's design axes, as a's columns
     **{f"{axis}_{what}": AXES[axis][2] for axis in DESIGN_AXES[1:]
        for what in ("grid_min", "grid_max", "min_stress", "equal_peaks", "feasible_min",
@@ -93,7 +104,7 @@ SELECTION_UNITS = {
 # flags: a nullable boolean (missing where there is no equal-peaks a)
 FLAG_COLUMNS = ("equal_peaks_yielded", "equal_peaks_bears_on_tip", "feasible",
                 "equal_peaks_feasible")
-COUNT_COLUMNS = ("n_grid", "n_solves", "n_yielded")
+COUNT_COLUMNS = ("n_grid", "n_solves", "n_solves_equal_peaks", "n_yielded")
 # the inputs that, with the scene, make one selection group
 GROUP_COLUMNS = ("water_depth", "current_speed", "current_heading_deg", "given_top_tension",
                  "given_bottom_tension", "given_pipe_length")
@@ -103,12 +114,11 @@ EQUAL_PEAKS_ANSWERS = {"max_utilisation": "equal_peaks_max_utilisation",
                        "max_von_mises_over_smys": "equal_peaks_max_von_mises_over_smys",
                        "yielded": "equal_peaks_yielded",
                        "bears_on_tip": "equal_peaks_bears_on_tip"}
-XTOL_FRACTION = 1e-4  # search tolerance as a share of the grid spacing of a
 FLAT_SHARE = 0.005  # grid points this close to the minimum stress make it "flat"
 
 
 def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True,
-           limits: Mapping | None = None) -> pd.DataFrame:
+           limits: Mapping | None = None, sensitivities: bool = True) -> pd.DataFrame:
     """The selection table of the results directory ``root`` (one row per
     S-lay group: scene and the other inputs; the columns of
     ``SELECTION_UNITS``, SI).
@@ -116,7 +126,9 @@ def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True,
     ``refine``: refine the grid's choices with further solves (needs
     ``root/sweep.json``); False: grid values only. ``limits``: the
     ``[select]`` keys of :mod:`.limits` (SI), each replacing the sweep
-    file's. Written to ``root/selection.parquet`` (units in the schema)
+    file's. ``sensitivities``: use the sweep's derivatives by the design
+    axis where it has them (False: refine by solves alone). Written to
+    ``root/selection.parquet`` (units in the schema)
     when ``write``. Raises ValueError when ``root`` has no summary table (or,
     with ``refine``, no ``sweep.json``), or a limit is not valid (naming it).
     """
@@ -141,6 +153,8 @@ def select(root: str | os.PathLike, *, refine: bool = True, write: bool = True,
         scene = sweep.scene(values["scene"]) if sweep is not None else None
         variable = design_variable(scene, group)
         group = group.sort_values(variable)
+        if not sensitivities:
+            group = group[[c for c in group if not c.startswith("d_")]]
         rows.append(_select_group(group, values, scene, variable, limits,
                                   references.get(values["scene"])))
     table = pd.DataFrame(rows, columns=list(SELECTION_UNITS))
@@ -176,7 +190,6 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None, variab
     scene's ``reference_a`` (None: not given)."""
     a = group[variable].to_numpy()
     vm = group["max_von_mises"].to_numpy()
-    gap = (group["overbend_max_von_mises"] - group["sagbend_max_von_mises"]).to_numpy()
     first = group.iloc[0]
     row = {**values, "method": first["method"], "dimension": first["dimension"],
            "water_depth": first["water_depth"], "n_grid": len(a), "variable": variable,
@@ -184,7 +197,7 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None, variab
            f"{variable}_grid_min": float(a.min()), f"{variable}_grid_max": float(a.max()),
            "reference_a": math.nan if reference is None else float(reference)}
     notes = []
-    evaluate = (_Evaluator(scene, values, group, variable)
+    evaluate = (Evaluator(scene, values, group, variable)
                 if scene is not None and len(a) > 1 else None)
 
     i = int(np.argmin(vm))
@@ -207,34 +220,60 @@ def _select_group(group: pd.DataFrame, values: dict, scene: Scene | None, variab
         except CASE_ERRORS as err:
             notes.append(f"minimum not refined: {evaluate.failure(err)}")
 
-    row[f"{variable}_equal_peaks"] = row["equal_peaks_von_mises"] = math.nan
-    row.update(dict.fromkeys(EQUAL_PEAKS_ANSWERS.values(), None))
+    before = evaluate.solves if evaluate is not None else 0
+    row.update(_equal_peaks(group, variable, evaluate, notes))
+    row["n_solves_equal_peaks"] = (evaluate.solves if evaluate is not None else 0) - before
+    row["note"] = "; ".join(notes)
+    row.update(_limit_columns(group, variable, limits, row, evaluate))
+    row["n_solves"] = evaluate.solves if evaluate is not None else 0
+    return row
+
+
+def _equal_peaks(group: pd.DataFrame, variable: str, evaluate: Evaluator | None,
+                 notes: list[str]) -> dict:
+    """The equal-peaks columns of one group's selection row: the root of
+    the overbend less the sagbend peak between the grid points that bracket
+    it (the bracket of lowest stress when there are several), found by
+    :func:`.select_refine.grid_root` (the nearest grid point where it
+    cannot refine), the lay's answers there; how it was found, or why not,
+    added to ``notes``."""
+    a = group[variable].to_numpy()
+    vm = group["max_von_mises"].to_numpy()
+    gap = (group["overbend_max_von_mises"] - group["sagbend_max_von_mises"]).to_numpy()
+    over, sag = (slopes(group, variable, f"{bend}_max_von_mises")
+                 for bend in ("overbend", "sagbend"))
+    row = {f"{variable}_equal_peaks": math.nan, "equal_peaks_von_mises": math.nan,
+           **dict.fromkeys(EQUAL_PEAKS_ANSWERS.values(), None)}
     finite = np.isfinite(gap)
     brackets = [j for j in range(len(a) - 1) if finite[j] and finite[j + 1]
                 and np.sign(gap[j]) != np.sign(gap[j + 1])]
     if not brackets:
         notes.append("overbend and sagbend peaks do not cross on the grid")
-    else:
-        j = min(brackets, key=lambda j: max(vm[j], vm[j + 1]))
-        k = j if abs(gap[j]) <= abs(gap[j + 1]) else j + 1  # grid estimate
-        row[f"{variable}_equal_peaks"], row["equal_peaks_von_mises"] = float(a[k]), float(vm[k])
-        row.update(_answers(group.iloc[k]))
-        if gap[j] == 0.0 or gap[j + 1] == 0.0:
-            pass
-        elif evaluate is not None:
-            try:
-                root = brentq(lambda x: _gap(evaluate(x)), a[j], a[j + 1],
-                              xtol=XTOL_FRACTION * (a[j + 1] - a[j]))
-                row[f"{variable}_equal_peaks"] = float(root)
-                row["equal_peaks_von_mises"] = evaluate(root)["max_von_mises"]
-                row.update(_answers(evaluate(root)))
-            except CASE_ERRORS as err:
-                notes.append(f"equal peaks not refined: {evaluate.failure(err)}")
-        else:
-            notes.append("equal peaks: nearest grid point")
-    row["note"] = "; ".join(notes)
-    row.update(_limit_columns(group, variable, limits, row, evaluate))
-    row["n_solves"] = evaluate.solves if evaluate is not None else 0
+        return row
+    j = min(brackets, key=lambda j: max(vm[j], vm[j + 1]))
+    k = j if abs(gap[j]) <= abs(gap[j + 1]) else j + 1  # grid estimate
+    row[f"{variable}_equal_peaks"], row["equal_peaks_von_mises"] = float(a[k]), float(vm[k])
+    row.update(_answers(group.iloc[k]))
+    if gap[j] == 0.0 or gap[j + 1] == 0.0:
+        return row
+    try:
+        found = grid_root(_gap, a, gap, None if over is None else over - sag, j, evaluate)
+    except CASE_ERRORS as err:
+        notes.append(f"equal peaks not refined: {evaluate.failure(err)}")
+        return row
+    if found is None:
+        notes.append("equal peaks: nearest grid point")
+        return row
+    root, how = found
+    row[f"{variable}_equal_peaks"] = float(root)
+    if "sensitivities" in how:
+        notes.append(f"equal peaks by {how}")
+    if evaluate is not None:
+        row["equal_peaks_von_mises"] = evaluate(root)["max_von_mises"]
+        row.update(_answers(evaluate(root)))
+    else:  # the grid's answers, interpolated linearly
+        t = (root - a[j]) / (a[j + 1] - a[j])
+        row["equal_peaks_von_mises"] = float((1 - t) * vm[j] + t * vm[j + 1])
     return row
 
 
@@ -249,7 +288,7 @@ def _answers(summary) -> dict:
 
 
 def _limit_columns(group: pd.DataFrame, variable: str, limits: Mapping, row: dict,
-                   evaluate: _Evaluator | None) -> dict:
+                   evaluate: Evaluator | None) -> dict:
     """The limits' columns of one group's selection row (``row``: its
     choices so far, the equal-peaks ``a`` and the refined stress minimum
     among them), the range's ends refined by ``evaluate`` when given
@@ -270,7 +309,8 @@ def _limit_columns(group: pd.DataFrame, variable: str, limits: Mapping, row: dic
     widest = max(ranges, key=lambda r: r.high - r.low)
     notes += [f"feasible also for {variable} in [{r.low:.6g}, {r.high:.6g}]"
               for r in ranges if r is not widest]
-    widest, solved = _refined_ends(widest, a, margins, evaluate, notes)
+    derivatives = {limit: _margin_slopes(group, variable, limit) for limit in applied}
+    widest, solved = refined_ends(widest, a, margins, derivatives, evaluate, notes)
     out.update({f"{variable}_feasible_min": widest.low, f"{variable}_feasible_max": widest.high,
                 "feasible_min_binds": limit_text(widest.low_binds),
                 "feasible_max_binds": limit_text(widest.high_binds)})
@@ -295,42 +335,11 @@ def _limit_columns(group: pd.DataFrame, variable: str, limits: Mapping, row: dic
     return _with_notes(out, row, notes)
 
 
-def _refined_ends(r: Range, a, margins: dict, evaluate: _Evaluator | None,
-                  notes: list[str]) -> tuple[Range, dict]:
-    """(the range ``r`` with each end a limit binds moved to the root of that
-    limit's margin between the grid points around it, by solves
-    (:func:`scipy.optimize.brentq`); {end: its summary} of the ends moved).
-    An end stays interpolated, with a note in ``notes``, when a solve fails
-    or another limit does not hold at the root; an end on a grid point, and
-    every end without ``evaluate``, stays as it is."""
-    solved: dict = {}
-    if evaluate is None:
-        return r, solved
-    for side, x, limit in (("low", r.low, r.low_binds), ("high", r.high, r.high_binds)):
-        i = int(np.searchsorted(a, x))
-        if limit is None or i == 0 or i >= a.size or x == a[i]:
-            continue
-        lo, hi = a[i - 1], a[i]
-        grid = {lo: margins[limit][i - 1], hi: margins[limit][i]}
-
-        def margin(v, limit=limit, grid=grid):
-            return grid[v] if v in grid else float(limit.margin(evaluate(v)[limit.column]))
-
-        try:
-            root = brentq(margin, lo, hi, xtol=XTOL_FRACTION * (hi - lo))
-            summary = evaluate(root)
-        except CASE_ERRORS as err:
-            notes.append(f"feasible {side} end not refined: {evaluate.failure(err)}")
-            continue
-        broken = [limit_text(m) for m in margins
-                  if m is not limit and m.margin(summary[m.column]) < 0.0]
-        if broken:
-            notes.append(f"feasible {side} end not refined: {', '.join(broken)} fails at "
-                         f"{root:.6g}")
-            continue
-        r = r._replace(**{side: root})
-        solved[root] = summary
-    return r, solved
+def _margin_slopes(group: pd.DataFrame, variable: str, limit) -> np.ndarray | None:
+    """The derivative of ``limit``'s margin by the design axis at the grid
+    points (None: the sweep has no sensitivities)."""
+    d = slopes(group, variable, limit.column)
+    return None if d is None else d if limit.sense == "min" else -d
 
 
 def _with_notes(out: dict, row: dict, notes: list[str]) -> dict:
@@ -343,37 +352,3 @@ def _with_notes(out: dict, row: dict, notes: list[str]) -> dict:
 def _gap(summary: dict) -> float:
     """Overbend less sagbend peak von Mises stress [Pa] of a summary row."""
     return summary["overbend_max_von_mises"] - summary["sagbend_max_von_mises"]
-
-
-class _Evaluator:
-    """Summary of the group's case at a given value of its design axis
-    ``variable`` (``a``), solved warm from the nearest value solved so far
-    (the first from cold), for the scene's target when it has one; repeated
-    values are cached."""
-
-    def __init__(self, scene: Scene, values: dict, group: pd.DataFrame, variable: str):
-        self.scene = scene
-        self.variable = variable
-        given = {name: values[column] for name, (_, column, _) in AXES.items()
-                 if name in scene.axes and name not in DESIGN_AXES}
-        self.values = given
-        self.results: dict[float, object] = {}
-        self.solves = 0
-        self.last = math.nan
-
-    def __call__(self, a: float) -> dict:
-        a = self.last = float(a)
-        if a in self.results:
-            return self.results[a].summary
-        case = self.scene.case_for({**self.values, self.variable: a})
-        warm = None
-        if self.results:
-            warm = self.results[min(self.results, key=lambda b: abs(b - a))]
-        result = solve_case(case, warm, self.scene.target)
-        self.solves += 1
-        self.results[a] = result
-        return result.summary
-
-    def failure(self, err: Exception) -> str:
-        """A short note on the failed solve (the full message: solve that case)."""
-        return f"{type(err).__name__} at {self.variable} = {self.last:.6g}"

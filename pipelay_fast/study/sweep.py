@@ -86,6 +86,10 @@ class Scene:
         "bounds_per_depth" (dlo, dhi) [the key's unit per m] the depth
         "depth" [m] they are given at (:func:`target_bounds`); None: plain
         solves.
+    sensitivities : tuple of str
+        The sweep's ``sensitivities`` keys this scene's case gives as
+        numbers, whose derivatives each case's row holds
+        (:mod:`pipelay_fast.study.sensitivity`); part of the scene's identity.
     """
 
     name: str
@@ -93,6 +97,7 @@ class Scene:
     axes: dict
     reference_a: float = math.nan
     target: dict | None = None
+    sensitivities: tuple = ()
     _tables: dict = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -140,7 +145,7 @@ class Scene:
         return {"name": self.name, "case": self.case.to_dict(),
                 "axes": {k: list(v) for k, v in self.axes.items()},
                 "reference_a": None if math.isnan(self.reference_a) else self.reference_a,
-                "target": target}
+                "target": target, "sensitivities": list(self.sensitivities)}
 
     @property
     def target_text(self) -> str:
@@ -237,6 +242,9 @@ class Sweep:
     limits : dict
         The file's ``[select]`` table, the limits ``select`` applies
         (:func:`pipelay_fast.study.limits.check_limits`; SI).
+    sensitivities : tuple of str
+        The file's ``sensitivities`` keys: every case's summary row has
+        their derivatives' columns (NaN for a key its scene does not give).
     """
 
     name: str
@@ -244,6 +252,7 @@ class Sweep:
     description: str = ""
     source: str = ""
     limits: dict = field(default_factory=dict, compare=False)
+    sensitivities: tuple = ()
     _cases: list = field(default_factory=list, compare=False, repr=False)
 
     def scene(self, name: str) -> Scene:
@@ -274,10 +283,10 @@ class Sweep:
 
     def to_spec(self) -> dict:
         """JSON-able description (name, description, scenes, the ``[select]``
-        limits), read back by :meth:`from_spec`."""
+        limits, the sensitivities' keys), read back by :meth:`from_spec`."""
         return {"name": self.name, "description": self.description,
                 "scenes": [scene.to_spec() for scene in self.scenes],
-                "select": dict(self.limits)}
+                "select": dict(self.limits), "sensitivities": list(self.sensitivities)}
 
     @classmethod
     def from_spec(cls, spec: Mapping) -> Sweep:
@@ -286,10 +295,11 @@ class Sweep:
             Scene(s["name"], load_case(s["case"]),
                   {k: tuple(v) for k, v in s["axes"].items()},
                   math.nan if s.get("reference_a") is None else float(s["reference_a"]),
-                  _spec_target(s.get("target")))
+                  _spec_target(s.get("target")), tuple(s.get("sensitivities", ())))
             for s in spec["scenes"])
         return cls(spec["name"], scenes, spec.get("description", ""),
-                   limits=dict(spec.get("select", {})))
+                   limits=dict(spec.get("select", {})),
+                   sensitivities=tuple(spec.get("sensitivities", ())))
 
 
 # --------------------------------------------------------------------------- loading

@@ -70,6 +70,21 @@ stinger within (:mod:`.limits`; SI)::
     top_tension = [400e3, 900e3]     # N, the tensioner's range
     max_roller_reaction = 250e3      # N, roller stingers
 
+A top-level ``sensitivities`` list asks for each case's derivatives with
+respect to numeric case keys (:mod:`.sensitivity`)::
+
+    sensitivities = ["lay.stinger.a", "lay.top_tension"]
+
+Each case's summary row then has ``d_<column>__d_<key>`` for every numeric
+summary column (and ``s_<peak>``, a peak's arc length), in ``<column
+unit>/<key unit>`` (``d_overbend_max_von_mises__d_lay.stinger.a`` in
+Pa/(1/m)), NaN where the column is not differentiable or the scene's case
+does not give the key, with the reasons in ``sensitivity_reasons``. Each
+key costs about one solve per case. ``select`` finds the equal peaks and
+the limits' boundaries from them. A key must be given as a number by some
+scene's case; sensitivities and a ``[target]`` are refused together. A
+results directory holds one list of keys: a sweep with another is refused.
+
 Cases that differ only in the chain axis (``a``, a roller stinger's radius or
 shift; for J-lay the first varied of current speed, tension, heading) form a
 chain, solved in order with warm starts.
@@ -82,6 +97,7 @@ import numbers
 import os
 import re
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 
 from ..api.target import target_columns
@@ -90,6 +106,7 @@ from ..input.examples import case_file
 from ..input.limits import ROUNDOFF
 from ..input.validate import fail, from_toml, get_path, reject_unknown
 from .limits import check_limits
+from .sensitivity import check_sensitivities, given_keys
 from .sweep import (
     AXES,
     DESIGN_AXES,
@@ -103,7 +120,8 @@ __all__ = ["load_sweep"]
 
 _SCENE_KEYS = ("name", "case", "method", *SCENE_GEOMETRY, "reference_a", "set", "vary",
                "target")
-_FILE_KEYS = ("name", "description", "case", "set", "vary", "target", "select", "scenes")
+_FILE_KEYS = ("name", "description", "case", "set", "vary", "target", "select", "sensitivities",
+              "scenes")
 _NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
@@ -151,7 +169,15 @@ def _sweep_from(tables: Mapping, folder: Path, default_name: str, source: str) -
             fail(f"scenes[{i}]", scene_name, f"has the same case as scene "
                  f"{names[bases.index(bases[i])]!r}: vary its inputs in one scene instead")
     limits = check_limits("select", tables.get("select", {}))
-    return Sweep(name, tuple(scenes), description, source, limits)
+    keys = check_sensitivities("sensitivities", tables.get("sensitivities", []),
+                               [s.case for s in scenes])
+    for i, scene in enumerate(scenes):
+        if keys and scene.target is not None:
+            fail(f"scenes[{i}].target" if "target" in scene_tables[i] else "target",
+                 scene.target_text, "cannot be combined with sensitivities (a target solve's "
+                 "derivatives would hold its goal, not its key)")
+    scenes = [replace(s, sensitivities=given_keys(s.case, keys)) for s in scenes]
+    return Sweep(name, tuple(scenes), description, source, limits, keys)
 
 
 def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
