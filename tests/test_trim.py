@@ -179,10 +179,10 @@ def test_trimmed_rollers_and_jlay_are_the_geometry_turned_by_hand(name, changes,
         assert trim.summary["top_angle_deg"] - untrimmed == pytest.approx(deg, abs=1e-9)
 
 
-@pytest.mark.parametrize("name", ["s67", "s125"])
+@pytest.mark.parametrize("name", ["s67", "s125", "s67_3d"])
 @pytest.mark.parametrize("deg", [-1.0, 1.0])
 def test_trimmed_quadratic_stinger_holds_the_pipe_on_the_rotated_curve(name, deg):
-    """S67 and S125 trimmed: the nodes the stinger holds lie on the vessel's
+    """S67, S125 and S67 in 3D trimmed: the nodes the stinger holds lie on the vessel's
     parabola once turned back by a NumPy matrix; the firing line is the
     turned tangent; the departure angle moves with the trim, by less than
     it (the lift-off slides along the turned stinger to where the catenary
@@ -201,6 +201,7 @@ def test_trimmed_quadratic_stinger_holds_the_pipe_on_the_rotated_curve(name, deg
     gap = back[:, 0] - ((vessel.a * back[:, 1] + vessel.b) * back[:, 1] + vessel.c)
     assert held.sum() > 10
     assert np.abs(gap[held]).max() < 1e-9
+    assert np.abs(prof["y"].to_numpy()[held]).max() < 1e-9  # (3D: on the stinger's plane)
     vessel_top = float(vessel.angle(vessel.upper[1]))
     assert sm["top_angle_deg"] == pytest.approx(vessel_top + deg, abs=1e-9)
     moved = sm["departure_angle_deg"] - plain.summary["departure_angle_deg"]
@@ -227,6 +228,37 @@ def test_a_pivot_moved_along_the_trims_chord_only_shifts_the_answer_in_z():
     assert two.summary["tdp_z"] - one.summary["tdp_z"] == pytest.approx(shift, abs=1e-5)
 
 
+def test_a_waterline_trim_turns_the_seabed_frame_twins_numbers():
+    """The pivot is converted with the lay (an elevation raised by the depth,
+    exactly) before the trim turns it: S67 in the waterline frame trimmed is
+    its seabed-frame twin trimmed, equal lays."""
+    tables = load("s67").to_dict()
+    tables["lay"] = {**{k: v for k, v in tables["lay"].items() if k not in ("top", "stinger")},
+                     "stinger": {"a": -0.0012, "lower": [-25.5, 265.0], "upper": [5.0, 400.0]},
+                     "frame": "waterline", "trim_deg": 1.5, "trim_pivot": [3.0, 330.0]}
+    water = pf.load_case(tables)
+    twin = load("s67", **{"lay.trim_deg": 1.5, "lay.trim_pivot": [70.0, 330.0]})
+    assert water.lay == twin.lay and water.given_lay.trim_pivot == (3.0, 330.0)
+    assert pf.load_case(water.to_dict()) == water
+
+
+def test_a_trimmed_roller_stingers_guide_is_not_trimmed_again():
+    from pipelay_fast.engine.guess import guide_case
+    case = load("s67_rollers", **{"lay.trim_deg": 1.0, "lay.trim_pivot": [60.0, 380.0]})
+    guide = guide_case(case)
+    assert guide.lay.stinger.lower == tuple(case.lay.roller_positions()[-1])
+    assert guide.lay.top == case.lay.top and guide.given_lay.trim_deg == 0.0
+
+
 def test_trim_is_a_sweep_axis():
     from pipelay_fast.study.sweep import AXES
+    from pipelay_fast.study.sweep_file import load_sweep
     assert AXES["trim"] == ("lay.trim_deg", "trim_deg", "deg")
+    sweep = load_sweep({"case": "s67", "set": {"lay.trim_pivot": list(PIVOT)},
+                        "vary": {"trim": [-1.0, 0.0, 1.0]}})
+    cases = sweep.cases()
+    assert [c.case.given_lay.trim_deg for c in cases] == [-1.0, 0.0, 1.0]
+    for c in cases:
+        st = c.case.lay.stinger
+        ref = turn([VESSEL.lower], c.values["trim"])[0]
+        np.testing.assert_allclose(st.lower, ref, rtol=0.0, atol=1e-12)

@@ -437,7 +437,8 @@ def guide_case(case: Case) -> Case:
     curve through the last roller that ignores the top angle can lie well
     above them); both measured on random roller stingers,
     benchmarks/bench_rollers.py part 3. Its heights are in the seabed frame
-    (``lay.frame`` the default), as the engine reads them. Raises ValueError as
+    (``lay.frame`` the default) and trimmed (no ``lay.trim_deg``), as the
+    engine reads them. Raises ValueError as
     :meth:`pipelay_fast.input.case.Case.with_changes` does."""
     lay = case.lay
     pts = lay.roller_positions()
@@ -460,4 +461,4 @@ def guide_case(case: Case) -> Case:
         coarse["solver.min_element_length"] = T.GUIDE_COARSENING * solver.min_element_length
     return case.with_changes({"lay.stinger": {"a": a, "lower": [x_l, z_l], "upper": [x_u, z_u]},
                               "lay.top": None, "lay.top_angle": angle, "lay.frame": None,
-                              **coarse})
+                              "lay.trim_deg": None, "lay.trim_pivot": None, **coarse})

@@ -1,6 +1,7 @@
 """The ``lay`` table: the lay method, the top, the tensions and the
-stinger (``lay.stinger``: a quadratic curve or a roller stinger), validated
-on construction. Heights ``x`` are measured from the seabed, or from the still
+stinger (``lay.stinger``: a quadratic curve or a roller stinger,
+:mod:`.rollers`), validated on construction; a trim turns them
+(:mod:`.trim`). Heights ``x`` are measured from the seabed, or from the still
 water level with ``lay.frame = "waterline"`` (:mod:`.frame`); ``z`` along the
 lay."""
 
