@@ -79,7 +79,8 @@ def test_the_kernel_curve_is_the_rotated_parabola(deg):
         assert line_height(L.SUP_CURVE, row, z) == (f, fp)
         assert (float(st.height(z)), float(st.slope(z))) == (f, fp)
         assert float(st.curvature(z)) == pytest.approx(k_ref, rel=1e-11)
-    np.testing.assert_array_equal(line_height(L.SUP_CURVE, row, pts[:, 1])[0], st.height(pts[:, 1]))
+    zs = pts[:, 1]
+    np.testing.assert_array_equal(line_height(L.SUP_CURVE, row, zs)[0], st.height(zs))
     ends = turn([VESSEL.lower, VESSEL.upper], deg)
     np.testing.assert_allclose([st.lower, st.upper], ends, rtol=0.0, atol=1e-12)
 

@@ -285,9 +285,9 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
 
 def _points(case: Case, curve) -> np.ndarray:
     """The rigid points of a case (rows ``L.PT_*``): the tip (x_L, z_L) of
-    the quadratic stinger ``curve`` (its row, layout ``ST_*``; None: none), a roller
-    stinger's rollers (each holding the pipe laterally or not), none in
-    J-lay."""
+    the quadratic stinger ``curve`` (its row, layout ``ST_*``; None: none),
+    a roller stinger's rollers (each holding the pipe laterally or not),
+    none in J-lay."""
     rollers = case.lay.roller_positions()
     if rollers is not None:
         pts = np.zeros((len(rollers), L.N_PT))

@@ -29,8 +29,8 @@ def support_table(nn: int, curve=None, points=None, seabed=(0.0, 0.0, 0.0)):
     """(kind (n_sup,) int64, geom (n_sup, N_GEOM), active (n_sup, nn) int8)
     for ``nn`` nodes: the seabed ``seabed`` (level [m], angle [rad], z0 [m]:
     x = level + tan(angle) (z - z0), :func:`seabed_row`), the stinger's curve
-    ``curve`` (a, b, c, zL, zU, turn: layout ``ST_*``; None: none) and the rigid points ``points``
-    (n_points, N_PT; None: none), no node held yet."""
+    ``curve`` (a, b, c, zL, zU, turn: layout ``ST_*``; None: none) and the
+    rigid points ``points`` (n_points, N_PT; None: none), no node held yet."""
     n_pt = 0 if points is None else len(points)
     n_sup = L.ROW_PT + n_pt
     kind = np.full(n_sup, L.SUP_NONE, dtype=np.int64)
