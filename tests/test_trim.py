@@ -149,8 +149,9 @@ def by_hand(name: str, deg: float, pivot, **changes) -> pf.Case:
     hand = {"lay.top": turn([lay.top], deg, pivot)[0].tolist()}
     if not isinstance(lay.top_angle, str) and lay.top_angle is not None:
         hand["lay.top_angle"] = lay.top_angle + deg
-    if lay.has_rollers:
-        hand["lay.stinger.rollers"] = turn(lay.roller_positions(), deg, pivot).tolist()
+    if lay.has_rollers:  # (a radius path's placed on the vessel, then turned)
+        hand["lay.stinger"] = {"rollers": turn(lay.roller_positions(), deg, pivot).tolist(),
+                               "roller_type": lay.stinger.roller_type}
     return case.with_changes(hand)
 
 
@@ -160,6 +161,7 @@ COMPARED = ("top_tension", "bottom_tension", "tdp_z", "top_angle_deg", "departur
 
 @pytest.mark.parametrize(("name", "changes"), [
     ("s67_rollers", {}),
+    ("s67_radius", {}),
     ("j125", {"lay.top_angle": 85.0}),
 ])
 @pytest.mark.parametrize("deg", [-1.0, 1.0])
@@ -263,3 +265,21 @@ def test_trim_is_a_sweep_axis():
         st = c.case.lay.stinger
         ref = turn([VESSEL.lower], c.values["trim"])[0]
         np.testing.assert_allclose(st.lower, ref, rtol=0.0, atol=1e-12)
+
+
+def test_a_trim_keeps_the_stingers_curvature_pin_jump_and_strain_check():
+    """The pinned top's tension jump (EI kappa_U)^2 / (2 EI) and the bending
+    strain check read the curvature, which a turn leaves as it is."""
+    from pipelay_fast.engine.model import pin_jump
+    trim = {"lay.trim_deg": 2.0, "lay.trim_pivot": list(PIVOT)}
+    pinned = load("s67", **{"lay.top_angle": "pinned"})
+    jump = pin_jump(pinned)
+    assert jump > 0.0
+    assert pin_jump(pinned.with_changes(trim)) == pytest.approx(jump, rel=1e-12)
+    res = pf.solve(pinned.with_changes(trim))
+    assert res.summary["status"] == "ok"
+    tight = {"solver.max_strain": 1e-4}
+    with pytest.raises(ValueError, match=r"lay\.stinger\.a = -0\.0012 bends"):
+        load("s67", **tight)
+    with pytest.raises(ValueError, match=r"lay\.stinger\.a = -0\.0012 bends"):
+        load("s67", **tight, **trim)
