@@ -23,7 +23,7 @@ from pipelay_fast.kernels.supports import (
     tangency,
 )
 
-CURVE = np.array([-0.0012, 0.45, 12.0, 265.0, 400.0])  # a, b, c, zL, zU
+CURVE = np.array([-0.0012, 0.45, 12.0, 265.0, 400.0, 0.0])  # a, b, c, zL, zU, turn
 POINTS = np.array([[55.0, 265.0, 0.0, 0.0, 1.0], [60.0, 280.0, 1.0, 2.5e3, 0.0]])
 Z = np.array([-30.0, 0.0, 265.0, 300.7, 400.0])
 X = np.array([-0.2, 0.0, 1e-3, 57.3, 80.0])
@@ -42,7 +42,7 @@ def test_the_table_rows_are_the_boundaries_supports():
     assert kind.tolist() == [L.SUP_SEABED, L.SUP_CURVE, L.SUP_POINT, L.SUP_POINT]
     assert geom[L.ROW_BED, L.SB_LEVEL] == 0.0
     np.testing.assert_array_equal(geom[L.ROW_CURVE], CURVE)
-    np.testing.assert_array_equal(geom[L.ROW_PT:], POINTS)
+    np.testing.assert_array_equal(geom[L.ROW_PT:, :L.N_PT], POINTS)
     none, _g, _a = support_table(4)  # J-lay: no curve, no points
     assert none.tolist() == [L.SUP_SEABED, L.SUP_NONE]
 

@@ -269,15 +269,11 @@ def _search_range(st):
     tuning.TIP_PAST_REACH times the stinger's z range below the tip when
     that is higher; z [m] where the curve's rise ends: the upper end, or
     where it is level when that lies below)."""
-    a, b, c = st.a, st.b, st.c
     (z_l, z_u) = st.lower[1], st.upper[1]
     z_top = z_u
     if float(st.slope(z_top)) <= 0.0:
-        z_top = -b / (2.0 * a)  # (a < 0: the mean slope of the stinger is positive)
-    # the root of a z^2 + b z + c where 2 a z + b = +sqrt(disc), without cancellation
-    root = math.sqrt(b * b - 4.0 * a * c)  # (x >= 0 at the tip: a real root below it)
-    z_bed = -2.0 * c / (b + root) if b > 0.0 else (root - b) / (2.0 * a)
-    return max(z_bed, z_l - T.TIP_PAST_REACH * (z_u - z_l)), z_top
+        z_top = st.level_z()  # (a < 0: the mean slope of the stinger is positive)
+    return max(st.seabed_z(), z_l - T.TIP_PAST_REACH * (z_u - z_l)), z_top
 
 
 def _slay_span(case: Case, bottom_tension=None):
@@ -395,7 +391,7 @@ def shape(case: Case, g: Guess, s):
         # frictionless stinger: Te = h + W(x), continuing the catenary's law
         depth = case.environment.water_depth
         te[on_st] = cat.h + _rise(cat.w1, cat.w2, depth, x[on_st])
-        kappa[on_st] = 2.0 * st.a / (1.0 + slope**2) ** 1.5
+        kappa[on_st] = st.curvature(zz)
     return x, z, th, te, kappa
 
 
@@ -441,7 +437,8 @@ def guide_case(case: Case) -> Case:
     curve through the last roller that ignores the top angle can lie well
     above them); both measured on random roller stingers,
     benchmarks/bench_rollers.py part 3. Its heights are in the seabed frame
-    (``lay.frame`` the default), as the engine reads them. Raises ValueError as
+    (``lay.frame`` the default) and trimmed (no ``lay.trim_deg``), as the
+    engine reads them. Raises ValueError as
     :meth:`pipelay_fast.input.case.Case.with_changes` does."""
     lay = case.lay
     pts = lay.roller_positions()
@@ -464,4 +461,4 @@ def guide_case(case: Case) -> Case:
         coarse["solver.min_element_length"] = T.GUIDE_COARSENING * solver.min_element_length
     return case.with_changes({"lay.stinger": {"a": a, "lower": [x_l, z_l], "upper": [x_u, z_u]},
                               "lay.top": None, "lay.top_angle": angle, "lay.frame": None,
-                              **coarse})
+                              "lay.trim_deg": None, "lay.trim_pivot": None, **coarse})

@@ -240,7 +240,7 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
     pinned = lay.top_angle == "pinned"
     top_angle = None if pinned else lay.top_angle
     if st is not None:
-        curve = np.array([st.a, st.b, st.c, st.lower[1], st.upper[1]], dtype=float)
+        curve = st.support_row()
         if top_angle is None:
             # the firing line, and below a pinned top (the pipe conforms up to
             # the pin, model.pin_jump): held along the stinger's tangent
@@ -285,9 +285,9 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
 
 def _points(case: Case, curve) -> np.ndarray:
     """The rigid points of a case (rows ``L.PT_*``): the tip (x_L, z_L) of
-    the quadratic stinger ``curve`` (a, b, c, zL, zU; None: none), a roller
-    stinger's rollers (each holding the pipe laterally or not), none in
-    J-lay."""
+    the quadratic stinger ``curve`` (its row, layout ``ST_*``; None: none),
+    a roller stinger's rollers (each holding the pipe laterally or not),
+    none in J-lay."""
     rollers = case.lay.roller_positions()
     if rollers is not None:
         pts = np.zeros((len(rollers), L.N_PT))

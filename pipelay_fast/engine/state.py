@@ -409,10 +409,10 @@ def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, f
     elements' ``section`` (nn - 1, N_SECTION), its mesh not yet mapped onto
     boundaries (every boundary node -1); the parts' arrays not given are
     empty: no rigid points (``points``, rows ``PT_*``), no stinger's
-    ``curve`` (a, b, c, zL, zU), no contacts, no nodal frames, the friction
-    springs unanchored, the load factors full current without friction, the
-    seabed flat at x = 0 (``seabed``: level, angle, z0). The supports' table
-    is :func:`.supports.support_table`'s."""
+    ``curve`` (a, b, c, zL, zU, turn: layout ``ST_*``), no contacts, no
+    nodal frames, the friction springs unanchored, the load factors full
+    current without friction, the seabed flat at x = 0 (``seabed``: level,
+    angle, z0). The supports' table is :func:`.supports.support_table`'s."""
     nn = s.size
     kind, geom, active = support_table(nn, curve, points, seabed)
     nb = kind.size

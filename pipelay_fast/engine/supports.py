@@ -6,7 +6,8 @@ parameters (a row of N_GEOM floats) and the nodes it holds (int8 per node).
 * row ``ROW_BED``: the seabed, the plane x = tan(angle) (z - z0) through
   the reference level x = 0 (``SUP_SEABED``, ``SB_*``, :func:`seabed_row`;
   its elastic stiffness is ``props[SEABED_K]``), touchdown's support;
-* row ``ROW_CURVE``: the quadratic stinger (``SUP_CURVE``, ``ST_*``),
+* row ``ROW_CURVE``: the quadratic stinger (``SUP_CURVE``, ``ST_*``; a
+  trimmed vessel's turned, :class:`pipelay_fast.input.trim.TrimmedStinger`),
   lift-off's; an empty row (``SUP_NONE``) in J-lay and on a roller stinger;
 * rows ``ROW_PT + j``: the rigid points (``SUP_POINT``, ``PT_*``: the quadratic
   stinger's tip, or a roller stinger's rollers), point j's boundary B_PT + j.
@@ -20,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..input.parabola import turned
 from ..kernels import layout as L
 
 
@@ -27,8 +29,8 @@ def support_table(nn: int, curve=None, points=None, seabed=(0.0, 0.0, 0.0)):
     """(kind (n_sup,) int64, geom (n_sup, N_GEOM), active (n_sup, nn) int8)
     for ``nn`` nodes: the seabed ``seabed`` (level [m], angle [rad], z0 [m]:
     x = level + tan(angle) (z - z0), :func:`seabed_row`), the stinger's curve
-    ``curve`` (a, b, c, zL, zU; None: none) and the rigid points ``points``
-    (n_points, N_PT; None: none), no node held yet."""
+    ``curve`` (a, b, c, zL, zU, turn: layout ``ST_*``; None: none) and the
+    rigid points ``points`` (n_points, N_PT; None: none), no node held yet."""
     n_pt = 0 if points is None else len(points)
     n_sup = L.ROW_PT + n_pt
     kind = np.full(n_sup, L.SUP_NONE, dtype=np.int64)
@@ -50,6 +52,8 @@ def line_height(kind: int, g, z):
     (NumPy: an array or a scalar), for the Python layer: the arithmetic of
     :func:`pipelay_fast.kernels.supports.support_height`, to the bit."""
     if kind == L.SUP_CURVE:
+        if g[L.ST_TURN] != 0.0:  # a trimmed vessel's
+            return turned(g[L.ST_A], g[L.ST_B], g[L.ST_C], g[L.ST_TURN], z)[:2]
         return (g[L.ST_A] * z + g[L.ST_B]) * z + g[L.ST_C], 2.0 * g[L.ST_A] * z + g[L.ST_B]
     if kind == L.SUP_SEABED:
         slope = np.tan(g[L.SB_ANGLE])

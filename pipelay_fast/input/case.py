@@ -37,6 +37,7 @@ from .frame import to_seabed
 from .lay import Lay, RollerStinger, Stinger
 from .limits import ROUNDOFF, check_case
 from .pipe import Pipe
+from .trim import trimmed
 from .validate import (
     assign,
     choice,
@@ -172,7 +173,8 @@ class Case:
         Case name (file stem by default).
     pipe, environment, seabed, lay, solver
         The tables; ``lay`` is held in the seabed frame, whatever its
-        ``lay.frame`` (:func:`pipelay_fast.input.frame.to_seabed`).
+        ``lay.frame`` (:func:`pipelay_fast.input.frame.to_seabed`), and
+        trimmed (:func:`pipelay_fast.input.trim.trimmed`: its trim 0).
     checks : Checks or None
         Table ``[checks]``, the code-check inputs; None: no code checks (their
         summary columns are NaN).
@@ -202,7 +204,7 @@ class Case:
             instance("checks", self.checks, Checks)
         depth = self.environment.water_depth
         assign(self, "given_lay", self.lay)
-        assign(self, "lay", to_seabed(self.lay, depth))
+        assign(self, "lay", trimmed(to_seabed(self.lay, depth)))
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
@@ -303,6 +305,8 @@ class Case:
         tables["lay"] = plain(self.given_lay)
         if tables["lay"]["frame"] == "seabed":
             del tables["lay"]["frame"]  # the default: a seabed-frame case's tables as before
+        if tables["lay"]["trim_deg"] == 0.0:
+            del tables["lay"]["trim_deg"]  # (likewise untrimmed)
         tables["seabed"].setdefault("stiffness", "rigid")
         if self.checks is not None:
             tables["checks"] = plain(self.checks)

@@ -2,9 +2,9 @@
 the seabed or as elevations about the still water level, and the checks of
 the vessel against the water and the seabed.
 
-In the ``"waterline"`` frame ``lay.top``, ``lay.stinger.lower``/``upper`` and
-``lay.stinger.rollers`` give x as the elevation e [m] above the still water
-level (negative below it), z unchanged. The engine sees heights above the
+In the ``"waterline"`` frame ``lay.top``, ``lay.stinger.lower``/``upper``,
+``lay.stinger.rollers`` and ``lay.trim_pivot`` give x as the elevation e [m]
+above the still water level (negative below it), z unchanged. The engine sees heights above the
 seabed, x = d + e with d = ``environment.water_depth``, so that the water
 depth moves only the seabed: :func:`to_seabed` builds that seabed-frame
 :class:`~pipelay_fast.input.lay.Lay` when the case is built
@@ -61,6 +61,8 @@ def to_seabed(lay, depth: float):
     check_seabed(lay, depth)
     st = lay.stinger
     changes = {"frame": "seabed", "top": _point(lay.top, depth)}
+    if lay.trim_pivot is not None:
+        changes["trim_pivot"] = _point(lay.trim_pivot, depth)
     if st is not None and lay.has_rollers:
         if st.rollers is not None:
             changes["stinger"] = dataclasses.replace(

@@ -1,6 +1,7 @@
 """The ``lay`` table: the lay method, the top, the tensions and the
-stinger (``lay.stinger``: a quadratic curve or a roller stinger), validated
-on construction. Heights ``x`` are measured from the seabed, or from the still
+stinger (``lay.stinger``: a quadratic curve or a roller stinger,
+:mod:`.rollers`), validated on construction; a trim turns them
+(:mod:`.trim`). Heights ``x`` are measured from the seabed, or from the still
 water level with ``lay.frame = "waterline"`` (:mod:`.frame`); ``z`` along the
 lay."""
 
@@ -11,14 +12,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import parabola
 from .frame import FRAMES
 from .limits import MAX_STINGER_TURN, ROUNDOFF
+from .rollers import RollerStinger
+from .trim import TrimmedStinger
 from .validate import (
     assign,
     choice,
     fail,
     instance,
-    integer,
     set_numbers,
     vector,
     vectorised,
@@ -108,38 +111,37 @@ class Stinger:
             z, lambda z: 2.0 * self.a / (1.0 + (2.0 * self.a * z + self.b) ** 2) ** 1.5)
 
     def arc_length(self, z0: float, z1):
-        """The curve's arc length [m] from z0 to z1 [m], negative when z1 < z0;
-        in closed form (with p = 2 a z + b, 4 a s = [p sqrt(1 + p^2) +
-        asinh p] between the ends); vectorised in z1."""
-        return self._arc(self.a, self.b, z0, np.asarray(z1, dtype=float))
-
-    @staticmethod
-    def _arc(a: float, b: float, z0: float, z1):
-        """:meth:`arc_length` of the curve with coefficients ``a``, ``b``."""
-        if a == 0.0:
-            return math.sqrt(1.0 + b * b) * (z1 - z0)
-        p0, p1 = 2.0 * a * z0 + b, 2.0 * a * z1 + b
-        return ((p1 * np.sqrt(1.0 + p1 * p1) + np.arcsinh(p1))
-                - (p0 * math.sqrt(1.0 + p0 * p0) + math.asinh(p0))) / (4.0 * a)
+        """The curve's arc length [m] from z0 to z1 [m], negative when z1 < z0,
+        in closed form (:func:`.parabola.arc`); vectorised in z1."""
+        return parabola.arc(self.a, self.b, z0, np.asarray(z1, dtype=float))
 
     def z_at_arc(self, z0: float, s):
         """z [m] where the curve's arc length from z0 [m] is ``s`` [m]
-        (negative: towards lower z): the inverse of :meth:`arc_length`, by
-        Newton from the chord along the tangent at z0 (ds/dz = sqrt(1 + p^2)
-        >= 1, so the iteration converges quadratically) until its step stops
-        shrinking, at round-off; vectorised in s."""
-        a, b = self.a, self.b
-        s = np.asarray(s, dtype=float)
-        z = z0 + s / math.sqrt(1.0 + (2.0 * a * z0 + b) ** 2)
-        last = math.inf
-        while True:
-            p = 2.0 * a * z + b
-            dz = (self._arc(a, b, z0, z) - s) / np.sqrt(1.0 + p * p)
-            z = z - dz
-            step = float(np.max(np.abs(dz), initial=0.0))
-            if not step < last:
-                return z
-            last = step
+        (negative: towards lower z), :func:`.parabola.at_arc`; vectorised in s."""
+        return parabola.at_arc(self.a, self.b, z0, s)
+
+    def level_z(self) -> float:
+        """z [m] where the curve is level (its vertex; a < 0)."""
+        return -self.b / (2.0 * self.a)
+
+    def seabed_z(self) -> float:
+        """z [m] where the curve continued below the tip meets x = 0: the
+        root of a z^2 + b z + c where 2 a z + b = +sqrt(disc), without
+        cancellation (x >= 0 at the tip: a real root below it)."""
+        a, b, c = self.a, self.b, self.c
+        root = math.sqrt(b * b - 4.0 * a * c)
+        return -2.0 * c / (b + root) if b > 0.0 else (root - b) / (2.0 * a)
+
+    @property
+    def vessel(self) -> Stinger:
+        """The stinger in the vessel's frame: itself (a trimmed vessel's,
+        :class:`.trim.TrimmedStinger`, turns it)."""
+        return self
+
+    def support_row(self) -> np.ndarray:
+        """Its row of the supports' table (layout ``ST_*``: a, b, c, zL, zU,
+        the turn 0)."""
+        return np.array([self.a, self.b, self.c, self.lower[1], self.upper[1], 0.0])
 
     def roller_positions(self, spacing: float) -> list[list[float]]:
         """Rollers on this curve for a roller stinger's ``rollers``: evenly
@@ -153,158 +155,6 @@ class Stinger:
         zr = self.z_at_arc(self.upper[1], -total / n * np.arange(1, n + 1))
         zr[-1] = self.lower[1]  # the last on the tip, exactly
         return [[float(a), float(b)] for a, b in zip(self.height(zr), zr, strict=True)]
-
-
-ROLLER_TYPES = ("v", "flat")
-
-
-@dataclass(frozen=True, slots=True)
-class RollerStinger:
-    """Roller stinger: rigid rollers at discrete stations, table
-    ``[lay.stinger]`` with ``rollers`` (or ``radius``) instead of ``a``.
-
-    The pipe spans freely between the rollers and bears on each one it
-    reaches (a unilateral, frictionless point contact,
-    :mod:`pipelay_fast.kernels.newton`). The positions are those of the
-    pipe's axis over each roller, as the quadratic stinger's curve is the
-    axis's path: a roller top raised by the pipe's outer radius (coating
-    included) along the pipe's normal.
-
-    Attributes
-    ----------
-    rollers : list of (float, float) or None
-        (x, z) [m] of each roller, from the vessel down: z falling and x
-        falling from one to the next, all above the seabed and below and
-        behind ``lay.top``; x in the frame of ``lay.frame``.
-    radius, arc_length, spacing : float or None
-        Or the rollers placed on a path from ``lay.top`` along
-        ``lay.top_angle``: ``straight_length`` [m] straight, then a circular
-        arc of ``radius`` [m] turning the pipe down over ``arc_length`` [m],
-        a roller every ``spacing`` [m] of the path from its start (the first
-        at ``spacing``, the last at or before the arc's end).
-    straight_length : float
-        The path's straight part [m]; default 0.
-    height_step : float or None
-        Roller heights rounded to multiples of it [m] (the pin holes of a
-        roller box set heights in steps); None: not rounded. With
-        ``rollers`` given it is not allowed (round them yourself).
-    roller_type : str or list of str
-        "v" (default): a roller box with side rollers, which in 3D holds the
-        pipe laterally (y = 0) while it bears; "flat": it does not. One for
-        all rollers, or one per roller.
-    height_shift : float
-        Added to the heights x of the rollers ``shifted`` [m] (after any
-        rounding); default 0. The sweep axis ``roller_shift`` varies it.
-    shifted : list of int or None
-        The rollers ``height_shift`` moves (indices [-] from the vessel down,
-        from 0); None (default): all of them.
-
-    A roller stinger needs ``lay.top`` (where the vessel holds the pipe) and
-    ``lay.top_angle`` (degrees, or "pinned" with ``rollers`` given).
-    """
-
-    rollers: tuple[tuple[float, float], ...] | None = None
-    radius: float | None = None
-    arc_length: float | None = None
-    spacing: float | None = None
-    straight_length: float = 0.0
-    height_step: float | None = None
-    roller_type: str | tuple[str, ...] = "v"
-    height_shift: float = 0.0
-    shifted: tuple[int, ...] | None = None
-
-    def __post_init__(self):
-        p = "lay.stinger"
-        set_numbers(self, p, finite=("height_shift",))
-        if self.shifted is not None:
-            if not isinstance(self.shifted, (list, tuple)) or not self.shifted:
-                fail(f"{p}.shifted", self.shifted, "must be a non-empty list of roller indices")
-            picks = tuple(integer(f"{p}.shifted[{i}]", k, 0) for i, k in enumerate(self.shifted))
-            if len(set(picks)) != len(picks):
-                fail(f"{p}.shifted", list(picks), "names a roller twice")
-            assign(self, "shifted", picks)
-        path_keys = ("radius", "arc_length", "spacing")
-        given = [k for k in path_keys if getattr(self, k) is not None]
-        if self.rollers is not None:
-            if given or self.straight_length != 0.0:
-                key = given[0] if given else "straight_length"
-                fail(f"{p}.{key}", getattr(self, key),
-                     f"is given with {p}.rollers: give the rollers, or the path "
-                     "(radius, arc_length, spacing, straight_length), not both")
-            if self.height_step is not None:
-                fail(f"{p}.height_step", self.height_step,
-                     f"rounds generated rollers only; {p}.rollers are taken as given")
-            if not isinstance(self.rollers, (list, tuple)) or not self.rollers:
-                fail(f"{p}.rollers", self.rollers, "must be a non-empty list of [x, z] pairs")
-            pts = tuple(vector(f"{p}.rollers[{i}]", r, 2) for i, r in enumerate(self.rollers))
-            assign(self, "rollers", pts)  # (their order and the seabed: Lay._check_rollers)
-        else:
-            if len(given) != 3:
-                missing = [k for k in path_keys if k not in given]
-                raise ValueError(f"{p}: a roller stinger needs {p}.rollers, or {p}.radius, "
-                                 f"{p}.arc_length and {p}.spacing (missing "
-                                 f"{', '.join(p + '.' + k for k in missing)})")
-            set_numbers(self, p, positive=path_keys, non_negative=("straight_length",))
-            if self.height_step is not None:
-                set_numbers(self, p, positive=("height_step",))
-            if self.spacing > self.straight_length + self.arc_length:
-                fail(f"{p}.spacing", self.spacing, "is longer than the roller path "
-                     f"(straight_length + arc_length = "
-                     f"{self.straight_length + self.arc_length:g} m): no roller on it")
-        kinds = self.roller_type
-        if isinstance(kinds, (list, tuple)):
-            kinds = tuple(choice(f"{p}.roller_type[{i}]", k, ROLLER_TYPES)
-                          for i, k in enumerate(kinds))
-            if len(kinds) != self.count:
-                fail(f"{p}.roller_type", list(kinds), f"has {len(kinds)} entries for the "
-                     f"{self.count} rollers: give one per roller, or one for all")
-        else:
-            kinds = choice(f"{p}.roller_type", kinds, ROLLER_TYPES)
-        assign(self, "roller_type", kinds)
-        if self.shifted is not None and max(self.shifted) >= self.count:
-            fail(f"{p}.shifted", list(self.shifted),
-                 f"names a roller past the last of the {self.count}")
-
-    @property
-    def count(self) -> int:
-        """The number of rollers (on a path: one every ``spacing`` of it)."""
-        if self.rollers is not None:
-            return len(self.rollers)
-        length = self.straight_length + self.arc_length
-        return int(math.floor(length / self.spacing * (1.0 + ROUNDOFF)))
-
-    def positions(self, top, top_angle) -> np.ndarray:
-        """(n, 2) roller positions (x, z) [m]: ``rollers``, or placed on the
-        path from ``top`` (x, z) [m] along ``top_angle`` [deg]."""
-        if self.rollers is not None:
-            return self._shift(np.array(self.rollers, dtype=float))
-        sigma = self.spacing * np.arange(1, self.count + 1)
-        theta0 = math.radians(top_angle)
-        arc = np.clip(sigma - self.straight_length, 0.0, None)
-        straight = sigma - arc
-        theta = theta0 + arc / self.radius
-        # along the straight, then the arc (the angle grows at 1/radius per m)
-        x = top[0] - straight * math.sin(theta0) - self.radius * (
-            np.cos(theta0) - np.cos(theta))
-        z = top[1] - straight * math.cos(theta0) - self.radius * (
-            np.sin(theta) - np.sin(theta0))
-        if self.height_step is not None:
-            x = self.height_step * np.round(x / self.height_step)
-        return self._shift(np.stack([x, z], axis=1))
-
-    def _shift(self, pts: np.ndarray) -> np.ndarray:
-        """``pts`` with ``height_shift`` added to the heights of the ``shifted`` rollers."""
-        if self.height_shift != 0.0:
-            rows = slice(None) if self.shifted is None else list(self.shifted)
-            pts[rows, 0] += self.height_shift
-        return pts
-
-    def lateral_hold(self) -> np.ndarray:
-        """1.0 for each roller that holds the pipe laterally (a V roller), else 0."""
-        kinds = self.roller_type
-        if isinstance(kinds, str):
-            return np.full(self.count, 1.0 if kinds == "v" else 0.0)
-        return np.array([1.0 if k == "v" else 0.0 for k in kinds])
 
 
 @dataclass(frozen=True, slots=True)
@@ -355,6 +205,17 @@ class Lay:
         level [m] (negative below it), so that ``environment.water_depth``
         moves the seabed and not the vessel. z is the same in both. A case
         holds its lay in the seabed frame (:mod:`pipelay_fast.input.frame`).
+    trim_deg : float
+        The vessel's trim [deg], default 0: ``top``, ``top_angle``, the stinger
+        and its rollers turned as one body about ``trim_pivot``, positive
+        trimming the stern (the stinger's end, towards -z) down: a point's
+        (x - xp, z - zp) turned counter-clockwise seen with z to the right and x
+        up, angles above horizontal growing by the trim. Within (-90, 90),
+        and refused where the turned geometry is not a lay
+        (:mod:`pipelay_fast.input.trim`).
+    trim_pivot : (float, float) or None
+        The point (xp, zp) [m] the trim turns about, x in the frame of
+        ``frame``; required with a trim.
     """
 
     method: str | None = None
@@ -367,11 +228,14 @@ class Lay:
     torque: float = 0.0
     distributed_moment: tuple[float, float, float] = (0.0, 0.0, 0.0)
     frame: str = "seabed"
+    trim_deg: float = 0.0
+    trim_pivot: tuple[float, float] | None = None
 
     def __post_init__(self):
         choice("lay.frame", self.frame, FRAMES)
+        self._check_trim()
         if self.stinger is not None:
-            instance("lay.stinger", self.stinger, (Stinger, RollerStinger))
+            instance("lay.stinger", self.stinger, (Stinger, RollerStinger, TrimmedStinger))
         if self.method is None:
             assign(self, "method", "J" if self.stinger is None else "S")
         choice("lay.method", self.method, METHODS)
@@ -380,6 +244,16 @@ class Lay:
         set_numbers(self, "lay", finite=("torque",))
         assign(self, "distributed_moment",
               vector("lay.distributed_moment", self.distributed_moment, 3))
+
+    def _check_trim(self):
+        set_numbers(self, "lay", finite=("trim_deg",))
+        if not -90.0 < self.trim_deg < 90.0:
+            fail("lay.trim_deg", self.trim_deg, "must lie in (-90, 90) deg (a quarter turn "
+                 "stands the vessel's deck on end)")
+        if self.trim_pivot is not None:
+            assign(self, "trim_pivot", vector("lay.trim_pivot", self.trim_pivot, 2))
+        elif self.trim_deg != 0.0:
+            fail("lay.trim_pivot", None, f"is required with lay.trim_deg = {self.trim_deg!r}")
 
     def _check_tension(self):
         keys = ("top_tension", "bottom_tension", "pipe_length")

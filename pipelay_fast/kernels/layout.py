@@ -91,13 +91,14 @@ B_PT = 2  # the first rigid point (the stinger's tip first); point j is boundary
 SUP_NONE = 0  # an empty row: holds nothing (the curve's row of a J-lay or a roller stinger)
 SUP_SEABED = 1  # the seabed, a plane x = level + tan(angle) (z - z0) (flat: angle 0), held in
 #                  nodal frames turned by its angle (none when flat); friction springs
-SUP_CURVE = 2  # the quadratic stinger x = a z^2 + b z + c on [zL, zU], held in curve coordinates
+SUP_CURVE = 2  # the quadratic stinger x = a z^2 + b z + c on [zL, zU] (turned about the
+#                origin by a trim), held in curve coordinates
 SUP_POINT = 3  # a rigid point in the lay plane (the stinger's tip, a roller), held at
 #                its boundary's node by a unilateral contact
 ROW_BED = B_TD  # the seabed's row
 ROW_CURVE = B_LO  # the stinger curve's row
 ROW_PT = B_PT  # the first rigid point's row
-N_GEOM = 5  # columns of ``geom``
+N_GEOM = 6  # columns of ``geom``
 
 # the seabed's row: x = level + tan(angle) (z - z0)
 SB_LEVEL = 0  # its height x [m] at z0 (0: the reference seabed is the origin of x)
@@ -105,13 +106,18 @@ SB_ANGLE = 1  # its angle above horizontal along z [rad] (positive: rising towar
 SB_Z0 = 2  # z0 [m], where it passes through the level
 
 # the stinger curve's row: x = a z^2 + b z + c on [zL, zU], x the height and z
-# the lay direction [m]
+# the lay direction [m]; a trimmed vessel's curve is that parabola in the
+# coordinates (x'', z'') of a frame turned by ST_TURN about the origin, so that
+# x = cos(t) x'' + sin(t) z'', z = cos(t) z'' - sin(t) x'' (t > 0: turned
+# counter-clockwise seen with z to the right and x up, the stern at -z down);
+# zL and zU are the ends' global z (:func:`.supports.support_height`)
 ST_A = 0  # a [1/m]
 ST_B = 1  # b [-]
 ST_C = 2  # c [m]
 ST_ZL = 3  # zL [m], the tip (its lower end)
 ST_ZU = 4  # zU [m]
-N_STINGER = 5
+ST_TURN = 5  # t [rad], the vessel's trim (0: the parabola in the global frame)
+N_STINGER = 6
 
 # a rigid point's row: a node follows the material point over it (a boundary
 # unknown of Newton, :mod:`.constraints`) and its normal contact is chosen by

@@ -25,6 +25,9 @@ path in the iteration:
 * :func:`tangency`: the pipe tangent to it at a boundary node whose slope is
   otherwise free (lift-off's equation).
 
+The stinger's curve is a parabola x = a z^2 + b z + c, in a frame turned by
+the vessel's trim about the origin (layout ``ST_*``; :func:`turned_curve`):
+at trim 0 its arithmetic is the plain parabola's, to the bit (a branch).
 The seabed is a plane x = level + tan(angle) (z - z0) (layout ``SB_*``); at
 angle 0 its arithmetic reduces to the flat seabed's to the bit (tan 0 = sin
 0 = 0, cos 0 = 1 exactly), and :func:`tangency` keeps the flat seabed's own
@@ -47,6 +50,7 @@ from .layout import (
     ST_A,
     ST_B,
     ST_C,
+    ST_TURN,
     ST_ZL,
     ST_ZU,
     SUP_CURVE,
@@ -55,11 +59,42 @@ from .layout import (
 )
 
 
+@jit(_nrt=False)
+def turned_curve(g, z):
+    """(f, f', f'') at z [m] of the parabola x'' = a u^2 + b u + c in the
+    frame turned by t = g[ST_TURN] != 0 about the origin (layout ``ST_*``:
+    x = cos(t) x'' + sin(t) u, z = cos(t) u - sin(t) x'').
+
+    Its abscissa u at z is the root of sin(t) a u^2 + (sin(t) b - cos(t)) u +
+    sin(t) c + z = 0 with 2 sin(t) a u + sin(t) b - cos(t) = -sqrt(disc), the
+    branch that tends to u = z as t -> 0 (sqrt(disc) = cos(t) - sin(t) p,
+    p = 2 a u + b, is positive where the turned curve's tangent is less than
+    90 deg from horizontal), in the form without cancellation for either
+    sign of the linear coefficient; then f' = (cos(t) p + sin(t)) / (cos(t) -
+    sin(t) p) = tan(atan(p) + t) and f'' = 2 a / (cos(t) - sin(t) p)^3 by
+    implicit differentiation. The Python layer's twin is
+    :func:`pipelay_fast.input.parabola.turned`, to the bit. A kernel of its
+    own, not a phase: only a trimmed stinger calls it."""
+    a, b, c = g[ST_A], g[ST_B], g[ST_C]
+    cs, sn = math.cos(g[ST_TURN]), math.sin(g[ST_TURN])
+    alpha, beta, gamma = sn * a, sn * b - cs, sn * c + z
+    root = math.sqrt(max(beta * beta - 4.0 * alpha * gamma, 0.0))
+    if beta < 0.0:
+        u = 2.0 * gamma / (root - beta)
+    else:
+        u = -(beta + root) / (2.0 * alpha)
+    p = 2.0 * a * u + b
+    den = cs - sn * p
+    return cs * ((a * u + b) * u + c) + sn * u, (cs * p + sn) / den, 2.0 * a / (den * den * den)
+
+
 @phase
 def support_height(kind, g, z):
     """(f, f', f'') of support ``kind`` with parameters ``g`` at z [m]: its
     height x [m], dx/dz [-], d2x/dz2 [1/m]; a point's: its height, 0, 0."""
     if kind == SUP_CURVE:
+        if g[ST_TURN] != 0.0:
+            return turned_curve(g, z)
         fpp = 2.0 * g[ST_A]
         return (g[ST_A] * z + g[ST_B]) * z + g[ST_C], fpp * z + g[ST_B], fpp
     if kind == SUP_POINT:
@@ -72,6 +107,8 @@ def support_height(kind, g, z):
 def support_angle(kind, g, z):
     """Angle [rad] of the support's tangent above horizontal at z [m]."""
     if kind == SUP_CURVE:
+        if g[ST_TURN] != 0.0:
+            return math.atan(turned_curve(g, z)[1])
         return math.atan(2.0 * g[ST_A] * z + g[ST_B])
     if kind == SUP_SEABED:
         return g[SB_ANGLE]
@@ -98,6 +135,8 @@ def support_gap(kind, g, x, z, phi):
     if kind == SUP_POINT:
         return math.cos(phi) * (x - g[PT_X]) - math.sin(phi) * (z - g[PT_Z])
     if kind == SUP_CURVE:
+        if g[ST_TURN] != 0.0:
+            return x - turned_curve(g, z)[0]
         return x - ((g[ST_A] * z + g[ST_B]) * z + g[ST_C])
     return x - (g[SB_LEVEL] + math.tan(g[SB_ANGLE]) * (z - g[SB_Z0]))
 

@@ -38,7 +38,7 @@ ROLLER_UNITS = {
 
 SUMMARY_UNITS = {
     "case_id": "", "method": "", "dimension": "", "a": "1/m", "stinger_radius": "m",
-    "roller_shift": "m", "water_depth": "m",
+    "roller_shift": "m", "water_depth": "m", "trim_deg": "deg",
     "current_speed": "m/s", "current_heading_deg": "deg", "status": "", "message": "",
     "top_tension": "N", "bottom_tension": "N", "tdp_z": "m", "liftoff_z": "m",
     "liftoff_angle_deg": "deg", "top_angle_deg": "deg", "suspended_length": "m",
@@ -426,8 +426,9 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
         "case_id": case_id(case),
         "method": case.lay.method,
         "dimension": f"{nd}d",
-        **stinger_columns(case.lay),
+        **stinger_columns(case.given_lay),
         "water_depth": case.environment.water_depth,
+        "trim_deg": case.given_lay.trim_deg,
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,
         "status": "ok",

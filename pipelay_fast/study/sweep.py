@@ -37,6 +37,7 @@ AXES = {
     "bottom_tension": ("lay.bottom_tension", "given_bottom_tension", "N"),
     "pipe_length": ("lay.pipe_length", "given_pipe_length", "m"),
     "depth": ("environment.water_depth", "water_depth", "m"),
+    "trim": ("lay.trim_deg", "trim_deg", "deg"),
 }
 TENSION_AXES = ("top_tension", "bottom_tension", "pipe_length")
 # the stinger's design axes, which `select` chooses a value of: the quadratic
@@ -351,12 +352,13 @@ def _copy_tables(tables: dict) -> dict:
 def _inputs(scene: Scene, case: Case | None, values: Mapping[str, float]) -> dict:
     """The summary's input columns of a case (from the requested values if invalid)."""
     ref = case or scene.case
-    lay, cur = ref.lay, ref.environment.current
+    lay, cur = ref.given_lay, ref.environment.current
     inputs = {
         "method": ref.lay.method,
         "dimension": ref.resolved_dimension if case is not None else "",
         **stinger_columns(lay),
         "water_depth": ref.environment.water_depth,
+        "trim_deg": ref.given_lay.trim_deg,
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,
     }

@@ -31,7 +31,9 @@ scenes only, J-lay scenes ignore it), a roller stinger's ``stinger_radius``
 ``pipe_length`` (``given_pipe_length``, m) and ``depth`` (``water_depth``, m:
 the water depth of a vessel in the waterline frame, ``lay.frame =
 "waterline"``, which moves the seabed and not the vessel; refused on a
-seabed-frame case, whose vessel would move with the seabed); a tension axis
+seabed-frame case, whose vessel would move with the seabed) and ``trim``
+(``trim_deg``, deg: ``lay.trim_deg``, the vessel's trim about the case's
+``lay.trim_pivot``, which the case must give); a tension axis
 replaces whichever tension the base case gives. Scene keys: ``case``,
 ``method`` ("S" or "J"), ``water_depth``, ``stinger_lower``, ``stinger_upper``,
 ``top`` ((x, z), m, x in the case's ``lay.frame``: the J-lay hang-off, or
