@@ -510,7 +510,7 @@ def first_steps(case, pb, key, rels, maxit=1):
         C.run_newton(one, np.zeros_like(one.u), 1e-12, maxit)
         conv = copy.deepcopy(start)
         st, _r, info = C.run_newton(conv, np.zeros_like(conv.u), 1e-10, 100)
-        for b in range(start.bnodes.size):
+        for b in range(min(start.bnodes.size, L.B_PT + 1)):  # touchdown, lift-off, the tip
             if start.bnodes[b] < 0:
                 continue
             d_c = conv.mesh.s_bd[b] - s0[b]
