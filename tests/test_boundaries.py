@@ -689,3 +689,37 @@ def test_a_warm_start_s_lift_off_moves_far_along_the_stinger(scene, h, da):
         assert warm.summary[key] == pytest.approx(cold.summary[key], rel=1e-8), key
     assert warm.summary["max_lateral_deflection"] == pytest.approx(
         cold.summary["max_lateral_deflection"], rel=1e-6, abs=1e-9)
+
+
+def test_touchdown_equation_is_differentiated_by_every_boundary(s67):
+    """Touchdown's equation (the free element's nodal moment,
+    :func:`.constraints._free_moment`) depends on the boundaries' arc lengths
+    through its element's length; on a mesh that moves as its grading does
+    (S67 2D, the answer's mesh) that length moves with lift-off too. Its
+    derivatives by each boundary at fixed u are the central differences of
+    the moment with the mesh's element lengths rebuilt
+    (:func:`.constraints.mesh_lengths`) at s_b +- h."""
+    from pipelay_fast.engine.solver import solve_problem
+    from pipelay_fast.kernels import layout as L
+    from pipelay_fast.kernels.constraints import _free_moment, mesh_lengths
+
+    pb, _sol = solve_problem(s67)
+    nd, td = pb.nd, int(pb.bnodes[L.B_TD])
+    s_a, s_b = pb.mesh.s_a, pb.mesh.s_b
+    torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
+
+    def moment(s_bd, row, own):
+        s_el = np.empty(pb.nn - 1)
+        mesh_lengths(s_a, s_b, s_bd, s_el)
+        return _free_moment(nd, s_el, pb.u, pb.model(), torques, td, s_b, row, own)
+
+    own = np.zeros(pb.bnodes.size)
+    moment(pb.mesh.s_bd.copy(), np.zeros(pb.u.size), own)
+    h = 1e-3
+    for b in (L.B_TD, L.B_LO):
+        sp, sm = pb.mesh.s_bd.copy(), pb.mesh.s_bd.copy()
+        sp[b] += h
+        sm[b] -= h
+        fd = (moment(sp, np.zeros(0), own.copy()) - moment(sm, np.zeros(0), own.copy())) / (2 * h)
+        assert abs(fd) > 1.0  # N m / m: the element moves with both boundaries
+        assert own[b] == pytest.approx(fd, rel=1e-6)

@@ -191,7 +191,7 @@ def _hold_on_line(nd, u, sup, k, top_node, w):
 
 
 @jit(by_dimension=True, _nrt=True)
-def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row, phi):
+def _free_moment(nd, s_el, u, model, torques, td_node, s_b, row, own, phi):
     """Touchdown's equation: the moment at touchdown on the free side, the
     residual [N m] of the first free element at the slope unknown of its lower
     node (on the seabed, its slope held), which vanishes with that moment as
@@ -201,7 +201,10 @@ def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row, phi):
     node-equilibrium form of it. The slope unknown is the node's frame's,
     turned by ``phi`` [rad] (a sloped seabed's: the normal component of r',
     x' cos(phi) - z' sin(phi), the turn of the tangent; x' when flat).
-    ``row`` gets its derivative d/du; returns it and d/ds_T at fixed u."""
+    ``row`` gets its derivative d/du, ``own`` (nbnd,) its derivatives by each
+    boundary's arc length at fixed u (the element's length moves with every
+    boundary whose rates ``s_b`` reach it: a graded mesh's with all of
+    them); returns it."""
     ndn = 2 * nd + 1
     ne = 2 * ndn
     e = td_node
@@ -220,12 +223,14 @@ def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row, phi):
         for j in range(ne):
             ke[nd, j] = c * ke[nd, j] - s * ke[2 * nd - 1, j]
     if not want:
-        return fe[nd], 0.0
+        return fe[nd]
     for i in range(row.shape[0]):
         row[i] = 0.0
     for j in range(ne):
         row[e * ndn + j] = ke[nd, j]
-    return fe[nd], (rate_b[e + 1] - rate_b[e]) * dfe[nd]
+    for b in range(own.shape[0]):
+        own[b] = (s_b[b, e + 1] - s_b[b, e]) * dfe[nd]
+    return fe[nd]
 
 
 @jit(_nrt=False)

@@ -215,9 +215,9 @@ fr_out : (ndof,) the friction springs' forces on the pipe [N]
 fr_stop : (nn,) the spring a step stopped at its stick zone's edge (1 + the
     component; 0 none): ``friction_step`` writes and reads it,
     ``_line_search`` clears it.
-row_td, own_td : (ndof,), (1,) touchdown's equation's gradient dM/du [N, N m,
-    m] and its derivative by s_T at fixed u [N]: ``_evaluate`` writes them,
-    ``_border`` reads them.
+row_td, own_td : (ndof,), (nbnd,) touchdown's equation's gradient dM/du [N, N m,
+    m] and its derivatives by each boundary's arc length at fixed u [N]:
+    ``_evaluate`` writes them, ``_border`` reads them.
 at, at_rate, at_scratch, sh : (2 nd + 1,) x 3, (3, 4) the pipe at a material
     point, its derivative along the pipe and the Hermite shape functions:
     scratch of :func:`.step._take_step`.
@@ -253,7 +253,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.zeros(n_border), np.zeros((n_border, n_border)), np.zeros(n_border),
         np.empty((nbnd, n)), np.zeros(nbnd), np.zeros(nbnd),
         np.zeros(nbnd), np.zeros(nbnd), np.zeros(nn), np.zeros(n), np.zeros(0),
-        np.zeros((1, 1)).T, np.zeros(n), np.zeros(1), np.zeros(nn), np.zeros(ndn),
+        np.zeros((1, 1)).T, np.zeros(n), np.zeros(nbnd), np.zeros(nn), np.zeros(ndn),
         np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)), np.zeros(nn),
         np.empty((n, 1 + n_border)))
 

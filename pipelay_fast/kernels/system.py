@@ -118,10 +118,8 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     m_td = 0.0
     if bnodes[B_TD] >= 0:
         row = w.row_td if want_tangent else w.no_row
-        m_td, own = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[B_TD],
-                                 mesh.s_b[B_TD], row, sup.phi_rp[bnodes[B_TD]])
-        if want_tangent:
-            w.own_td[0] = own
+        m_td = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[B_TD], mesh.s_b, row,
+                            w.own_td, sup.phi_rp[bnodes[B_TD]])
     return te_top, m_td
 
 
@@ -334,16 +332,19 @@ def _border(nd, u, mesh, sup, ends, w, te_top):
         if b == B_TD:  # (evaluated by _evaluate)
             for i in range(w.rows.shape[1]):
                 w.rows[nb, i] = w.row_td[i]
-            d_own = w.own_td[0]
+            d_own = w.own_td[B_TD]
         else:
             w.res_bnd[b] = _bnd_equation(nd, u, sup, b, node, w.rows[nb])
         _to_nodal_frames(nd, w.cols[nb], u, sup, w)
         _to_nodal_frames(nd, w.rows[nb], u, sup, w)
         w.res_b[nb] = w.res_bnd[b]
-        # the earlier border equations by s_b at fixed u: the top tension
+        # the earlier border equations by s_b at fixed u: the top tension,
+        # touchdown's moment (its element's length moves with s_b)
         for j in range(nb):
             if w.kind[j] == 0:
                 w.d_b[j, nb] = w.d_top[b]
+            elif w.kind[j] == 2 + B_TD:
+                w.d_b[j, nb] = w.own_td[b]
         w.d_b[nb, nb] = d_own
         w.kind[nb] = 2 + b
         nb += 1
