@@ -711,7 +711,7 @@ def test_touchdown_equation_is_differentiated_by_every_boundary(s67):
     def moment(s_bd, row, own):
         s_el = np.empty(pb.nn - 1)
         mesh_lengths(s_a, s_b, s_bd, s_el)
-        return _free_moment(nd, s_el, pb.u, pb.model(), torques, td, s_b, row, own)
+        return _free_moment(nd, s_el, pb.u, pb.model(), torques, td, s_b, row, own, 0.0)
 
     own = np.zeros(pb.bnodes.size)
     moment(pb.mesh.s_bd.copy(), np.zeros(pb.u.size), own)
