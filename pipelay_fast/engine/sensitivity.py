@@ -17,14 +17,15 @@ through derived quantities (the water depth's pressures and current
 profile, the top tension's equation row, the current's drag) is
 differentiated as the model has it.
 
-Newton, not one back-substitution on the factored tangent: the kernel's
-tangent is not exact in the boundaries' coupling to the moving mesh, and
-its first step from U* misses the derivative of touchdown's arc length by
-2.3 % (S67 2D, d/da, at relative steps 1e-3 and 1e-5 alike); the second
-step agrees with the converged answer to 3e-8. Each side takes two steps
-at least, and is solved to solver.tolerance: from there the second step
-ends at the residual's round-off floor (2e-9 of the reference force, S67
-2D), and a side's stopping point enters the difference as that floor / h.
+Newton to the tolerance on each side, not one back-substitution on the
+factored tangent: the tangent is exact in 2D (``benchmarks/check_tangent.py``),
+so the first step from U* misses the converged side by O(h) only, but at
+the relative step used here (1e-4) that is still 8.8e-4 of touchdown's
+move (S67 2D, d/da) against 3e-8 after the second step; in 3D the friction
+springs' kinks keep it inexact. Each side takes two steps at least, and is
+solved to solver.tolerance: from there the second step ends at the
+residual's round-off floor (2e-9 of the reference force, S67 2D), and a
+side's stopping point enters the difference as that floor / h.
 The output layer differences the post-processed columns
 (:mod:`pipelay_fast.output.sensitivity`).
 """
