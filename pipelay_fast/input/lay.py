@@ -169,6 +169,8 @@ class Lay:
         Effective tension at the top [N].
     bottom_tension : float or None
         Effective (residual) tension at a lower end sliding along z [N].
+        Refused on a sloped seabed (``seabed.slope_deg`` not 0), where the
+        laid pipe's tension changes along the slope.
     pipe_length : float or None
         Unstretched length with a fixed lower end [m].
         Exactly one of the three tension keys is given.
