@@ -51,7 +51,7 @@ def find_spans(s, z, gap) -> dict:
                          f"got shapes {s.shape}, {z.shape}, {gap.shape}")
     rest = np.flatnonzero(gap <= 0.0)
     rows = {name: [] for name in SPAN_UNITS}
-    for a, b in zip(rest[:-1], rest[1:]):
+    for a, b in zip(rest[:-1], rest[1:], strict=True):
         if b == a + 1:  # resting on both nodes: no free pipe between
             continue
         s0 = _crossing(s, gap, a)
