@@ -94,7 +94,7 @@ def node_maps(pb, case=None, hold_curve=False):
                 _turn(m, blk * nd, blk * nd + nd - 1, phi)
         if bed[k]:
             held[0] = held[nd] = True
-        if k == 0 and c.kind[L.ROW_BED] == L.SUP_FLAT_SEABED:
+        if k == 0 and c.kind[L.ROW_BED] == L.SUP_SEABED:
             held[nd] = True
         if curve[k] and k != top:
             z = u[base + nd - 1]

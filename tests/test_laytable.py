@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -24,28 +25,28 @@ def sweep():
 def test_lay_table_file_covers_both_depth_ranges(sweep):
     """S-lay 30 to 300 m with the S67 stinger kept at the vessel (its ends at
     fixed heights below the surface), J-lay 100 to 2000 m with the hang-off 5 m
-    above the surface; every scene solved for a target top tension."""
-    s_depths, j_depths = [], []
-    for scene in sweep.scenes:
-        d = scene.case.environment.water_depth
-        assert scene.target is not None and scene.target["vary"] == "lay.top_tension"
-        if scene.case.lay.method == "S":
-            s_depths.append(d)
-            st = scene.case.lay.stinger
+    above the surface; every case solved for a target top tension."""
+    depths = {"S": [], "J": []}
+    for c in sweep.cases():
+        d = c.case.environment.water_depth
+        assert c.source.target is not None and c.source.target["vary"] == "lay.top_tension"
+        depths[c.case.lay.method].append(d)
+        if c.case.lay.method == "S":
+            st = c.case.lay.stinger
             assert (st.lower, st.upper, st.a) == ((d - 25.5, 265.0), (d + 5.0, 400.0), -0.0012)
         else:
-            j_depths.append(d)
-            assert scene.case.lay.top[0] == d + 5.0
-    assert s_depths == [30.0 + 30.0 * i for i in range(10)]
-    assert (min(j_depths), max(j_depths)) == (100.0, 2000.0)
+            assert c.case.lay.top[0] == d + 5.0
+    assert depths["S"] == [30.0 + 30.0 * i for i in range(10)]
+    assert (min(depths["J"]), max(depths["J"])) == (100.0, 2000.0)
 
 
 @pytest.fixture(scope="module")
 def results(sweep, tmp_path_factory):
-    """The lay table's shallowest and deepest scenes of each method."""
-    ends = tuple(s for s in sweep.scenes if s.name in ("S30", "S300", "J100", "J2000"))
+    """The lay table's shallowest and deepest cases of each method."""
+    ends = {"S": (30.0, 300.0), "J": (100.0, 2000.0)}
+    scenes = tuple(dataclasses.replace(s, axes={"depth": ends[s.name]}) for s in sweep.scenes)
     out = tmp_path_factory.mktemp("lay") / "out"
-    run_sweep(Sweep("lay_ends", ends), out, workers=1, progress=False)
+    run_sweep(Sweep("lay_ends", scenes), out, workers=1, progress=False)
     return out
 
 
@@ -57,23 +58,24 @@ def test_targets_are_met_at_the_ends_of_both_ranges(results):
     lcc = table[table["method"] == "J"]["sagbend_lcc_utilisation"]
     assert lcc.tolist() == pytest.approx([0.8, 0.8], rel=1e-6)
     # deeper water needs more tension, for both methods
-    by = table.set_index("scene")["top_tension"]
-    assert by["S300"] > by["S30"] and by["J2000"] > by["J100"]
+    by = table.set_index(["scene", "water_depth"])["top_tension"]
+    assert by[("S", 300.0)] > by[("S", 30.0)] and by[("J", 2000.0)] > by[("J", 100.0)]
 
 
 def test_lay_table_orders_and_prints_in_display_units(results, capsys):
     table = lay_table(results)
-    assert table["scene"].tolist() == ["S30", "S300", "J100", "J2000"]
+    assert table["scene"].tolist() == ["S", "S", "J", "J"]
+    assert table["water_depth"].tolist() == [30.0, 300.0, 100.0, 2000.0]
     text = format_lay_table(table)
     lines = text.splitlines()
     assert lines[0].split()[:4] == ["scene", "lay", "depth", "m"]
     row = table.iloc[1]
-    s300 = next(line for line in lines if line.lstrip().startswith("S300"))
+    s300 = next(line for line in lines if line.split()[:4] == ["S", "S", "2d", "300.0"])
     for value in (f"{row['top_tension'] / 1e3:.1f}", f"{row['layback']:.1f}",
                   f"{row['tdp_tension'] / 1e3:.1f}", f"{row['departure_angle_deg']:.2f}",
                   f"{100 * row['sagbend_max_strain']:.3f}", f"{row['max_utilisation']:.3f}"):
         assert value in s300.split()
-    j100 = next(line for line in lines if line.lstrip().startswith("J100"))
+    j100 = next(line for line in lines if line.split()[:4] == ["J", "J", "2d", "100.0"])
     assert j100.split().count("n/a") == 4  # a, tip clearance, overbend strain and utilisation
     assert "  sagbend_max_strain = 0.0012 by lay.top_tension" in lines
     assert main(["table", str(results)]) == 0

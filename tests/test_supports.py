@@ -39,12 +39,12 @@ def test_the_table_rows_are_the_boundaries_supports():
     assert kind.dtype == np.int64 and geom.shape == (L.ROW_PT + 2, L.N_GEOM)
     assert active.shape == (L.ROW_PT + 2, 6) and active.dtype == np.int8 and not active.any()
     assert (L.ROW_BED, L.ROW_CURVE, L.ROW_PT) == (L.B_TD, L.B_LO, L.B_PT)
-    assert kind.tolist() == [L.SUP_FLAT_SEABED, L.SUP_CURVE, L.SUP_POINT, L.SUP_POINT]
+    assert kind.tolist() == [L.SUP_SEABED, L.SUP_CURVE, L.SUP_POINT, L.SUP_POINT]
     assert geom[L.ROW_BED, L.SB_LEVEL] == 0.0
     np.testing.assert_array_equal(geom[L.ROW_CURVE], CURVE)
     np.testing.assert_array_equal(geom[L.ROW_PT:], POINTS)
     none, _g, _a = support_table(4)  # J-lay: no curve, no points
-    assert none.tolist() == [L.SUP_FLAT_SEABED, L.SUP_NONE]
+    assert none.tolist() == [L.SUP_SEABED, L.SUP_NONE]
 
 
 @pytest.mark.parametrize("z", Z)

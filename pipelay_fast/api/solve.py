@@ -9,6 +9,7 @@ finite or lies outside the model.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -18,16 +19,26 @@ from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import strain_beyond_line
 from ..output.results import Result, build_profile, build_rollers, build_summary
+from ..output.sensitivity import sensitivity_table
 from .notice import announce_compile
 
 
-def solve(case: Case, *, warm: Result | None = None) -> Result:
+def solve(case: Case, *, warm: Result | None = None,
+          sensitivities: Sequence[str] | None = None) -> Result:
     """Solve one case.
 
     ``warm``: the result of a neighbouring case (same dimension and lay method,
     e.g. the previous `a` of a sweep); Newton starts from its solution on its
     mesh instead of from the catenary guess, and falls back to the catenary
     guess if that fails (or if its answer is refused).
+
+    ``sensitivities``: dotted numeric case keys (``"lay.stinger.a"``,
+    ``"lay.top_tension"``, ``"environment.water_depth"``,
+    ``"environment.current.speed"``, ...); the result's ``.sensitivities``
+    is then the derivative of every numeric summary column (and of its
+    peaks' arc lengths) by each, the solved regime held, NaN with a reason
+    where a column is not differentiable
+    (:func:`pipelay_fast.output.sensitivity.sensitivity_table`).
 
     Returns
     -------
@@ -50,7 +61,8 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
         leave none (checked on the grids and random cases of
         ``benchmarks/bench_contact.py``).
     ValueError
-        When the mesh would exceed solver.max_elements (checked before it is
+        When a key of ``sensitivities`` is not numeric in the case, when
+        the mesh would exceed solver.max_elements (checked before it is
         built), when ``warm`` is not a Result of :func:`solve` or is of
         another dimension, lay method (stinger kind) or roller count, or when
         the inputs give no first guess (a floating pipe, a tension too low
@@ -63,12 +75,18 @@ def solve(case: Case, *, warm: Result | None = None) -> Result:
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
                          f"{type(warm).__name__}")
+    result = None
     if warm is not None:
         try:
-            return _checked_solve(case, warm.state)
+            result = _checked_solve(case, warm.state)
         except SolveError:  # a neighbour too far away: start from the catenary
             pass
-    return _checked_solve(case)
+    if result is None:
+        result = _checked_solve(case)
+    if sensitivities:
+        result.sensitivities = sensitivity_table(case, result.state, result.summary,
+                                                 list(sensitivities), result.functional)
+    return result
 
 
 def _checked_solve(case: Case, warm: Problem | None = None) -> Result:

@@ -26,6 +26,7 @@ from ..input.case import Case
 from . import tuning as T
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
+from .supports import seabed_height
 
 
 @dataclass
@@ -49,6 +50,9 @@ class Guess:
         along the stinger's curve continued below the tip it would lift off
         (the guess then leaves from the tip; the pipe bears on it,
         :func:`pipelay_fast.engine.boundaries.bear_on_tip`). None otherwise.
+    x_tdp : float
+        Height of touchdown [m] on a sloped seabed whose catenary ``cat``
+        touches down on it (:func:`sloped_span`; heights from there), else 0.
     """
 
     cat: Catenary
@@ -57,6 +61,7 @@ class Guess:
     total: float
     liftoff_z: float | None = None
     tip_past: float | None = None
+    x_tdp: float = 0.0
 
 
 def weights(case: Case):
@@ -111,6 +116,56 @@ def free_span(case: Case) -> Catenary:
     return Catenary(h, w1, w2, depth, x_top)
 
 
+def sloped_span(case: Case, flat: Catenary):
+    """(the J-lay catenary from ``lay.top_tension`` touching down tangent to
+    the sloped seabed, touchdown's height x [m]), from the flat seabed's
+    ``flat``: touchdown's height is the seabed's under the catenary that
+    starts there (:func:`on_seabed`)."""
+    lay = case.lay
+    x_top, z_top = lay.top
+    depth = case.environment.water_depth
+    tan0 = math.tan(case.seabed.slope)
+
+    def under(x_td):
+        cat = from_top_tension(lay.top_tension, flat.w1, flat.w2, depth - x_td, x_top - x_td,
+                               tan0)
+        return float(seabed_height(case, z_top - cat.span)), cat
+
+    start = float(seabed_height(case, z_top - flat.span))
+    x_td, cat = on_seabed(start, under(start), under, _height_error(case, flat.h))
+    return cat, x_td
+
+
+def _height_error(case: Case, h: float) -> float:
+    """The guess's error [m] in touchdown's height on a sloped seabed:
+    touchdown a flexural length sqrt(EI/h) off (``h`` [N] the catenary's
+    tension) along the seabed, times tan(slope)."""
+    return abs(math.tan(case.seabed.slope)) * math.sqrt(case.pipe.bending_stiffness / h)
+
+
+def on_seabed(start: float, first, under, enough: float):
+    """(x, payload): touchdown's height x [m] on a sloped seabed, where
+    ``under(x)`` = (the seabed's height [m] under the touchdown of the
+    catenary that touches down at height x, that catenary's payload) meets
+    x. Secant steps on r(x) = under(x)[0] - x from ``start`` (``first`` its
+    ``under``) while |r| shrinks, until it is below ``enough`` [m] (r is
+    nearly linear: a few steps). The guess's own error sets ``enough``:
+    touchdown is a flexural length sqrt(EI/h) off along the seabed
+    (:mod:`.guess`), its height that times tan(slope)."""
+    xa = start
+    ya, pa = first
+    ra = ya - xa
+    xb = ya
+    yb, pb = under(xb)
+    rb = yb - xb
+    while enough <= abs(rb) < abs(ra):
+        xc = xb - rb * (xb - xa) / (rb - ra)
+        yc, pc = under(xc)
+        xa, ra, pa = xb, rb, pb
+        xb, rb, pb = xc, yc - xc, pc
+    return (xb, pb) if abs(rb) <= abs(ra) else (xa, pa)
+
+
 def _tension_root(gap, weight, slack, taut):
     """The horizontal tension h [N] at which ``gap(h)`` = 0, over 0 < h < inf,
     or None when ``gap``'s limits ``slack`` (h -> 0) and ``taut`` (h -> inf),
@@ -134,13 +189,16 @@ def _tension_root(gap, weight, slack, taut):
     return h if 0.0 < h < math.inf else None
 
 
-def slay_liftoff(case: Case, bottom_tension: float | None = None):
+def slay_liftoff(case: Case, bottom_tension: float | None = None, x_td: float = 0.0,
+                 tan0: float = 0.0):
     """(z of lift-off [m], horizontal tension h [N], how far [m] below the
     tip on the stinger's curve continued the pipe would lift off, None when
     it lifts off above the tip or no lift-off is found) for S-lay.
 
     The tension comes from the lay's keys, or from ``bottom_tension`` [N] when
-    given (the pipe-length case searches over it). Where the pipe would leave
+    given (the pipe-length case searches over it); the catenary touches down
+    at height ``x_td`` [m] at the slope ``tan0`` (a sloped seabed, there
+    Te = h sqrt(1 + tan0^2)). Where the pipe would leave
     below the stinger's tip, the guess leaves from the tip, and the third
     value says how far below: the pipe bears on the tip, and
     :func:`.boundaries.regained_span` gives the gap span from it
@@ -162,10 +220,13 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
         bottom = lay.bottom_tension if bottom_tension is None else bottom_tension
         return bottom + _rise(w1, w2, depth, x)
 
+    sec0 = math.sqrt(1.0 + tan0 * tan0)
+    rise_td = _rise(w1, w2, depth, x_td)
+
     def mismatch(z):
         x = float(st.height(z))
         cos_psi = 1.0 / math.sqrt(1.0 + float(st.slope(z)) ** 2)
-        return tension(x) * (1.0 - cos_psi) - _rise(w1, w2, depth, x)
+        return tension(x) * (1.0 - cos_psi * sec0) - (_rise(w1, w2, depth, x) - rise_td)
 
     # The cable's lift-off, on the stinger or on its curve continued below
     # the tip, down to the seabed or TIP_PAST_REACH stinger z ranges below
@@ -193,7 +254,7 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None):
                 past = None  # within the guess's error of the tip: Newton decides
     x_lo = float(st.height(z_lo))
     t_lo = tension(x_lo)
-    h = float(t_lo - _rise(w1, w2, depth, x_lo))
+    h = float(t_lo - (_rise(w1, w2, depth, x_lo) - rise_td)) / sec0
     if h <= 0.0:
         raise ValueError(
             f"lay.top_tension = {lay.top_tension:g} N cannot hold the pipe off the stinger: "
@@ -220,12 +281,28 @@ def _search_range(st):
 
 
 def _slay_span(case: Case, bottom_tension=None):
-    """Lift-off, catenary and stinger arc of an S-lay guess."""
+    """Lift-off, catenary, stinger arc, how far past the tip
+    (:func:`slay_liftoff`) and touchdown's height [m] of an S-lay guess. On a
+    sloped seabed (the top tension given) the catenary touches down tangent
+    to it: touchdown's height is the seabed's under the catenary that starts
+    there (:func:`on_seabed`)."""
     w1, w2 = weights(case)
     st = case.lay.stinger
-    z_lo, h, past = slay_liftoff(case, bottom_tension)
-    cat = Catenary(h, w1, w2, case.environment.water_depth, float(st.height(z_lo)))
-    return z_lo, cat, float(st.arc_length(z_lo, st.upper[1])), past
+    depth = case.environment.water_depth
+    sloped = case.seabed.slope != 0.0 and bottom_tension is None
+    tan0 = math.tan(case.seabed.slope) if sloped else 0.0
+
+    def under(x_td):
+        z_lo, h, past = slay_liftoff(case, bottom_tension, x_td, tan0)
+        cat = Catenary(h, w1, w2, depth - x_td, float(st.height(z_lo)) - x_td, tan0)
+        return float(seabed_height(case, z_lo - cat.span)), (z_lo, cat, past)
+
+    x_td = 0.0
+    first = under(0.0)
+    z_lo, cat, past = first[1]
+    if sloped:
+        x_td, (z_lo, cat, past) = on_seabed(0.0, first, under, _height_error(case, cat.h))
+    return z_lo, cat, float(st.arc_length(z_lo, st.upper[1])), past, x_td
 
 
 def _slay_bottom_tension(case: Case) -> float:
@@ -238,7 +315,7 @@ def _slay_bottom_tension(case: Case) -> float:
     w1, w2 = weights(case)
 
     def gap(h):
-        z_lo, cat, arc, _past = _slay_span(case, h)
+        z_lo, cat, arc, _past, _x = _slay_span(case, h)
         return (z_lo - cat.span) - (length - cat.length - arc)
 
     # h -> 0: lift-off at the seabed, one flexural length (-> inf) up the
@@ -270,21 +347,23 @@ def first_guess(case: Case, laid_of) -> Guess:
     :func:`slay_liftoff`."""
     lay = case.lay
     if lay.method == "J":
-        cat = free_span(case)
+        cat, x_tdp = free_span(case), 0.0
+        if case.seabed.slope != 0.0 and lay.top_tension is not None:
+            cat, x_tdp = sloped_span(case, cat)
         susp = cat.length
         if lay.pipe_length is not None:
             laid = lay.pipe_length - susp
         else:
             laid = laid_of(cat)
-        return Guess(cat, laid, None, laid + susp)
+        return Guess(cat, laid, None, laid + susp, x_tdp=x_tdp)
     if lay.pipe_length is not None:
-        z_lo, cat, arc, past = _slay_span(case, _slay_bottom_tension(case))
+        z_lo, cat, arc, past, x_tdp = _slay_span(case, _slay_bottom_tension(case))
         laid = lay.pipe_length - cat.length - arc
     else:
-        z_lo, cat, arc, past = _slay_span(case)
+        z_lo, cat, arc, past, x_tdp = _slay_span(case)
         laid = laid_of(cat)
     s_lo = laid + cat.length
-    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, tip_past=past)
+    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, tip_past=past, x_tdp=x_tdp)
 
 
 def shape(case: Case, g: Guess, s):
@@ -302,6 +381,8 @@ def shape(case: Case, g: Guess, s):
     th = np.where(on_bed, 0.0, th)
     te = np.where(on_bed, cat.h, te)
     kappa = np.where(on_bed, 0.0, np.cos(th) ** 2 * np.asarray(case.effective_weight(x)) / cat.h)
+    if case.seabed.slope != 0.0:
+        x, z, th = _onto_slope(case, g, s, x, z, th, z_tdp)
     if g.s_liftoff is not None:
         st = lay.stinger
         on_st = s >= g.s_liftoff
@@ -316,6 +397,30 @@ def shape(case: Case, g: Guess, s):
         te[on_st] = cat.h + _rise(cat.w1, cat.w2, depth, x[on_st])
         kappa[on_st] = 2.0 * st.a / (1.0 + slope**2) ** 1.5
     return x, z, th, te, kappa
+
+
+def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
+    """The guess (x, z [m], theta [rad] at arc lengths ``s`` [m], touchdown
+    at ``z_tdp`` [m]) onto a sloped seabed: the laid pipe on the slope's
+    line; the suspended span of a catenary touching down on the slope
+    (:func:`sloped_span`) raised to touchdown's height, a flat seabed's
+    sheared (its heights moved by the seabed's height under them, in full at
+    touchdown and not at the span's upper end; Newton corrects the rest).
+    The stinger's part is kept."""
+    angle = case.seabed.slope
+    on_bed = s < g.laid
+    z = np.where(on_bed, z_tdp - (g.laid - s) * math.cos(angle), z)
+    span = ~on_bed if g.s_liftoff is None else (~on_bed) & (s < g.s_liftoff)
+    if g.cat.tan0 != 0.0:  # the catenary touches down on the slope: its heights from there
+        x = np.where(on_bed, seabed_height(case, z), np.where(span, x + g.x_tdp, x))
+        return x, z, np.where(on_bed, angle, th)
+    x_end = float(g.cat.at(g.cat.length)[0])
+    share = np.clip(1.0 - x / x_end, 0.0, 1.0)
+    f = seabed_height(case, z)
+    tan_t = np.tan(th) * (1.0 - f / x_end) + math.tan(angle) * share
+    x = np.where(on_bed, f, np.where(span, x + f * share, x))
+    th = np.where(on_bed, angle, np.where(span, np.arctan(tan_t), th))
+    return x, z, th
 
 
 @functools.lru_cache(maxsize=256)
@@ -335,7 +440,8 @@ def guide_case(case: Case) -> Case:
     the top angle so that it follows the rollers of a long radius (a
     curve through the last roller that ignores the top angle can lie well
     above them); both measured on random roller stingers,
-    benchmarks/bench_rollers.py part 3. Raises ValueError as
+    benchmarks/bench_rollers.py part 3. Its heights are in the seabed frame
+    (``lay.frame`` the default), as the engine reads them. Raises ValueError as
     :meth:`pipelay_fast.input.case.Case.with_changes` does."""
     lay = case.lay
     pts = lay.roller_positions()
@@ -357,4 +463,5 @@ def guide_case(case: Case) -> Case:
     if solver.min_element_length is not None:
         coarse["solver.min_element_length"] = T.GUIDE_COARSENING * solver.min_element_length
     return case.with_changes({"lay.stinger": {"a": a, "lower": [x_l, z_l], "upper": [x_u, z_u]},
-                              "lay.top": None, "lay.top_angle": angle, **coarse})
+                              "lay.top": None, "lay.top_angle": angle, "lay.frame": None,
+                              **coarse})

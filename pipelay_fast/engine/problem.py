@@ -31,7 +31,7 @@ from .guess import first_guess, shape
 from .mesh import graded_nodes, grading_rates
 from .model import build_props, dimension_of, pin_jump, section_array, sections_of
 from .state import EndConditions, Problem, interpolate_state, make_problem
-from .supports import line_height
+from .supports import line_height, seabed_height, seabed_row
 
 
 def _mesh_sizes(case: Case, lam: float):
@@ -266,14 +266,21 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
         tb = lay.bottom_tension
     if not case.seabed.is_rigid:  # a foundation: the lower end's x free
         fix_mask[0] = 0
+    bed = seabed_row(case.seabed)
+    angle = bed[1]
+    if angle != 0.0:  # the lower end in the seabed's frame: x its normal, z its tangent
+        phi_r[0] = phi_rp[0] = angle
+        fix_val[0] = bed[0] * math.cos(angle) - bed[2] * math.sin(angle)
+        fix_val[zi] = u[0] * math.sin(angle) + u[zi] * math.cos(angle)
     props, table = build_props(case)
     fric = np.zeros((nn, L.N_FRIC))
     anchor_friction(fric, u, nd, s)
-    ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target)
+    ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target,
+                         angle)
     section = section_array(s, sections_of(case))
     return make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
                         fref=fref, href=stats["h_max"], points=_points(case, curve), curve=curve,
-                        tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats)
+                        tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats, seabed=bed)
 
 
 def _points(case: Case, curve) -> np.ndarray:
@@ -327,11 +334,13 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
                      check=lambda n: check_mesh_size(case, n, total, focus, source), nodes=over)
     u = interpolate_state(pb.s + extra, pb.u, nd, s)
     first = s < extra
-    if first.any():
-        u[0::ndn][first] = 0.0
-        u[nd - 1::ndn][first] = pb.u[nd - 1] - (extra - s[first])
-        u[nd::ndn][first] = 0.0
-        u[2 * nd - 1::ndn][first] = 1.0
+    if first.any():  # along the seabed from the old lower end
+        angle = seabed_row(case.seabed)[1]
+        z_first = pb.u[nd - 1] - (extra - s[first]) * math.cos(angle)
+        u[0::ndn][first] = seabed_height(case, z_first)
+        u[nd - 1::ndn][first] = z_first
+        u[nd::ndn][first] = math.sin(angle)
+        u[2 * nd - 1::ndn][first] = math.cos(angle)
         u[2 * nd::ndn][first] = pb.u[2 * nd]
         if nd == 3:
             u[1::ndn][first] = pb.u[1]

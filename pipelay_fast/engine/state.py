@@ -111,7 +111,8 @@ class EndConditions:
     ``slide_dof``: the lower end's z row the bottom tension acts on, an
     unknown when the top tension is given (-1: none); ``top_node`` and
     ``top_target`` [N]: the node whose effective tension is held, and its
-    value (0: none).
+    value (0: none); ``slide_angle`` [rad]: the angle above horizontal of
+    the seabed the lower end slides along, the bottom tension's direction.
     """
 
     fix_mask: np.ndarray
@@ -120,6 +121,7 @@ class EndConditions:
     slide_dof: int
     top_node: int
     top_target: float
+    slide_angle: float = 0.0
 
 
 @dataclass
@@ -216,7 +218,8 @@ class Problem:
         and the load path's top-tension target (:class:`Settings`)."""
         e = self.ends
         target = e.top_target if self.settings.top_target is None else self.settings.top_target
-        return Ends(e.f_node, g_off, self.tb, e.slide_dof, e.top_node, float(target))
+        return Ends(e.f_node, g_off, self.tb, e.slide_dof, e.top_node, float(target),
+                    float(e.slide_angle))
 
     def on_gravity_path(self):
         """No current and no friction: the friction path's first stage."""
@@ -401,16 +404,17 @@ class Solution:
 def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, fref: float,
                  href: float, points=None, curve=None, tb: float = 0.0, bed_active=None,
                  st_active=None, fric=None, phi_r=None, phi_rp=None, stats: dict | None = None,
-                 factors=None) -> Problem:
+                 factors=None, seabed=(0.0, 0.0, 0.0)) -> Problem:
     """A :class:`Problem` on nodes ``s`` [m] with unknowns ``u`` and the
     elements' ``section`` (nn - 1, N_SECTION), its mesh not yet mapped onto
     boundaries (every boundary node -1); the parts' arrays not given are
     empty: no rigid points (``points``, rows ``PT_*``), no stinger's
     ``curve`` (a, b, c, zL, zU), no contacts, no nodal frames, the friction
-    springs unanchored, the load factors full current without friction. The
-    supports' table is :func:`.supports.support_table`'s."""
+    springs unanchored, the load factors full current without friction, the
+    seabed flat at x = 0 (``seabed``: level, angle, z0). The supports' table
+    is :func:`.supports.support_table`'s."""
     nn = s.size
-    kind, geom, active = support_table(nn, curve, points)
+    kind, geom, active = support_table(nn, curve, points, seabed)
     nb = kind.size
     if bed_active is not None:
         active[L.ROW_BED] = bed_active

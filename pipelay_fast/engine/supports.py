@@ -3,8 +3,9 @@ support, in the order of the contact boundaries (:mod:`pipelay_fast.kernels.layo
 ``ROW_*``: row b is boundary b's support), each a kind (``SUP_*``), its
 parameters (a row of N_GEOM floats) and the nodes it holds (int8 per node).
 
-* row ``ROW_BED``: the flat seabed at x = 0 (``SUP_FLAT_SEABED``, ``SB_LEVEL``
-  0; its elastic stiffness is ``props[SEABED_K]``), touchdown's support;
+* row ``ROW_BED``: the seabed, the plane x = tan(angle) (z - z0) through
+  the reference level x = 0 (``SUP_SEABED``, ``SB_*``, :func:`seabed_row`;
+  its elastic stiffness is ``props[SEABED_K]``), touchdown's support;
 * row ``ROW_CURVE``: the quadratic stinger (``SUP_CURVE``, ``ST_*``),
   lift-off's; an empty row (``SUP_NONE``) in J-lay and on a roller stinger;
 * rows ``ROW_PT + j``: the rigid points (``SUP_POINT``, ``PT_*``: the quadratic
@@ -22,17 +23,18 @@ import numpy as np
 from ..kernels import layout as L
 
 
-def support_table(nn: int, curve=None, points=None):
+def support_table(nn: int, curve=None, points=None, seabed=(0.0, 0.0, 0.0)):
     """(kind (n_sup,) int64, geom (n_sup, N_GEOM), active (n_sup, nn) int8)
-    for ``nn`` nodes: the seabed, the stinger's curve ``curve`` (a, b, c, zL,
-    zU; None: none) and the rigid points ``points`` (n_points, N_PT; None:
-    none), no node held yet."""
+    for ``nn`` nodes: the seabed ``seabed`` (level [m], angle [rad], z0 [m]:
+    x = level + tan(angle) (z - z0), :func:`seabed_row`), the stinger's curve
+    ``curve`` (a, b, c, zL, zU; None: none) and the rigid points ``points``
+    (n_points, N_PT; None: none), no node held yet."""
     n_pt = 0 if points is None else len(points)
     n_sup = L.ROW_PT + n_pt
     kind = np.full(n_sup, L.SUP_NONE, dtype=np.int64)
     geom = np.zeros((n_sup, L.N_GEOM))
-    kind[L.ROW_BED] = L.SUP_FLAT_SEABED
-    geom[L.ROW_BED, L.SB_LEVEL] = 0.0
+    kind[L.ROW_BED] = L.SUP_SEABED
+    geom[L.ROW_BED, [L.SB_LEVEL, L.SB_ANGLE, L.SB_Z0]] = seabed
     if curve is not None:
         kind[L.ROW_CURVE] = L.SUP_CURVE
         geom[L.ROW_CURVE, :L.N_STINGER] = curve
@@ -49,9 +51,22 @@ def line_height(kind: int, g, z):
     :func:`pipelay_fast.kernels.supports.support_height`, to the bit."""
     if kind == L.SUP_CURVE:
         return (g[L.ST_A] * z + g[L.ST_B]) * z + g[L.ST_C], 2.0 * g[L.ST_A] * z + g[L.ST_B]
-    if kind == L.SUP_FLAT_SEABED:
-        return g[L.SB_LEVEL] + 0.0 * z, 0.0 * z
+    if kind == L.SUP_SEABED:
+        slope = np.tan(g[L.SB_ANGLE])
+        return g[L.SB_LEVEL] + slope * (z - g[L.SB_Z0]), slope + 0.0 * z
     raise ValueError(f"line_height: support kind {kind} is not a line")
+
+
+def seabed_row(seabed) -> tuple[float, float, float]:
+    """The seabed's parameters (level [m], angle [rad], z0 [m]) of the
+    input's ``seabed`` table: the plane through the reference level x = 0 at
+    z = ``slope_origin``."""
+    return 0.0, seabed.slope, seabed.slope_origin
+
+
+def seabed_height(case, z):
+    """The seabed's height x [m] at z [m] (an array or a scalar) of ``case``."""
+    return line_height(L.SUP_SEABED, np.array(seabed_row(case.seabed)), z)[0]
 
 
 def line_span(kind: int, g) -> tuple[float, float]:

@@ -5,7 +5,9 @@ tables: ``pipe``, ``environment`` (+ ``current``), ``seabed``, ``lay``
 (+ ``stinger``), ``solver``, and optionally ``checks``, the code-check inputs
 of :class:`pipelay_fast.input.checks.Checks`). Every value is in SI units;
 coordinates follow the paper: ``x`` is the height above the seabed, ``y``
-lateral, ``z`` along the lay. Part of the input layer.
+lateral, ``z`` along the lay; the vessel's heights may be given from the
+still water level instead (``lay.frame``, :mod:`pipelay_fast.input.frame`).
+Part of the input layer.
 
 Every dataclass checks itself on construction, so a case built in Python, loaded
 from a file or modified with :meth:`Case.with_changes` is always valid. A bad
@@ -24,13 +26,14 @@ import dataclasses
 import math
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
 from .checks import Checks, check_inputs
-from .environment import Current, Environment, Seabed
+from .environment import Current, Environment, Seabed, check_slope
 from .examples import case_file
+from .frame import to_seabed
 from .lay import Lay, RollerStinger, Stinger
 from .limits import ROUNDOFF, check_case
 from .pipe import Pipe
@@ -93,7 +96,7 @@ class Solver:
     tolerance : float
         Relative convergence tolerance [-], in (0, 1e-2); default 1e-8.
     max_iterations, max_load_steps : int
-        Newton iterations per step, and load steps per load path (the
+        Newton iterations per step, and load steps per load path [-] (the
         homotopy from the first guess, the current's path); defaults 100
         and 64.
     max_iterations_total : int
@@ -168,10 +171,17 @@ class Case:
     name : str
         Case name (file stem by default).
     pipe, environment, seabed, lay, solver
-        The tables.
+        The tables; ``lay`` is held in the seabed frame, whatever its
+        ``lay.frame`` (:func:`pipelay_fast.input.frame.to_seabed`).
     checks : Checks or None
         Table ``[checks]``, the code-check inputs; None: no code checks (their
         summary columns are NaN).
+    given_lay : Lay
+        The lay as given, in its own frame (``lay.frame``): what
+        :meth:`to_dict` writes and :meth:`with_changes` changes. Set on
+        construction, and compared: two cases are equal when their tables
+        are (a waterline-frame case and its seabed-frame twin have equal
+        ``lay`` and differ in ``given_lay``).
     """
 
     name: str
@@ -181,6 +191,7 @@ class Case:
     lay: Lay
     solver: Solver
     checks: Checks | None = None
+    given_lay: Lay = field(init=False, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -189,9 +200,13 @@ class Case:
             instance(part, getattr(self, part), cls)
         if self.checks is not None:
             instance("checks", self.checks, Checks)
+        depth = self.environment.water_depth
+        assign(self, "given_lay", self.lay)
+        assign(self, "lay", to_seabed(self.lay, depth))
         if self.solver.dimension == "2d" and not self.is_planar:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
+        check_slope(self)
         check_case(self)  # the model's limits first, then what the code checks need
         check_inputs(self.pipe, self.checks)
 
@@ -285,6 +300,9 @@ class Case:
     def to_dict(self) -> dict:
         """Nested dict of TOML-able values; ``load_case(case.to_dict()) == case``."""
         tables = {"name": self.name} | {part: plain(getattr(self, part)) for part in _TABLES}
+        tables["lay"] = plain(self.given_lay)
+        if tables["lay"]["frame"] == "seabed":
+            del tables["lay"]["frame"]  # the default: a seabed-frame case's tables as before
         tables["seabed"].setdefault("stiffness", "rigid")
         if self.checks is not None:
             tables["checks"] = plain(self.checks)
@@ -417,7 +435,8 @@ def with_tables(base: Case, tables: Mapping, changed) -> Case:
     sweep builds one case per axis value). Raises ValueError as
     :func:`load_case` does."""
     parts = {part: _build(cls, tables.get(part, {}), part) if part in changed
-             else getattr(base, part) for part, cls in _TABLES.items()}
+             else getattr(base, "given_lay" if part == "lay" else part)
+             for part, cls in _TABLES.items()}
     for part, cls in _OPTIONAL_TABLES.items():
         if part not in changed:
             parts[part] = getattr(base, part)

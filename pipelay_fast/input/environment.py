@@ -3,6 +3,7 @@ subtable) and the ``seabed`` table, validated on construction."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,6 +18,7 @@ from .validate import (
 )
 
 PROFILES = ("uniform", "linear", "power", "table")
+MAX_SLOPE_DEG = 30.0  # the steepest seabed.slope_deg either way [deg]
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,7 +108,9 @@ class Environment:
 
 @dataclass(frozen=True, slots=True)
 class Seabed:
-    """Flat seabed at x = 0, table ``[seabed]``.
+    """The seabed, table ``[seabed]``: a plane through the reference level
+    x = 0 (where ``environment.water_depth`` is measured), flat or sloped
+    along z.
 
     Attributes
     ----------
@@ -119,16 +123,35 @@ class Seabed:
         carrying mu W. The rigid-plastic Coulomb law is its limit as it tends to 0.
     stiffness : float or None
         Elastic support [N/m per m of pipe]; None (TOML ``"rigid"``): rigid.
+    slope_deg : float
+        Slope of the seabed along z [deg], default 0 (flat): positive rises
+        toward the vessel (+z). The seabed is the plane x = (z - slope_origin)
+        tan(slope_deg); at most MAX_SLOPE_DEG = 30 either way. The pipe
+        touches down on it tangent to it, its normal reaction is the
+        ``seabed_reaction`` column, and the laid pipe's tension changes along
+        it by the weight's component w sin(slope_deg) per metre; the
+        result's ``bottom_tension`` is then the effective tension at
+        touchdown, and ``lay.bottom_tension`` is refused (give
+        ``lay.top_tension`` or ``lay.pipe_length``). A slope needs the rigid
+        seabed and no seabed friction on the current's path.
+    slope_origin : float
+        z [m] where the sloped seabed passes through the reference level
+        x = 0, default 0.
     """
 
     lateral_friction: float = 0.5
     axial_friction: float = 0.0
     friction_slip: float = 0.01
     stiffness: float | None = None
+    slope_deg: float = 0.0
+    slope_origin: float = 0.0
 
     def __post_init__(self):
         set_numbers(self, "seabed", non_negative=("lateral_friction", "axial_friction"),
-                    positive=("friction_slip",))
+                    positive=("friction_slip",), finite=("slope_deg", "slope_origin"))
+        if abs(self.slope_deg) > MAX_SLOPE_DEG:
+            fail("seabed.slope_deg", self.slope_deg,
+                 f"is steeper than {MAX_SLOPE_DEG:g} deg either way")
         if self.stiffness is None or self.stiffness == "rigid":
             assign(self, "stiffness", None)
             return
@@ -137,6 +160,50 @@ class Seabed:
         set_numbers(self, "seabed", positive=("stiffness",))
 
     @property
+    def slope(self) -> float:
+        """The slope's angle [rad] above horizontal along z."""
+        return math.radians(self.slope_deg)
+
+    @property
     def is_rigid(self) -> bool:
         """True for a rigid seabed (``stiffness`` None)."""
         return self.stiffness is None
+
+
+def check_slope(case) -> None:
+    """Refuse what a sloped seabed (``seabed.slope_deg`` not 0) does not
+    support, naming the keys: an elastic seabed, a given bottom tension (on a
+    slope the laid pipe's tension changes along it, so the tension at the
+    modelled lower end is not a property of the lay), the vessel's top, the
+    stinger's tip or a roller at or below the seabed, and seabed friction on
+    the current's path."""
+    bed = case.seabed
+    if bed.slope_deg == 0.0:
+        return
+    head = f"seabed.slope_deg = {bed.slope_deg!r}"
+    if not bed.is_rigid:
+        raise ValueError(f"{head} needs the rigid seabed: seabed.stiffness = "
+                         f"{bed.stiffness!r} is not supported on a slope")
+    if case.lay.bottom_tension is not None:
+        raise ValueError(f"{head}: lay.bottom_tension = {case.lay.bottom_tension!r} N is "
+                         "refused on a slope (the laid pipe's tension changes along it); "
+                         "give lay.top_tension or lay.pipe_length")
+    lay = case.lay
+    points = [("lay.top", lay.top)]
+    if lay.curve is not None:
+        points.append(("lay.stinger.lower", lay.curve.lower))
+    rollers = lay.roller_positions()
+    if rollers is not None:
+        points += [(f"lay.stinger.rollers[{i}]", tuple(p)) for i, p in enumerate(rollers)]
+    tan_a = math.tan(bed.slope)
+    for key, (x, z) in points:
+        if x <= (z - bed.slope_origin) * tan_a:
+            raise ValueError(f"{head} with seabed.slope_origin = {bed.slope_origin!r} m puts "
+                             f"the seabed at or above {key} = {[float(x), float(z)]}")
+    friction = bed.lateral_friction > 0.0 or bed.axial_friction > 0.0
+    if friction and case.environment.current.speed > 0.0:
+        raise ValueError(f"{head}: seabed friction (seabed.lateral_friction = "
+                         f"{bed.lateral_friction!r}, seabed.axial_friction = "
+                         f"{bed.axial_friction!r}) with a current (environment.current.speed "
+                         f"= {case.environment.current.speed!r} m/s) is not supported on a "
+                         "slope: set both frictions to 0")

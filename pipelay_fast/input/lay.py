@@ -1,7 +1,8 @@
 """The ``lay`` table: the lay method, the top, the tensions and the
 stinger (``lay.stinger``: a quadratic curve or a roller stinger), validated
-on construction. Heights are measured from the seabed (``x``), ``z`` along
-the lay."""
+on construction. Heights ``x`` are measured from the seabed, or from the still
+water level with ``lay.frame = "waterline"`` (:mod:`.frame`); ``z`` along the
+lay."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .frame import FRAMES
 from .limits import MAX_STINGER_TURN, ROUNDOFF
 from .validate import (
     assign,
@@ -36,12 +38,14 @@ class Stinger:
         straight ramp (a = 0).
     lower, upper : (float, float)
         End points (x, z) [m]: the tip (x_L, z_L) and the vessel end (x_U, z_U);
-        b [-] and c [m] follow from them.
+        b [-] and c [m] follow from them. x in the frame of ``lay.frame``
+        (above the seabed by default).
 
     The geometry is checked up front: a concave-up stinger (a > 0) would hold
     the pipe at its ends only, not along the one contiguous stretch the model
-    solves for; the upper end must lie above the tip (z_U > z_L, x_U > x_L,
-    x_L >= 0: with a <= 0 the whole stinger is then above the seabed); and the
+    solves for; the upper end must lie above the tip (z_U > z_L, x_U > x_L;
+    with a <= 0 the whole stinger is then above its tip, which :class:`Lay`
+    checks against the seabed); and the
     stinger may turn the pipe by at most 90 deg between its ends (tangent angle
     at the tip minus that at the upper end): more, and the stinger overhangs,
     its tip pointing back under the pipe that comes from the vessel. The
@@ -64,8 +68,6 @@ class Stinger:
                  "(a < 0; a = 0 a straight ramp) to support an overbend")
         if z_l >= z_u:
             fail(f"{p}.lower", self.lower, f"must have z below that of {p}.upper = {self.upper!r}")
-        if x_l < 0:
-            fail(f"{p}.lower", self.lower, "is below the seabed (x < 0)")
         if x_u <= x_l:
             fail(f"{p}.upper", self.upper, f"lies below the stinger's lower end "
                  f"{p}.lower = {self.lower!r}: the stinger must rise from its tip to the vessel")
@@ -173,7 +175,7 @@ class RollerStinger:
     rollers : list of (float, float) or None
         (x, z) [m] of each roller, from the vessel down: z falling and x
         falling from one to the next, all above the seabed and below and
-        behind ``lay.top``.
+        behind ``lay.top``; x in the frame of ``lay.frame``.
     radius, arc_length, spacing : float or None
         Or the rollers placed on a path from ``lay.top`` along
         ``lay.top_angle``: ``straight_length`` [m] straight, then a circular
@@ -194,7 +196,7 @@ class RollerStinger:
         Added to the heights x of the rollers ``shifted`` [m] (after any
         rounding); default 0. The sweep axis ``roller_shift`` varies it.
     shifted : list of int or None
-        The rollers ``height_shift`` moves (indices from the vessel down,
+        The rollers ``height_shift`` moves (indices [-] from the vessel down,
         from 0); None (default): all of them.
 
     A roller stinger needs ``lay.top`` (where the vessel holds the pipe) and
@@ -321,9 +323,9 @@ class Lay:
         Unstretched length with a fixed lower end [m].
         Exactly one of the three tension keys is given.
     top : (float, float)
-        (x, z) of the pipe's upper end [m]; for S-lay on a quadratic stinger
-        its upper end; required with a roller stinger (where the vessel
-        holds the pipe, above the rollers).
+        (x, z) of the pipe's upper end [m], x in the frame of ``frame``; for
+        S-lay on a quadratic stinger its upper end; required with a roller
+        stinger (where the vessel holds the pipe, above the rollers).
     top_angle : float, "pinned" or None
         Prescribed top angle from horizontal [deg], in (0, 90], or "pinned".
         Omitted: pinned for J-lay; for S-lay the firing line, the pipe held
@@ -346,6 +348,13 @@ class Lay:
         Torque at the ends H [N m]; default 0.
     distributed_moment : (float, float, float)
         Distributed moment (mx, my, mz) [N m/m]; default 0.
+    frame : str
+        The frame of the heights x of ``top`` and the stinger's ``lower``,
+        ``upper`` and ``rollers`` [-]: "seabed" (default), the height above
+        the seabed [m]; or "waterline", the elevation above the still water
+        level [m] (negative below it), so that ``environment.water_depth``
+        moves the seabed and not the vessel. z is the same in both. A case
+        holds its lay in the seabed frame (:mod:`pipelay_fast.input.frame`).
     """
 
     method: str | None = None
@@ -354,11 +363,13 @@ class Lay:
     pipe_length: float | None = None
     top: tuple[float, float] | None = None
     top_angle: float | None = None
-    stinger: Stinger | None = None
+    stinger: Stinger | RollerStinger | None = None
     torque: float = 0.0
     distributed_moment: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    frame: str = "seabed"
 
     def __post_init__(self):
+        choice("lay.frame", self.frame, FRAMES)
         if self.stinger is not None:
             instance("lay.stinger", self.stinger, (Stinger, RollerStinger))
         if self.method is None:
@@ -402,8 +413,10 @@ class Lay:
             if self.top is None:
                 raise ValueError("missing required key lay.top: (x, z) of the J-lay hang-off [m]")
             assign(self, "top", vector("lay.top", self.top, 2))
-        if self.top[0] <= 0:
+        if self.frame == "seabed" and self.top[0] <= 0:
             fail("lay.top", self.top, "must be above the seabed (x > 0)")
+        if self.frame == "seabed" and self.curve is not None and self.stinger.lower[0] < 0:
+            fail("lay.stinger.lower", self.stinger.lower, "is below the seabed (x < 0)")
         self._check_top_angle()
 
     def _check_top_angle(self):
@@ -449,7 +462,7 @@ class Lay:
                 fail(f"{where}[{i}]", pts[i].tolist(),
                      f"must lie below and behind roller {i - 1} at {pts[i - 1].tolist()} (x and "
                      "z falling from the vessel down; a coarse height_step can merge heights)")
-        if pts[-1, 0] < 0.0:
+        if self.frame == "seabed" and pts[-1, 0] < 0.0:
             fail(f"{where}[{len(pts) - 1}]", pts[-1].tolist(), "is below the seabed (x < 0)")
 
     def roller_positions(self) -> np.ndarray | None:

@@ -42,16 +42,25 @@ from . import layout as L
 from ._jit import jit, phase
 from .assembly import element_forces
 from .element_shapes import WORK_SIZE, hermite
-from .layout import B_LO, B_TD, SUP_FLAT_SEABED, SUP_POINT
-from .supports import in_curve_coords, support_gap, support_height, tangency
+from .layout import B_LO, B_TD, SUP_POINT, SUP_SEABED
+from .supports import (
+    frame_angle,
+    in_curve_coords,
+    normal_offset,
+    support_gap,
+    support_height,
+    tangency,
+)
 
 
 @phase
 def _nodal_frames(nd, u, mesh, sup, ends):
     """The nodal frames of the iteration: none on the contacts of a support
     held in curve coordinates (with one, every node's frame but the top's is
-    cleared: :func:`.condensation._curve_reactions` left its contacts' there)
-    and, over each rigid point, the pipe's (normal, tangent)."""
+    cleared: :func:`.condensation._curve_reactions` left its contacts' there),
+    the sloped seabed's on its contacts and the lower end
+    (:func:`.supports.frame_angle`) and, over each rigid point, the pipe's
+    (normal, tangent)."""
     ndn = 2 * nd + 1
     nn = sup.phi_r.shape[0]
     curved = False
@@ -62,6 +71,13 @@ def _nodal_frames(nd, u, mesh, sup, ends):
             if node != ends.top_node:
                 sup.phi_r[node] = 0.0
                 sup.phi_rp[node] = 0.0
+    for k in range(sup.kind.shape[0]):
+        angle = frame_angle(sup.kind[k], sup.geom[k])
+        if angle != 0.0:  # its contacts and the lower end resting on it
+            for node in range(nn):
+                if node != ends.top_node and (node == 0 or sup.active[k, node] != 0):
+                    sup.phi_r[node] = angle
+                    sup.phi_rp[node] = angle
     for b in range(mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
         if kt >= 0 and sup.kind[b] == SUP_POINT:
@@ -118,7 +134,7 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
             w.cmask[base + nd + 1] = True
             w.delta[base + nd + 1] = -u[base + nd + 1]
     for k in range(sup.kind.shape[0]):
-        if sup.kind[k] == SUP_FLAT_SEABED or in_curve_coords(sup.kind[k]):
+        if sup.kind[k] == SUP_SEABED or in_curve_coords(sup.kind[k]):
             _hold_on_line(nd, u, sup, k, ends.top_node, w)
     for b in range(mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
@@ -141,12 +157,13 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
 def _hold_on_line(nd, u, sup, k, top_node, w):
     """The nodes line support ``k`` holds, held on it (``w.cmask``,
     ``w.delta``, as :func:`_constraint_set`; the prescribed ends' unknowns
-    left as they are). The flat seabed: on it (in the node's frame) at its
-    contacts, and tangent to it at every contact node, touchdown's included,
-    and at the lower end (resting on a rigid seabed, or on an elastic one's
-    foundation). A support in curve coordinates: on it (c = 0) and tangent
-    to it (c' = 0) at its contacts, but at the lowest, the contact node with
-    free pipe below it (lift-off), whose tangency is lift-off's equation;
+    left as they are). The seabed, in the node's frame (its own, turned by
+    its angle): on it at its contacts, and tangent to it at every contact
+    node, touchdown's included, and at the lower end (resting on a rigid
+    seabed, or on an elastic one's foundation). A support in curve
+    coordinates: on it (c = 0) and tangent to it (c' = 0) at its contacts,
+    but at the lowest, the contact node with free pipe below it (lift-off),
+    whose tangency is lift-off's equation;
     the held top excepted. One call per support, not per node: the
     constraint set is built every iteration."""
     kind = sup.kind[k]
@@ -155,15 +172,14 @@ def _hold_on_line(nd, u, sup, k, top_node, w):
     for node in range(sup.active.shape[1]):
         base = node * ndn
         on = sup.active[k, node] != 0
-        if kind == SUP_FLAT_SEABED:
+        if kind == SUP_SEABED:  # in its frame: slot x its normal, slot z its tangent
             if on and fix_mask[base] == 0:
                 w.cmask[base] = True
-                w.delta[base] = -support_gap(kind, sup.geom[k],
-                                             _local_value(nd, u, node, 0, sup.phi_r, sup.phi_rp),
-                                             u[base + nd - 1], 0.0)
+                w.delta[base] = -(_local_value(nd, u, node, 0, sup.phi_r, sup.phi_rp)
+                                  - normal_offset(kind, sup.geom[k]))
             if (on or node == 0) and fix_mask[base + nd] == 0:
                 w.cmask[base + nd] = True
-                w.delta[base + nd] = -u[base + nd]
+                w.delta[base + nd] = -_local_value(nd, u, node, nd, sup.phi_r, sup.phi_rp)
         elif on and node != top_node and fix_mask[base] == 0:
             z_n = u[base + nd - 1]
             _f, fp, _fpp = support_height(kind, sup.geom[k], z_n)
@@ -175,14 +191,16 @@ def _hold_on_line(nd, u, sup, k, top_node, w):
 
 
 @jit(by_dimension=True, _nrt=True)
-def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
+def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row, phi):
     """Touchdown's equation: the moment at touchdown on the free side, the
     residual [N m] of the first free element at the slope unknown of its lower
     node (on the seabed, its slope held), which vanishes with that moment as
     the continuum's does (the laid side carries none). It is the element's
     nodal residual, not the end moment of its cubic: that one converges an
     order slower, and the laid element's consistent-load couple would enter a
-    node-equilibrium form of it.
+    node-equilibrium form of it. The slope unknown is the node's frame's,
+    turned by ``phi`` [rad] (a sloped seabed's: the normal component of r',
+    x' cos(phi) - z' sin(phi), the turn of the tangent; x' when flat).
     ``row`` gets its derivative d/du; returns it and d/ds_T at fixed u."""
     ndn = 2 * nd + 1
     ne = 2 * ndn
@@ -194,6 +212,13 @@ def _free_moment(nd, s_el, u, model, torques, td_node, rate_b, row):
     sec = model.section[e]
     element_forces(nd, s_el[e], u[e * ndn:e * ndn + ne], model, sec, torques[e], fe, ke,
                    want, dfe, want, np.empty(WORK_SIZE), np.empty((3, 3)))
+    if phi != 0.0:  # the slope unknown of the node's frame (x' row of the turned pair)
+        c = math.cos(phi)
+        s = math.sin(phi)
+        fe[nd] = c * fe[nd] - s * fe[2 * nd - 1]
+        dfe[nd] = c * dfe[nd] - s * dfe[2 * nd - 1]
+        for j in range(ne):
+            ke[nd, j] = c * ke[nd, j] - s * ke[2 * nd - 1, j]
     if not want:
         return fe[nd], 0.0
     for i in range(row.shape[0]):

@@ -89,7 +89,8 @@ B_PT = 2  # the first rigid point (the stinger's tip first); point j is boundary
 # boundary b's support: touchdown's the seabed, lift-off's the stinger's curve,
 # point j's (boundary B_PT + j) row ROW_PT + j.
 SUP_NONE = 0  # an empty row: holds nothing (the curve's row of a J-lay or a roller stinger)
-SUP_FLAT_SEABED = 1  # the flat seabed x = level, held in the global frame; friction springs
+SUP_SEABED = 1  # the seabed, a plane x = level + tan(angle) (z - z0) (flat: angle 0), held in
+#                  nodal frames turned by its angle (none when flat); friction springs
 SUP_CURVE = 2  # the quadratic stinger x = a z^2 + b z + c on [zL, zU], held in curve coordinates
 SUP_POINT = 3  # a rigid point in the lay plane (the stinger's tip, a roller), held at
 #                its boundary's node by a unilateral contact
@@ -98,8 +99,10 @@ ROW_CURVE = B_LO  # the stinger curve's row
 ROW_PT = B_PT  # the first rigid point's row
 N_GEOM = 5  # columns of ``geom``
 
-# the flat seabed's row
-SB_LEVEL = 0  # its height x [m] (0: the seabed is the origin of x)
+# the seabed's row: x = level + tan(angle) (z - z0)
+SB_LEVEL = 0  # its height x [m] at z0 (0: the reference seabed is the origin of x)
+SB_ANGLE = 1  # its angle above horizontal along z [rad] (positive: rising towards +z)
+SB_Z0 = 2  # z0 [m], where it passes through the level
 
 # the stinger curve's row: x = a z^2 + b z + c on [zL, zU], x the height and z
 # the lay direction [m]

@@ -62,8 +62,9 @@ sup : :data:`.types.Supports`: fix_mask (ndof,) int8, 1 where the unknown
     OK.
 ends : :data:`.types.Ends`: f_node (ndof,) nodal loads [N]; g_off (ndof,)
     the load path's residual offset; tb (1,) the bottom tension [N] pulling
-    the sliding lower end's dof slide_dof (-1: none) along -z, an unknown
-    when top_target [N] > 0; top_node.
+    the sliding lower end's dof slide_dof (-1: none) back along the seabed
+    (-z turned up by slide_angle [rad]), an unknown when top_target [N] > 0;
+    top_node.
 settings : :data:`.types.Settings`: tol [-], fref [N], href [m], maxit (0: no
     iteration, the residual alone: :func:`_free_residual` into ``react``), hold
     (whether an iteration may hold the boundaries: False when the call

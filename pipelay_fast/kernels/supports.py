@@ -18,13 +18,19 @@ path in the iteration:
 * :func:`in_curve_coords`, :func:`holds_laterally`: whether its contact
   nodes are held in curve coordinates x = f(z) + c (:mod:`.system`), and
   on the stinger's plane (3D);
+* :func:`frame_angle`, :func:`normal_offset`: the nodal frame a support
+  holds its contacts in (the seabed's: turned by its angle, so that slot x
+  is its normal and slot z its tangent) and the normal coordinate of its
+  line in that frame;
 * :func:`tangency`: the pipe tangent to it at a boundary node whose slope is
   otherwise free (lift-off's equation).
 
-The flat seabed keeps its own branch where the general form with f' = 0 would
-round differently (x' against x' - 0 z'). The small ones are phases
-(:func:`._jit.phase`, inlined into their callers), so that they add no
-kernel of their own to compile.
+The seabed is a plane x = level + tan(angle) (z - z0) (layout ``SB_*``); at
+angle 0 its arithmetic reduces to the flat seabed's to the bit (tan 0 = sin
+0 = 0, cos 0 = 1 exactly), and :func:`tangency` keeps the flat seabed's own
+branch where the general form would round differently (x' against x' - 0
+z'). The small ones are phases (:func:`._jit.phase`, inlined into their
+callers), so that they add no kernel of their own to compile.
 """
 
 from __future__ import annotations
@@ -35,15 +41,17 @@ from ._jit import jit, phase
 from .layout import (
     PT_X,
     PT_Z,
+    SB_ANGLE,
     SB_LEVEL,
+    SB_Z0,
     ST_A,
     ST_B,
     ST_C,
     ST_ZL,
     ST_ZU,
     SUP_CURVE,
-    SUP_FLAT_SEABED,
     SUP_POINT,
+    SUP_SEABED,
 )
 
 
@@ -56,7 +64,8 @@ def support_height(kind, g, z):
         return (g[ST_A] * z + g[ST_B]) * z + g[ST_C], fpp * z + g[ST_B], fpp
     if kind == SUP_POINT:
         return g[PT_X], 0.0, 0.0
-    return g[SB_LEVEL], 0.0, 0.0
+    slope = math.tan(g[SB_ANGLE])
+    return g[SB_LEVEL] + slope * (z - g[SB_Z0]), slope, 0.0
 
 
 @phase
@@ -64,6 +73,8 @@ def support_angle(kind, g, z):
     """Angle [rad] of the support's tangent above horizontal at z [m]."""
     if kind == SUP_CURVE:
         return math.atan(2.0 * g[ST_A] * z + g[ST_B])
+    if kind == SUP_SEABED:
+        return g[SB_ANGLE]
     return 0.0
 
 
@@ -82,12 +93,34 @@ def support_span(kind, g):
 def support_gap(kind, g, x, z, phi):
     """Clearance [m] of the position (x, z) above the support: x - f(z) for
     a line support; for a point, along the normal of a frame turned by
-    ``phi`` [rad] (the pipe's, :func:`.constraints._over_point`)."""
+    ``phi`` [rad] (the pipe's, :func:`.constraints._over_point`); the
+    seabed's is vertical, x - f(z)."""
     if kind == SUP_POINT:
         return math.cos(phi) * (x - g[PT_X]) - math.sin(phi) * (z - g[PT_Z])
     if kind == SUP_CURVE:
         return x - ((g[ST_A] * z + g[ST_B]) * z + g[ST_C])
-    return x - g[SB_LEVEL]
+    return x - (g[SB_LEVEL] + math.tan(g[SB_ANGLE]) * (z - g[SB_Z0]))
+
+
+@phase
+def frame_angle(kind, g):
+    """The angle [rad] of the nodal frames support ``kind`` holds its
+    contacts in (:func:`.assembly.rotate_node`: slot x its normal, slot z its
+    tangent): the seabed's angle (0 when flat: the global frame); 0 for the
+    others (a curve's contacts are in curve coordinates, a point's node in
+    the pipe's frame, :func:`.constraints._nodal_frames`)."""
+    if kind == SUP_SEABED:
+        return g[SB_ANGLE]
+    return 0.0
+
+
+@phase
+def normal_offset(kind, g):
+    """The seabed's normal coordinate [m] in its frame (:func:`frame_angle`):
+    x cos(angle) - z sin(angle) on its plane, level cos(angle) - z0
+    sin(angle) (the level when flat)."""
+    a = g[SB_ANGLE]
+    return g[SB_LEVEL] * math.cos(a) - g[SB_Z0] * math.sin(a)
 
 
 @phase
@@ -116,7 +149,7 @@ def tangency(nd, u, kind, g, node, row):
         for i in range(row.shape[0]):
             row[i] = 0.0
         row[base + nd] = 1.0
-    if kind == SUP_FLAT_SEABED:
+    if kind == SUP_SEABED and g[SB_ANGLE] == 0.0:
         return u[base + nd]
     _f, fp, fpp = support_height(kind, g, u[base + nd - 1])
     zp = u[base + 2 * nd - 1]

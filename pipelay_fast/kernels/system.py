@@ -48,7 +48,9 @@ from .tuning import EPS
 def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b, bnodes, bcols):
     """Residual (+ tangent, global frame, and the boundaries' columns dG/ds_b
     of the elements, :func:`.assembly.assemble`) with the nodal loads, the
-    load path's offset and the bottom tension on the sliding lower end."""
+    load path's offset and the bottom tension on the sliding lower end
+    (along the seabed: in its frame, the lower end's, the tension's row is
+    the slide's, :func:`_border`)."""
     props = model.props
     if props[L.MOM_X] != 0.0 or props[L.MOM_Y] != 0.0 or props[L.MOM_Z] != 0.0:
         distribute_torque(nd, s_el, u, props, torques)
@@ -56,8 +58,9 @@ def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b,
     n = g.shape[0]
     for i in range(n):
         g[i] += ends.g_off[i] - ends.f_node[i]
-    if ends.slide_dof >= 0:
-        g[ends.slide_dof] += ends.tb[0]
+    if ends.slide_dof >= 0:  # along the seabed, at ends.slide_angle above horizontal
+        g[ends.slide_dof] += ends.tb[0] * math.cos(ends.slide_angle)
+        g[ends.slide_dof - nd + 1] += ends.tb[0] * math.sin(ends.slide_angle)
 
 
 @jit(entry=True, _nrt=False)
@@ -116,7 +119,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     if bnodes[B_TD] >= 0:
         row = w.row_td if want_tangent else w.no_row
         m_td, own = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[B_TD],
-                                 mesh.s_b[B_TD], row)
+                                 mesh.s_b[B_TD], row, sup.phi_rp[bnodes[B_TD]])
         if want_tangent:
             w.own_td[0] = own
     return te_top, m_td

@@ -43,7 +43,8 @@ Model = namedtuple("Model", ["props", "table", "factors", "section"])
 Mesh = namedtuple("Mesh", ["s_el", "s_a", "s_b", "s_bd", "bnodes"])
 Supports = namedtuple("Supports", ["fix_mask", "fix_val", "phi_r", "phi_rp", "kind", "geom",
                                    "active", "fric", "y_held"])
-Ends = namedtuple("Ends", ["f_node", "g_off", "tb", "slide_dof", "top_node", "top_target"])
+Ends = namedtuple("Ends", ["f_node", "g_off", "tb", "slide_dof", "top_node", "top_target",
+                           "slide_angle"], defaults=(0.0,))
 Settings = namedtuple("Settings", ["tol", "fref", "href", "maxit", "hold", "bstep"])
 
 

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..engine.supports import seabed_height
 from .design import bend_regions, fibre_strain, utilisation_along
 
 __all__ = ["DPI", "PANEL_SIZE", "figure", "marks", "plot_result", "save"]
@@ -143,7 +144,7 @@ def _elevation_panel(ax, result, at: dict):
     case, cols, sm = result.case, result.columns, result.summary
     s = cols["s"]
     ax.plot(s, cols["x"], color="C0", label="pipe")
-    ax.axhline(0.0, color="saddlebrown", lw=1.0, label="seabed")
+    ax.plot(s, seabed_height(case, cols["z"]), color="saddlebrown", lw=1.0, label="seabed")
     ax.axhline(case.environment.water_depth, color="C9", lw=1.0, ls="--", label="water line")
     stinger, rollers = case.lay.stinger, result.rollers
     if rollers is not None:  # bearing rollers filled, clear ones open

@@ -17,6 +17,7 @@ import pandas as pd
 from ..engine.model import pin_jump
 from ..engine.state import Solution
 from ..input.case import Case
+from ..input.frame import vessel_note
 from ..kernels import layout as L
 from ..kernels.geometry import centreline_fields
 from .design import DESIGN_UNITS, bend_regions, design_columns, interior_peak
@@ -110,6 +111,11 @@ class Result:
         The profile columns of the case's functional load case (the case
         without its current) when its code check splits the current off
         (:meth:`pipelay_fast.input.checks.Checks.splits_current`), else None.
+    sensitivities : pandas.DataFrame or None
+        The derivatives of the summary's numeric columns by the keys that
+        ``pipelay_fast.solve(case, sensitivities=[...])`` named
+        (:func:`pipelay_fast.output.sensitivity.sensitivity_table`); None
+        when none were asked for.
     """
 
     def __init__(self, case: Case, summary: dict, columns: dict, state=None,
@@ -121,6 +127,7 @@ class Result:
         self.roller_columns = roller_columns
         self.state = state
         self.target = None
+        self.sensitivities = None
         self._profile = None
         self._rollers = None
 
@@ -344,6 +351,15 @@ def build_profile(case: Case, sol: Solution) -> dict:
     }
 
 
+def _bottom_tension(case: Case, sol: Solution, s, te, s_tdp: float) -> float:
+    """The bottom tension [N]: on a flat seabed the effective tension at the
+    lower end (the solve's, when it slides); on a sloped one the effective
+    tension at touchdown, ``te`` [N] at ``s_tdp`` [m] along ``s`` (along the
+    laid pipe it changes by the weight's component, seabed.slope_deg)."""
+    if case.seabed.slope != 0.0:
+        return float(np.interp(s_tdp, s, te))
+    return sol.bottom_tension if sol.bottom_tension is not None else float(te[0])
+
 def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = None,
                   functional: dict | None = None) -> dict:
     """The summary row (the columns of ``SUMMARY_UNITS``) of one solved case
@@ -415,10 +431,9 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
         "current_speed": cur.speed,
         "current_heading_deg": cur.heading,
         "status": "ok",
-        "message": "",
+        "message": vessel_note(case.given_lay, case.lay, case.environment.water_depth),
         "top_tension": float(te[-1]),
-        "bottom_tension": (sol.bottom_tension if sol.bottom_tension is not None
-                           else float(te[0])),
+        "bottom_tension": _bottom_tension(case, sol, s, te, s_tdp),
         "tdp_z": z_tdp,
         "liftoff_z": liftoff_z,
         "liftoff_angle_deg": liftoff_angle,

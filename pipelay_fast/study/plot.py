@@ -32,16 +32,17 @@ from .sweep import AXES
 __all__ = ["plot_sweep"]
 
 # the columns that make one curve over a (as select's groups)
-GROUP_KEYS = ("scene", "dimension", "current_speed", "current_heading_deg",
+GROUP_KEYS = ("scene", "dimension", "water_depth", "current_speed", "current_heading_deg",
               "given_top_tension", "given_bottom_tension", "given_pipe_length")
+GIVEN_KEYS = GROUP_KEYS[5:]  # the given tension or pipe length, in a panel's title
 
 
 def plot_sweep(root: str | os.PathLike, path: str | os.PathLike | None = None):
     """The figure of a sweep's results directory ``root``; written to ``path``
     when given. Returns the matplotlib Figure.
 
-    One panel per S-lay scene, dimension, current and given tension whose
-    cases span several values of a stinger design axis (``a``, or a roller
+    One panel per S-lay scene, dimension, water depth, current and given
+    tension whose cases span several values of a stinger design axis (``a``, or a roller
     stinger's ``stinger_radius`` or ``roller_shift``), ordered by water
     depth: :func:`_design_panel`'s. Then, for each method solved at several
     water depths with one case per depth (a lay table), top tension (with
@@ -140,7 +141,7 @@ def _design_panel(ax, key: dict, variable: str, g: pd.DataFrame, selection):
                    label=f"reference a = {design_value(reference)}")
     ax.xaxis.get_major_formatter().set_useOffset(False)
     ax.xaxis.get_major_formatter().set_scientific(False)
-    given = [_given(name, key[name]) for name in GROUP_KEYS[4:] if np.isfinite(key[name])]
+    given = [_given(name, key[name]) for name in GIVEN_KEYS if np.isfinite(key[name])]
     ax.set(xlabel=f"{variable} [{AXES[variable][2]}]", ylabel="peak von Mises [MPa]",
            title=f"{key['scene']} {key['dimension']}, depth {g['water_depth'].iloc[0]:g} m, "
                  f"current {key['current_speed']:g} m/s at {key['current_heading_deg']:g} deg"

@@ -31,7 +31,7 @@ from ..api.target import solve_for
 from ..input.errors import SolveError
 from ..output.results import SUMMARY_UNITS
 from .dataset import Dataset, encode_chunk, repeated_text
-from .sweep import INPUT_UNITS, Sweep, SweepCase, chains
+from .sweep import INPUT_UNITS, Sweep, SweepCase, chains, target_bounds
 
 __all__ = ["BACKENDS", "SweepReport", "run_sweep", "solve_case", "solve_chain"]
 
@@ -280,7 +280,7 @@ def solve_case(case, warm=None, target=None):
     if target is None:
         return solve(case, warm=warm)
     return solve_for(case, {target["column"]: target["goal"]}, target["vary"],
-                     target["bounds"], warm=warm)
+                     target_bounds(target, case), warm=warm)
 
 
 def _compatible(previous, sc: SweepCase) -> bool:

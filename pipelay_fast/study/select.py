@@ -95,7 +95,7 @@ FLAG_COLUMNS = ("equal_peaks_yielded", "equal_peaks_bears_on_tip", "feasible",
                 "equal_peaks_feasible")
 COUNT_COLUMNS = ("n_grid", "n_solves", "n_yielded")
 # the inputs that, with the scene, make one selection group
-GROUP_COLUMNS = ("current_speed", "current_heading_deg", "given_top_tension",
+GROUP_COLUMNS = ("water_depth", "current_speed", "current_heading_deg", "given_top_tension",
                  "given_bottom_tension", "given_pipe_length")
 # summary column -> selection column, reported at the equal-peaks a
 EQUAL_PEAKS_ANSWERS = {"max_utilisation": "equal_peaks_max_utilisation",

@@ -45,6 +45,7 @@ def format_selection(table: pd.DataFrame) -> str:
     (feasible range, binding limits, best value; or why none is feasible),
     each headed by the columns' names and a line of their units, and the
     :data:`LEGEND` (wrapped at LEGEND_WIDTH)."""
+    table = table.assign(scene=_scene_labels(table))
     width = max([5, *(len(str(name)) for name in table["scene"])])
     choices = [_row(width, "scene", "dim", "current", "variable", "min_stress", "max_vm",
                     "equal_peaks", "peak_vm", "util", "tip", "vm/smys", "flags",
@@ -93,6 +94,14 @@ def _limits_row(width, scene, dim, current, variable, low, high, best, util, vm,
                 yielded, binds) -> str:
     return (f"{scene:<{width}} {dim:<3} {current:>9} {variable:>19} {low:>12} {high:>12} "
             f"{best:>12} {util:>8} {vm:>7} {inside:>14} {yielded:>12}  {binds}").rstrip()
+
+
+def _scene_labels(table: pd.DataFrame) -> pd.Series:
+    """Each row's scene, with its water depth where the scene has several
+    (a depth axis): "S@60m"."""
+    depths = table.groupby("scene")["water_depth"].transform("nunique")
+    return table["scene"].where(depths <= 1, table["scene"] + "@" + table["water_depth"].map(
+        lambda d: f"{d:g}m"))
 
 
 def _current(r) -> str:

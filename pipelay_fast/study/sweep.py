@@ -24,7 +24,7 @@ from ..input.case import Case, load_case, with_tables
 from ..input.validate import put_path
 from ..output.results import remember_case_id, stinger_columns, tables_id
 
-__all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains"]
+__all__ = ["AXES", "Scene", "Sweep", "SweepCase", "chains", "target_bounds"]
 
 # axis name -> (case key, summary column, unit)
 AXES = {
@@ -36,6 +36,7 @@ AXES = {
     "top_tension": ("lay.top_tension", "given_top_tension", "N"),
     "bottom_tension": ("lay.bottom_tension", "given_bottom_tension", "N"),
     "pipe_length": ("lay.pipe_length", "given_pipe_length", "m"),
+    "depth": ("environment.water_depth", "water_depth", "m"),
 }
 TENSION_AXES = ("top_tension", "bottom_tension", "pipe_length")
 # the stinger's design axes, which `select` chooses a value of: the quadratic
@@ -81,7 +82,10 @@ class Scene:
         A published stinger curvature [1/m] to print beside the chosen one; NaN if none.
     target : dict or None
         The target solve of every case: "column", "goal" (SI), "vary" (a case
-        key), "bounds" (lo, hi); None: plain solves.
+        key), "bounds" (lo, hi) at the scene case's water depth, and with
+        "bounds_per_depth" (dlo, dhi) [the key's unit per m] the depth
+        "depth" [m] they are given at (:func:`target_bounds`); None: plain
+        solves.
     """
 
     name: str
@@ -130,11 +134,13 @@ class Scene:
 
     def to_spec(self) -> dict:
         """JSON-able description, read back by :meth:`Sweep.from_spec`."""
+        target = None if self.target is None else {
+            **self.target, **{k: list(self.target[k]) for k in ("bounds", "bounds_per_depth")
+                              if k in self.target}}
         return {"name": self.name, "case": self.case.to_dict(),
                 "axes": {k: list(v) for k, v in self.axes.items()},
                 "reference_a": None if math.isnan(self.reference_a) else self.reference_a,
-                "target": None if self.target is None else {**self.target,
-                                                            "bounds": list(self.target["bounds"])}}
+                "target": target}
 
     @property
     def target_text(self) -> str:
@@ -142,8 +148,11 @@ class Scene:
         t = self.target
         if t is None:
             return ""
-        return (f"{t['column']} = {t['goal']!r}{unit_text(t['column'])} by {t['vary']} in "
+        text = (f"{t['column']} = {t['goal']!r}{unit_text(t['column'])} by {t['vary']} in "
                 f"{list(t['bounds'])}")
+        if "bounds_per_depth" in t:
+            text += f" at {t['depth']!r} m + {list(t['bounds_per_depth'])} per m of depth"
+        return text
 
 
 class SweepCase:
@@ -287,8 +296,22 @@ class Sweep:
 
 
 def _spec_target(spec) -> dict | None:
-    """A scene's target from its JSON spec (bounds back to a tuple)."""
-    return None if spec is None else {**spec, "bounds": tuple(spec["bounds"])}
+    """A scene's target from its JSON spec (bounds back to tuples)."""
+    if spec is None:
+        return None
+    return {**spec, **{k: tuple(spec[k]) for k in ("bounds", "bounds_per_depth") if k in spec}}
+
+
+def target_bounds(target: Mapping, case: Case) -> tuple[float, float]:
+    """The bracket (lo, hi) of a scene's ``target`` for ``case``: its
+    "bounds", moved by "bounds_per_depth" (dlo, dhi) [the key's unit per m]
+    times the case's water depth less the depth they are given at."""
+    lo, hi = target["bounds"]
+    if "bounds_per_depth" not in target:
+        return (lo, hi)
+    shift = case.environment.water_depth - target["depth"]
+    dlo, dhi = target["bounds_per_depth"]
+    return (lo + dlo * shift, hi + dhi * shift)
 
 
 def _with_target(identity: str, scene: Scene) -> str:

@@ -27,12 +27,16 @@ scenes only, J-lay scenes ignore it), a roller stinger's ``stinger_radius``
 (m, rollers placed on a radius) and ``roller_shift`` (m, the heights of
 ``lay.stinger.shifted`` shifted), ``current_speed`` (m/s),
 ``current_heading`` (``current_heading_deg``, deg), ``top_tension``,
-``bottom_tension`` (``given_top_tension``, ``given_bottom_tension``, N) and
-``pipe_length`` (``given_pipe_length``, m); a tension axis replaces whichever
-tension the base case gives. Scene keys: ``case``, ``method`` ("S" or "J"),
-``water_depth``, ``stinger_lower``, ``stinger_upper``, ``top`` ((x, z), m: the
-J-lay hang-off, or where the vessel holds the pipe above a roller stinger),
-``top_angle`` (deg), ``reference_a``, ``set``, ``vary`` and ``target``.
+``bottom_tension`` (``given_top_tension``, ``given_bottom_tension``, N),
+``pipe_length`` (``given_pipe_length``, m) and ``depth`` (``water_depth``, m:
+the water depth of a vessel in the waterline frame, ``lay.frame =
+"waterline"``, which moves the seabed and not the vessel; refused on a
+seabed-frame case, whose vessel would move with the seabed); a tension axis
+replaces whichever tension the base case gives. Scene keys: ``case``,
+``method`` ("S" or "J"), ``water_depth``, ``stinger_lower``, ``stinger_upper``,
+``top`` ((x, z), m, x in the case's ``lay.frame``: the J-lay hang-off, or
+where the vessel holds the pipe above a roller stinger), ``top_angle`` (deg),
+``reference_a``, ``set``, ``vary`` and ``target``.
 
 A structural mistake (unknown key, a value of the wrong type, a bad range, a
 scene whose base case is invalid) refuses the whole file with a ValueError
@@ -50,6 +54,10 @@ case of the scenes a target solve (:func:`pipelay_fast.solve_for`)::
 
 The key solved for must not be one that an axis varies; its value is the
 summary's ``target_value`` and the target itself its ``target`` (text).
+``bounds_per_depth = [dlo, dhi]`` [the key's unit per m] moves the bracket
+with the water depth: at depth d it is ``bounds`` + (d - d0) ``bounds_per_depth``,
+d0 the scene case's water depth (a depth axis whose tensions grow with the
+suspended weight).
 
 A ``[select]`` table gives the limits ``pipelay-fast select`` chooses the
 stinger within (:mod:`.limits`; SI)::
@@ -198,11 +206,18 @@ def _scene(path, table, default_case, folder, common, axes, target) -> Scene:
     except ValueError as err:
         raise ValueError(f"{path} ({name}): {err}") from None
     _check_design_axes(path, name, case, scene_axes)
+    if "depth" in scene_axes and case.given_lay.frame != "waterline":
+        fail(f"{path}.vary.depth" if "depth" in table.get("vary", {}) else "vary.depth",
+             list(scene_axes["depth"]), f"needs a vessel in the waterline frame: scene {name!r}'s "
+             f"case has lay.frame = {case.given_lay.frame!r}, whose vessel would move with the "
+             "seabed (set lay.frame = \"waterline\" and give its heights from the still water)")
     target_path = f"{path}.target" if "target" in table else "target"
     if "target" in table:
         target = _target(target_path, table["target"])
     if target is not None:
         _check_target(target_path, target, case, scene_axes)
+        if "bounds_per_depth" in target:
+            target = {**target, "depth": case.environment.water_depth}
     return Scene(name, case, scene_axes, float(reference), target)
 
 
@@ -232,7 +247,7 @@ def _target(path, table) -> dict:
     for key in ("vary", "bounds"):
         if key not in table:
             raise ValueError(f"missing key {path}.{key}")
-    goals = [k for k in table if k not in ("vary", "bounds")]
+    goals = [k for k in table if k not in ("vary", "bounds", "bounds_per_depth")]
     if len(goals) != 1:
         fail(path, dict(table), "must name exactly one summary column and its goal, e.g. "
              "tip_clearance = 0.3")
@@ -246,8 +261,15 @@ def _target(path, table) -> dict:
     lo, hi = (_number(f"{path}.bounds[{i}]", b) for i, b in enumerate(bounds))
     if lo >= hi:
         fail(f"{path}.bounds", bounds, "must have lo < hi")
-    return {"column": goals[0], "goal": _number(f"{path}.{goals[0]}", table[goals[0]]),
-            "vary": vary, "bounds": (lo, hi)}
+    target = {"column": goals[0], "goal": _number(f"{path}.{goals[0]}", table[goals[0]]),
+              "vary": vary, "bounds": (lo, hi)}
+    if "bounds_per_depth" in table:
+        slope = table["bounds_per_depth"]
+        if not isinstance(slope, list) or len(slope) != 2:
+            fail(f"{path}.bounds_per_depth", slope, "must be a list [dlo, dhi] (per m of depth)")
+        target["bounds_per_depth"] = tuple(_number(f"{path}.bounds_per_depth[{i}]", v)
+                                           for i, v in enumerate(slope))
+    return target
 
 
 def _check_target(path, target, case, axes):

@@ -1,0 +1,182 @@
+"""Exact sensitivities of a solved case's summary: the derivative of every
+numeric summary column, and of the nodes its peaks sit on, with respect to
+named numeric case keys (``pipelay_fast.solve(case, sensitivities=[...])``).
+
+Each key p is moved by +-h through the case's own build
+(:meth:`pipelay_fast.input.case.Case.with_changes`); the engine carries the
+solved state to each side, on the mesh a solve of that side grades at the
+solution's boundaries, with its regime held, by Newton from the converged
+state (:func:`pipelay_fast.engine.sensitivity.neighbour_solutions`, the
+implicit function theorem); each side is post-processed as a solve is
+(:func:`.results.build_profile`, :func:`.results.build_summary`) and a
+column's derivative is the central difference (f(p + h) - f(p - h)) / 2h,
+exact to O(h^2) with no re-solve from the first guess. NaN, with the
+reason, where the column is not differentiable at p: a side's regime
+differs (the mesh's node count, a contact or slip set, the tip's regime),
+a peak sits on another node on either side, the two one-sided differences
+disagree by more than :data:`KINK`, the column depends on the functional
+load case's second solve, or the answer followed the current's path with
+seabed friction (3D).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+import pandas as pd
+
+from ..engine.model import dimension_of
+from ..engine.sensitivity import neighbour_solutions
+from ..input.validate import get_path
+from .design import bend_regions
+from .results import SUMMARY_UNITS, build_profile, build_rollers, build_summary
+
+# the key's relative step h / |p| (an absolute step of STEP in the key's SI
+# unit where p = 0), from the step-size study of benchmarks/bench_sensitivity.py
+# (S67 2D, four keys, against full solves): the largest relative difference
+# 3e-4 at 1e-3 (the O(h^2) error), 1e-5 at 1e-4, 3e-5 at 1e-5 and 1e-3 at
+# 1e-6 (the sides' round-off / h)
+STEP = 1e-4
+# the one-sided differences (f(p + h) - f(p)) / h and (f(p) - f(p - h)) / h
+# of a smooth column differ by h f'' (a relative 1e-4 at STEP); by more than
+# this share of the larger, the column has a kink or a jump within +-h
+KINK = 0.1
+# a side's change of a column below this share of its value is round-off (the
+# sides agree with each other to 1e-10 of it, S67 2D's overbend peak at the
+# top by the water depth): no kink is sought in it
+NOISE = 1e-8
+
+KEY_UNITS = {
+    "lay.stinger.a": "1/m", "lay.stinger.radius": "m", "lay.stinger.height_shift": "m",
+    "lay.top_tension": "N", "lay.bottom_tension": "N", "lay.pipe_length": "m",
+    "environment.water_depth": "m", "environment.current.speed": "m/s",
+    "environment.current.heading": "deg", "environment.water_density": "kg/m3",
+}
+# the columns that read the functional load case (a second solve, not differentiated)
+FUNCTIONAL_COLUMNS = ("sagbend_lcc_utilisation", "sagbend_lcc_axial_ratio", "max_utilisation")
+# the summary columns whose value is the profile's largest at one node:
+# (profile column, region), the peak's arc length a row "s_<column>"
+PEAKS = {
+    "max_von_mises": ("von_mises", None), "overbend_max_von_mises": ("von_mises", "hog"),
+    "sagbend_max_von_mises": ("von_mises", "sag"), "overbend_max_moment": ("moment", "hog"),
+    "sagbend_max_moment": ("moment", "sag"), "max_lateral_deflection": ("y", None),
+}
+SKIPPED = ("solve_seconds",)
+
+
+def summary_rows() -> dict:
+    """The rows of a sensitivity table and their units: the numeric summary
+    columns with a unit, then ``s_<peak>`` [m] for each of :data:`PEAKS`."""
+    rows = {name: unit for name, unit in SUMMARY_UNITS.items() if unit and name not in SKIPPED}
+    rows.update({f"s_{name}": "m" for name in PEAKS})
+    return rows
+
+
+def _side(case, sol, functional):
+    """(summary with the peaks' arc lengths, peak nodes) of one side."""
+    cols = build_profile(case, sol)
+    summary = build_summary(case, sol, cols, build_rollers(case, sol), functional)
+    hog, sag = bend_regions(cols, sol.s_tdp, sol.s_liftoff, case.lay.stinger is not None)
+    if hog is None:  # J-lay: the sagbend is the span above touchdown
+        hog, sag = np.zeros(sol.s.size, dtype=bool), sol.s >= sol.s_tdp
+    nodes = {}
+    for name, (column, region) in PEAKS.items():
+        mask = {None: np.ones(sol.s.size, dtype=bool), "hog": hog, "sag": sag}[region]
+        values = np.abs(cols[column])
+        k = int(np.flatnonzero(mask)[np.argmax(values[mask])]) if mask.any() else -1
+        nodes[name] = k
+        summary[f"s_{name}"] = float(sol.s[k]) if k >= 0 else math.nan
+    return summary, nodes
+
+
+def _key_value(case, key: str) -> float:
+    value = get_path(case.to_dict(), key)
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"sensitivities: {key!r} is not a numeric key the case gives "
+                         f"(its value: {value!r})")
+    return float(value)
+
+
+def sensitivity_table(case, state, summary: dict, keys, functional=None) -> pd.DataFrame:
+    """The derivatives of ``summary`` (the summary of ``case`` solved to
+    ``state``, its :class:`pipelay_fast.engine.state.Problem`) with respect
+    to each of ``keys`` (dotted case keys with numeric values).
+
+    Returns a DataFrame, one row per :func:`summary_rows` row, one float
+    column per key (d row / d key, in the row's SI unit per the key's:
+    ``unit`` and ``attrs["key_units"]``), and ``reason``: why a NaN is NaN
+    ("key: reason"; "" where every key's derivative is a number).
+    ``attrs["steps"]``: each key's step h; ``attrs["iterations"]``: the
+    Newton iterations each key's two sides took.
+
+    Every row is NaN, with the reason, where the solution itself does not
+    refine on its mesh (:func:`pipelay_fast.engine.sensitivity.neighbour_solutions`:
+    3D with friction under a current). Raises ValueError for a key that is
+    not numeric in the case.
+    """
+    rows = summary_rows()
+    base, regime, error = neighbour_solutions([case], state)
+    if base is not None:
+        f0, nodes0 = _side(case, base[0], functional)
+    table = {key: np.full(len(rows), math.nan) for key in keys}
+    reasons = {name: [] for name in rows}
+    steps, iterations = {}, {}
+    for key in keys:
+        p = _key_value(case, key)
+        h = STEP * abs(p) if p != 0.0 else STEP
+        steps[key] = h
+        moved, why = [], error
+        for sign in (1.0, -1.0) if not why else ():
+            try:
+                moved.append(case.with_changes({key: p + sign * h}))
+            except ValueError as err:
+                why = f"p {'+-'[sign < 0]} h outside the key's range ({err})"
+                break
+            if dimension_of(moved[-1]) != dimension_of(case):
+                why = "the step changes the model's dimension"
+                break
+        sols = None
+        if not why:
+            sols, _, why = neighbour_solutions(moved, state, regime)
+        iterations[key] = sum(sol.stats["iterations"] for sol in sols or ())
+        if why:
+            for name in rows:
+                reasons[name].append(f"{key}: {why}")
+            continue
+        (fp, nodes_p), (fm, nodes_m) = (_side(c, sol, functional)
+                                        for c, sol in zip(moved, sols, strict=True))
+        for i, name in enumerate(rows):
+            why = _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h,
+                                      functional)
+            if why:
+                reasons[name].append(f"{key}: {why}")
+            else:
+                table[key][i] = (fp[name] - fm[name]) / (2.0 * h)
+    frame = pd.DataFrame(table, index=list(rows))
+    frame["unit"] = list(rows.values())
+    frame["reason"] = ["; ".join(reasons[name]) for name in rows]
+    frame.attrs["key_units"] = {key: KEY_UNITS.get(key, "") for key in keys}
+    frame.attrs["steps"] = steps
+    frame.attrs["iterations"] = iterations
+    return frame
+
+
+def _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h, functional) -> str:
+    """Why row ``name`` has no derivative from the sides ``fp``, ``fm``
+    around ``f0`` (their peak nodes ``nodes_*``); "" where it has one."""
+    if functional is not None and name in FUNCTIONAL_COLUMNS:
+        return "reads the functional load case (a second solve, not differentiated)"
+    values = (f0[name], fp[name], fm[name])
+    if any(v is None or not math.isfinite(float(v)) for v in values):
+        return "the column is not a finite number here"
+    peak = name[2:] if name.startswith("s_") else name
+    if peak in PEAKS and not nodes0[peak] == nodes_p[peak] == nodes_m[peak]:
+        return (f"the peak jumps between nodes {nodes_m[peak]}, {nodes0[peak]} and "
+                f"{nodes_p[peak]} within +-h")
+    up, down = (values[1] - values[0]) / h, (values[0] - values[2]) / h
+    steepest = max(abs(up), abs(down))
+    if abs(up - down) > KINK * steepest and steepest * h > NOISE * abs(values[0]):
+        return f"one-sided differences {down:.6g} and {up:.6g} disagree (a kink within +-h)"
+    return ""
