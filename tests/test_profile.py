@@ -72,3 +72,17 @@ def test_no_overshoot():
 def test_bad_profiles_are_refused(bad, words):
     with pytest.raises(ValueError, match=words):
         check_profile(bad)
+
+
+def test_array_form_is_the_kernels():
+    from pipelay_fast.input.profile import bed_heights
+
+    knots = _knots()
+    z = np.linspace(-450.0, 50.0, 1001)
+    x, dx = bed_heights(knots, z)
+    for zi, xi, dxi in zip(z, x, dx, strict=True):
+        xk, dxk = bed_height(knots, zi)
+        assert xi == pytest.approx(xk, abs=1e-12)
+        assert dxi == pytest.approx(dxk, abs=1e-12)
+    x0, dx0 = bed_heights(np.zeros((0, 3)), z)
+    assert not x0.any() and not dx0.any()

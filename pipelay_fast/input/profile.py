@@ -82,3 +82,27 @@ def bed_knots(profile, water_depth: float) -> np.ndarray:
     z = table[:, 0]
     x = water_depth - table[:, 1]
     return np.ascontiguousarray(np.column_stack([z, x, pchip_slopes(z, x)]))
+
+
+def bed_heights(knots, z) -> tuple[np.ndarray, np.ndarray]:
+    """The seabed's height x [m] and slope dx/dz [-] at the points ``z`` [m]
+    (any shape) of the profile with ``knots`` (:func:`bed_knots`): the
+    array form of :func:`pipelay_fast.kernels.bed.bed_height` (zeros
+    without knots)."""
+    z = np.asarray(z, dtype=float)
+    knots = np.asarray(knots, dtype=float)
+    if knots.shape[0] == 0:
+        return np.zeros(z.shape), np.zeros(z.shape)
+    zk = knots[:, 0]
+    lo = np.clip(np.searchsorted(zk, z, side="right") - 1, 0, zk.size - 2)
+    h = zk[lo + 1] - zk[lo]
+    t = np.clip((z - zk[lo]) / h, 0.0, 1.0)
+    x0, x1 = knots[lo, 1], knots[lo + 1, 1]
+    m0, m1 = knots[lo, 2] * h, knots[lo + 1, 2] * h
+    t2, t3 = t * t, t * t * t
+    x = ((2.0 * t3 - 3.0 * t2 + 1.0) * x0 + (t3 - 2.0 * t2 + t) * m0
+         + (-2.0 * t3 + 3.0 * t2) * x1 + (t3 - t2) * m1)
+    dx = ((6.0 * t2 - 6.0 * t) * (x0 - x1) + (3.0 * t2 - 4.0 * t + 1.0) * m0
+          + (3.0 * t2 - 2.0 * t) * m1) / h
+    outside = (z <= zk[0]) | (z >= zk[-1])
+    return x, np.where(outside, 0.0, dx)

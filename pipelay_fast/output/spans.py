@@ -17,6 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..engine.state import interpolate_state
+from ..engine.supports import seabed_height
+from ..input.profile import bed_heights, bed_knots
+
 SPAN_UNITS = {
     "span": "-",
     "start_s": "m", "end_s": "m", "length": "m",
@@ -80,3 +84,68 @@ def span_summary(spans: dict) -> dict:
         "max_span_length": float(spans["length"].max()) if n else 0.0,
         "max_span_gap": float(spans["max_gap"].max()) if n else 0.0,
     }
+
+
+SUBDIVISIONS = 8
+"""The points per element at which :func:`laid_spans` evaluates the laid
+pipe's clearance (its Hermite interpolant), so that a span's ends and its
+largest gap are the element's, not a straight line's between its nodes."""
+
+
+def laid_spans(s, u, nd: int, knots, s_td: float) -> dict:
+    """The free spans (:func:`find_spans`) of the pipe with unknowns ``u`` on
+    nodes ``s`` [m] in dimension ``nd`` behind its touchdown at arc length
+    ``s_td`` [m], over the seabed profile with ``knots``
+    (:func:`pipelay_fast.input.profile.bed_knots`; (0, 3): the flat seabed):
+    its clearance x - x_b(z) at SUBDIVISIONS points per element of the cubic
+    Hermite interpolant of its nodal positions and tangents."""
+    s = np.asarray(s, dtype=float)
+    if s_td <= s[0]:
+        return find_spans(np.zeros(0), np.zeros(0), np.zeros(0))
+    last = int(np.searchsorted(s, s_td))
+    nodes = np.append(s[:last][s[:last] < s_td], s_td)
+    steps = np.arange(SUBDIVISIONS) / SUBDIVISIONS
+    fine = np.append((nodes[:-1, None] + np.diff(nodes)[:, None] * steps).ravel(), s_td)
+    uf = interpolate_state(s, u, nd, fine)
+    ndn = 2 * nd + 1
+    x, z = uf[0::ndn], uf[nd - 1::ndn]
+    return find_spans(fine, z, x - bed_heights(knots, z)[0])
+
+
+TOUCHDOWN_UNITS = {"tdp_x": "m", "seabed_depth_at_tdp": "m", "n_spans": "-",
+                   "max_span_length": "m", "max_span_gap": "m"}
+"""The summary's touchdown and span columns (:func:`touchdown_columns`)."""
+
+
+def seabed_heights(case, z):
+    """The seabed's height x [m] above the reference level at ``z`` [m]: the
+    profile's (:func:`pipelay_fast.input.profile.bed_heights`), else the
+    (sloped) plane's."""
+    if case.seabed.profile is not None:
+        knots = bed_knots(case.seabed.profile, case.environment.water_depth)
+        return bed_heights(knots, z)[0]
+    return seabed_height(case, z)
+
+
+def span_table(case, sol) -> dict:
+    """The free spans behind touchdown (:func:`laid_spans`) of the solution
+    ``sol`` of ``case``: the columns of ``SPAN_UNITS``; none on a rigid
+    seabed (the contact holds the laid pipe on it from its lower end to
+    touchdown)."""
+    if case.seabed.is_rigid:
+        return find_spans(np.zeros(0), np.zeros(0), np.zeros(0))
+    knots = bed_knots(case.seabed.profile, case.environment.water_depth)
+    return laid_spans(sol.s, sol.u, sol.nd, knots, sol.s_tdp)
+
+
+def touchdown_columns(case, sol, cols: dict, spans: dict) -> dict:
+    """The columns of ``TOUCHDOWN_UNITS``: touchdown's height [m] above the
+    reference level (where ``environment.water_depth`` is measured; on an
+    elastic seabed the pipe's axis where it leaves the foundation), the
+    water depth under it [m] and :func:`span_summary` of ``spans``."""
+    s = cols["s"]
+    z_tdp = float(np.interp(sol.s_tdp, s, cols["z"]))
+    return {"tdp_x": float(np.interp(sol.s_tdp, s, cols["x"])),
+            "seabed_depth_at_tdp": float(case.environment.water_depth
+                                         - float(seabed_heights(case, np.array([z_tdp]))[0])),
+            **span_summary(spans)}
