@@ -19,6 +19,7 @@ from ..input.profile import bed_heights, bed_knots
 from ..kernels import layout as L
 from ..kernels.layout import B_PT
 from . import tuning as T
+from .bed_guess import laid_on_foundation
 from .boundaries import (
     bear_on_tip,
     follow_boundaries,
@@ -80,18 +81,22 @@ def _guess(case: Case, laid: float | None = None):
 
 def _on_profile(case: Case, g, s, x, z, th):
     """The guess's shape (``x``, ``z``, ``th`` at ``s``, :func:`.guess.shape`)
-    moved onto the seabed profile: the laid pipe (s < g.laid) onto its
-    height x_b(z) and slope, the suspended span by x_b at touchdown, less
+    moved onto the seabed profile: the laid pipe (s < g.laid) onto the
+    tensioned beam on the foundation (:func:`.bed_guess.laid_on_foundation`,
+    the guess's tension), the suspended span by x_b at touchdown, less
     in proportion to its arc length up to the fixed top. Unchanged without a
     profile."""
     if case.seabed.profile is None:
         return x, th
     knots = bed_knots(case.seabed.profile, case.environment.water_depth)
-    x_b, slope = bed_heights(knots, z)
-    x_td = float(bed_heights(knots, np.array([z[np.searchsorted(s, g.laid)]]))[0][0])
+    z_td = float(z[np.searchsorted(s, g.laid)])
+    x_td = float(bed_heights(knots, np.array([z_td]))[0][0])
     laid = s < g.laid
-    lift = np.where(laid, x_b, x_td * (g.total - s) / (g.total - g.laid))
-    return x + lift, np.where(laid, np.arctan(slope), th)
+    x_laid, th_laid = laid_on_foundation(knots, float(z[0]), z_td, case.pipe.bending_stiffness,
+                                         g.cat.h, float(case.effective_weight(0.0)),
+                                         case.seabed.stiffness, z)
+    lift = np.where(laid, x_laid, x_td * (g.total - s) / (g.total - g.laid))
+    return x + lift, np.where(laid, th_laid, th)
 
 
 def _mesh_stats(case: Case, g) -> dict:
