@@ -338,7 +338,8 @@ def test_friction_normal_force_on_an_elastic_seabed(j125):
     u[0::ndn] = x
     u[nd - 1::ndn] = s
     fric = np.full((s.size, L.N_FRIC), 7.0)
-    friction_track(nd, u, np.zeros_like(u), props, np.zeros(s.size, dtype=np.int8), fric, s)
+    friction_track(nd, u, np.zeros_like(u), props, np.zeros((0, 3)),
+                   np.zeros(s.size, dtype=np.int8), fric, s)
     np.testing.assert_allclose(fric[:, L.FR_W], foundation_force(s, x, 3e5), rtol=1e-14)
     above = x >= 0.0
     assert above.any() and (~above).any()

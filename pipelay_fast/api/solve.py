@@ -20,6 +20,7 @@ from ..input.errors import SolveError
 from ..input.limits import strain_beyond_line
 from ..output.results import Result, build_profile, build_rollers, build_summary
 from ..output.sensitivity import sensitivity_table
+from ..output.spans import span_table
 from .notice import announce_compile
 
 
@@ -108,7 +109,7 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     if beyond is not None:
         raise SolveError(f"case {case.name!r}: {beyond}")
     return Result(case, summary, columns, state=pb, roller_columns=rollers,
-                  functional=functional)
+                  functional=functional, span_columns=span_table(case, sol))
 
 
 def _functional_case(case: Case) -> dict | None:

@@ -23,6 +23,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..input.errors import SolveError
+from ..input.profile import bed_heights
 from ..kernels import layout as L
 from ..kernels.constraints import point_gaps
 from ..kernels.contact import tip_geometry
@@ -102,11 +103,13 @@ def lateral_hold_start(case: Case, pb: Problem):
 
 def touchdown_position(pb: Problem) -> float:
     """Arc length of touchdown [m]: its node's on a rigid seabed; on an
-    elastic one, where the pipe rises out of the foundation (x = 0, linear
-    between the last node below the surface and the next)."""
+    elastic one, where the pipe rises out of the foundation for the last
+    time (its clearance x - x_b(z) above the seabed's height, 0 without a
+    profile, linear between the last node below the seabed and the next)."""
     if pb.td_node >= 0:
         return float(pb.s[pb.td_node])
-    return foundation_exit(pb.s, pb.u[0::pb.ndn])
+    x_b, _slope = bed_heights(pb.bed, pb.u[pb.nd - 1::pb.ndn])
+    return foundation_exit(pb.s, pb.u[0::pb.ndn] - x_b)
 
 
 def conform_end(pb: Problem):
@@ -320,9 +323,10 @@ def lift_off_above_tip(case: Case, pb: Problem):
 
 
 def foundation_exit(s, x) -> float:
-    """Arc length [m] where the pipe rises out of an elastic seabed: x = 0
-    between the last node below the surface (x < 0) and the next, linearly;
-    the lower end's when no node is below it."""
+    """Arc length [m] where the pipe rises out of an elastic seabed for the
+    last time: its clearance ``x`` [m] (per node) 0 between the last node
+    below the seabed (x < 0) and the next, linearly; the lower end's when no
+    node is below it."""
     below = np.flatnonzero(x < 0.0)
     if below.size == 0:
         return float(s[0])

@@ -15,9 +15,11 @@ import numpy as np
 
 from ..input.case import Case
 from ..input.limits import check_mesh_size
+from ..input.profile import bed_heights, bed_knots
 from ..kernels import layout as L
 from ..kernels.layout import B_PT
 from . import tuning as T
+from .bed_guess import laid_on_foundation
 from .boundaries import (
     bear_on_tip,
     follow_boundaries,
@@ -37,8 +39,13 @@ from .supports import line_height, seabed_height, seabed_row
 def _mesh_sizes(case: Case, lam: float):
     """h_max, h_min [m] of a case whose flexural length sqrt(EI/T) at
     touchdown is ``lam`` [m] (ungraded, h_min = h_max: a mesh remeshed to put
-    a node somewhere stays uniform between its nodes, :func:`remesh`)."""
+    a node somewhere stays uniform between its nodes, :func:`remesh`). On a
+    seabed profile h_max is at most the foundation's length (4 EI/k)^(1/4)
+    (at 0.7 of it a span's length and largest gap were within 0.4 % of an
+    independent solution, tests/test_profile_solve.py)."""
     h_max = case.solver.element_length
+    if case.seabed.profile is not None:  # an element per foundation length at most
+        h_max = min(h_max, (4.0 * case.pipe.bending_stiffness / case.seabed.stiffness) ** 0.25)
     if not case.solver.grading:
         h_min = h_max
     elif case.solver.min_element_length is not None:
@@ -51,7 +58,9 @@ def _mesh_sizes(case: Case, lam: float):
 def _guess(case: Case, laid: float | None = None):
     """The first guess of a case (:func:`.guess.first_guess`) with ``laid``
     [m] of laid pipe; None: solver.laid_length, or its default when that is
-    not given either."""
+    not given either. The default reaches back over a seabed profile's
+    table behind touchdown, and LAID_LENGTHS flexural lengths beyond its
+    first row, so that the spans it makes are in the model."""
     h_max = case.solver.element_length
     given = laid if laid is not None else case.solver.laid_length
 
@@ -60,7 +69,34 @@ def _guess(case: Case, laid: float | None = None):
         return given or (2.0 * T.LAID_LENGTHS * lam + T.LAID_ELEMENTS * h_max
                          + friction_laid_length(case, cat))
 
-    return first_guess(case, laid_of)
+    g = first_guess(case, laid_of)
+    profile = case.seabed.profile
+    if profile is None or given or case.lay.pipe_length is not None:
+        return g
+    lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)
+    z_td = float(shape(case, g, np.array([g.laid]))[1][0])
+    need = z_td - profile[0][0] + T.LAID_LENGTHS * lam
+    return g if need <= g.laid else first_guess(case, lambda cat: need)
+
+
+def _on_profile(case: Case, g, s, x, z, th):
+    """The guess's shape (``x``, ``z``, ``th`` at ``s``, :func:`.guess.shape`)
+    moved onto the seabed profile: the laid pipe (s < g.laid) onto the
+    tensioned beam on the foundation (:func:`.bed_guess.laid_on_foundation`,
+    the guess's tension), the suspended span by x_b at touchdown, less
+    in proportion to its arc length up to the fixed top. Unchanged without a
+    profile."""
+    if case.seabed.profile is None:
+        return x, th
+    knots = bed_knots(case.seabed.profile, case.environment.water_depth)
+    z_td = float(z[np.searchsorted(s, g.laid)])
+    x_td = float(bed_heights(knots, np.array([z_td]))[0][0])
+    laid = s < g.laid
+    x_laid, th_laid = laid_on_foundation(knots, float(z[0]), z_td, case.pipe.bending_stiffness,
+                                         g.cat.h, float(case.effective_weight(0.0)),
+                                         case.seabed.stiffness, z)
+    lift = np.where(laid, x_laid, x_td * (g.total - s) / (g.total - g.laid))
+    return x + lift, np.where(laid, th_laid, th)
 
 
 def _mesh_stats(case: Case, g) -> dict:
@@ -101,6 +137,7 @@ def build_problem(case: Case, laid: float | None = None) -> Problem:
                      check=lambda n: check_mesh_size(case, n, g.total, g.laid,
                                                      _laid_source(case, g.cat, lam, laid)))
     x, z, th, te, kappa = shape(case, g, s)
+    x, th = _on_profile(case, g, s, x, z, th)
     u = np.zeros(s.size * ndn)
     u[0::ndn] = x
     u[nd - 1::ndn] = z
@@ -280,7 +317,8 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
     section = section_array(s, sections_of(case))
     return make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
                         fref=fref, href=stats["h_max"], points=_points(case, curve), curve=curve,
-                        tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats, seabed=bed)
+                        tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats, seabed=bed,
+                        bed=bed_knots(case.seabed.profile, case.environment.water_depth))
 
 
 def _points(case: Case, curve) -> np.ndarray:

@@ -192,10 +192,11 @@ class Problem:
     ends: EndConditions
     settings: Settings
     path: Path = field(default_factory=Path)
+    bed: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
     def model(self) -> Model:
         """What the element kernels read: the case's data and the load path's factors."""
-        return Model(self.props, self.table, self.settings.factors, self.section)
+        return Model(self.props, self.table, self.settings.factors, self.section, self.bed)
 
     def kernel_supports(self) -> Supports:
         """The Newton kernel's constraints and contacts (arrays shared, not copied)."""
@@ -404,7 +405,7 @@ class Solution:
 def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, fref: float,
                  href: float, points=None, curve=None, tb: float = 0.0, bed_active=None,
                  st_active=None, fric=None, phi_r=None, phi_rp=None, stats: dict | None = None,
-                 factors=None, seabed=(0.0, 0.0, 0.0)) -> Problem:
+                 factors=None, seabed=(0.0, 0.0, 0.0), bed=None) -> Problem:
     """A :class:`Problem` on nodes ``s`` [m] with unknowns ``u`` and the
     elements' ``section`` (nn - 1, N_SECTION), its mesh not yet mapped onto
     boundaries (every boundary node -1); the parts' arrays not given are
@@ -412,7 +413,9 @@ def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, f
     ``curve`` (a, b, c, zL, zU, turn: layout ``ST_*``), no contacts, no
     nodal frames, the friction springs unanchored, the load factors full
     current without friction, the seabed flat at x = 0 (``seabed``: level,
-    angle, z0). The supports' table is :func:`.supports.support_table`'s."""
+    angle, z0) with no profile (``bed``: the profile's knots,
+    :func:`..input.profile.bed_knots`). The supports' table is
+    :func:`.supports.support_table`'s."""
     nn = s.size
     kind, geom, active = support_table(nn, curve, points, seabed)
     nb = kind.size
@@ -435,7 +438,8 @@ def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, f
     section = np.ascontiguousarray(section, dtype=np.float64)  # one type: one compile
     return Problem(nd, props, table, section, u, np.array([float(tb)]),
                    MeshMap(s, np.full(nb, -1, dtype=np.int64), np.zeros(nb)),
-                   contacts, ends, settings, Path({} if stats is None else stats))
+                   contacts, ends, settings, Path({} if stats is None else stats),
+                   np.zeros((0, 3)) if bed is None else np.ascontiguousarray(bed, dtype=float))
 
 
 # what a snapshot copies: the unknowns, the contacts' arrays, the mesh's

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .profile import check_profile
 from .validate import (
     assign,
     choice,
@@ -137,6 +138,18 @@ class Seabed:
     slope_origin : float
         z [m] where the sloped seabed passes through the reference level
         x = 0, default 0.
+    profile : list of [z, depth] or None
+        The seabed along the route [m]: water depth ``depth`` (positive) at
+        ``z`` (strictly ascending), default None (the flat seabed). The
+        seabed lies at x = water_depth - depth(z) above the reference level,
+        depth(z) the monotone C1 piecewise-cubic Hermite (PCHIP) interpolant
+        of the table, held at its end values beyond it; in 3D it is the same
+        across y. It needs the elastic seabed (``stiffness`` a number),
+        which pushes vertically: q_x = k (x_b(z) - x) where the pipe's axis
+        x lies at or below the seabed's height x_b(z), so the pipe may rest
+        on several stretches with free spans between them (the summary's
+        ``n_spans``, ``Result.spans``). Not with ``slope_deg`` (a profile can
+        describe a slope).
     """
 
     lateral_friction: float = 0.5
@@ -145,6 +158,7 @@ class Seabed:
     stiffness: float | None = None
     slope_deg: float = 0.0
     slope_origin: float = 0.0
+    profile: tuple | None = None
 
     def __post_init__(self):
         set_numbers(self, "seabed", non_negative=("lateral_friction", "axial_friction"),
@@ -154,10 +168,21 @@ class Seabed:
                  f"is steeper than {MAX_SLOPE_DEG:g} deg either way")
         if self.stiffness is None or self.stiffness == "rigid":
             assign(self, "stiffness", None)
-            return
-        if isinstance(self.stiffness, str):
+        elif isinstance(self.stiffness, str):
             fail("seabed.stiffness", self.stiffness, 'must be "rigid" or a positive number')
-        set_numbers(self, "seabed", positive=("stiffness",))
+        else:
+            set_numbers(self, "seabed", positive=("stiffness",))
+        if self.profile is None:
+            return
+        assign(self, "profile", check_profile(self.profile))
+        if self.stiffness is None:
+            fail("seabed.profile", [list(row) for row in self.profile],
+                 "needs the elastic seabed (seabed.stiffness a number, not rigid): the "
+                 "pipe may rest on several stretches of the profile")
+        if self.slope_deg != 0.0:
+            fail("seabed.profile", [list(row) for row in self.profile],
+                 f"cannot be combined with seabed.slope_deg = {self.slope_deg!r} (a "
+                 "profile can describe the slope)")
 
     @property
     def slope(self) -> float:

@@ -255,10 +255,11 @@ def element_forces_py(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe,
 
 
 def element_force(nd, le, ue, props, sec, table, torque, fe, ke, want_tangent, dfe=None,
-                  current_factor=1.0):
+                  current_factor=1.0, bed=None):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due and, if ``dfe`` is
     given, ``dfe`` = dG/dle of one element of section ``sec`` (N_SECTION,),
-    with the current's drag times ``current_factor``.
+    with the current's drag times ``current_factor``, on the seabed profile
+    with knots ``bed`` ((n, 3), :mod:`.bed`; None: flat).
 
     Allocating Python wrapper of the kernel the solves run (in 2D the planar
     one, :func:`.element2d.element_2d`; in 3D :func:`.element.element_force_ws`) for
@@ -266,7 +267,8 @@ def element_force(nd, le, ue, props, sec, table, torque, fe, ke, want_tangent, d
     """
     want_dle = dfe is not None
     section = np.ascontiguousarray(np.asarray(sec, dtype=np.float64).reshape(1, L.N_SECTION))
-    model = Model(props, table, load_factors(current_factor, False), section)
+    knots = np.zeros((0, 3)) if bed is None else np.ascontiguousarray(bed, dtype=np.float64)
+    model = Model(props, table, load_factors(current_factor, False), section, knots)
     element_forces_py(nd, le, ue, model, section[0], torque, fe, ke, want_tangent,
                       dfe if want_dle else np.zeros(ue.size), want_dle,
                       np.empty(WORK_SIZE), np.empty((3, 3)))

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from . import layout as L
 from ._jit import jit, phase
+from .bed import bed_height
 from .element import _extension
 from .element_dle import _cut_jumps
 from .element_shapes import _CUTLEV, _CUTS, GAUSS_W, GAUSS_XI, level_cuts
@@ -120,6 +121,7 @@ def element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm):
         dd0 = -dd2
         dd3 = (6.0 * t - 2.0) * inv_le
         x = xa + n1 * xpa + n2 * cx + n3 * xpb
+        z = za + n1 * zpa + n2 * cz + n3 * zpb
         xp = d1 * xpa + d2 * cx + d3 * xpb
         zp = d1 * zpa + d2 * cz + d3 * zpb
         xpp = dd1 * xpa + dd2 * cx + dd3 * xpb
@@ -128,7 +130,7 @@ def element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm):
         p1 = t
         lam = p0 * la + p1 * lb
         ext = _extension(props, sec, extensible, ei, ea, x, lam, xpp * xpp + zpp * zpp)
-        loads = _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, xp, zp)
+        loads = _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, z, xp, zp)
         # (-my z', my x'): the distributed moment's term r' x m on dr'
         state = (xp, zp, xpp, zpp, lam, -my * zp, my * xp)
         # --- residual
@@ -164,18 +166,23 @@ def element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm):
 
 
 @phase
-def _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, xp, zp):
-    """The distributed load at height ``x`` [m] with slope (``xp``, ``zp``):
+def _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, z, xp, zp):
+    """The distributed load at (``x``, ``z``) [m] with slope (``xp``, ``zp``):
     (q_x, q_z [N/m], the seabed's dq_x/dx [N/m2], the drag's dq_x/dx',
-    dq_x/dz', dq_z/dx', dq_z/dz' [N/m] and dq_x/dx, dq_z/dx [N/m2]); ``sec``
-    the element's section row."""
+    dq_x/dz', dq_z/dx', dq_z/dz' [N/m], dq_x/dx, dq_z/dx [N/m2] and the
+    seabed's dq_x/dz [N/m2]); ``sec`` the element's section row. The elastic
+    seabed pushes k (x_b(z) - x) up where x <= x_b(z), x_b the profile's
+    height (:func:`.bed.bed_height`; 0 without a profile)."""
     props = model.props
     qx = -effective_weight(props, sec, x)
     qz = 0.0
     dqx_bed = 0.0
-    if k_bed > 0.0 and x <= 0.0:  # (at x = 0 its tangent: the pipe lands on it)
-        qx -= k_bed * x
+    dqxz_bed = 0.0
+    x_b, dx_b = bed_height(model.bed, z)
+    if k_bed > 0.0 and x <= x_b:  # (at x = x_b its tangent: the pipe lands on it)
+        qx += k_bed * (x_b - x)
         dqx_bed = -k_bed
+        dqxz_bed = k_bed * dx_b
     dxx = 0.0  # drag: dq/dr' (dxx = dqx/dx' ...) and dq/dx
     dxz = 0.0
     dzx = 0.0
@@ -189,7 +196,7 @@ def _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, xp, zp):
                                                                    xp, zp)
             qx += fx
             qz += fz
-    return qx, qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx
+    return qx, qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx, dqxz_bed
 
 
 @phase
@@ -215,7 +222,7 @@ def _dle_2d(dfe, wl, inv_le, ei, ea, extensible, my, slopes, state, loads, ext, 
     constraint's value, ``p0``, ``p1`` the multiplier's shape functions."""
     xpa, zpa, xpb, zpb = slopes
     xp, zp, xpp, zpp, lam, _cmx, _cmz = state
-    _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx = loads
+    _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx, dqxz_bed = loads
     _e, de_deps, deps_dx = ext
     nn_, dn, ddn = shape
     dx = (nn_[1] * xpa + nn_[3] * xpb) * inv_le
@@ -227,6 +234,8 @@ def _dle_2d(dfe, wl, inv_le, ei, ea, extensible, my, slopes, state, loads, ext, 
     if extensible:
         dcval -= de_deps * (2.0 * ei * (xpp * dxpp + zpp * dzpp) / ea + deps_dx * dx)
     dqx = (dqx_bed + dqx_dx) * dx + dxx * dxp + dxz * dzp
+    if dqxz_bed != 0.0:
+        dqx += dqxz_bed * (nn_[1] * zpa + nn_[3] * zpb) * inv_le
     dqz = dqz_dx * dx + dzx * dxp + dzz * dzp
     dlam = wl * (cval * inv_le + dcval)
     dfe[_LA] += p0 * dlam
@@ -257,7 +266,7 @@ def _tangent_2d(ke, ws, wl, ei, ea, extensible, my, state, loads, ext, shape, p0
     triangles), the load stiffness, the moment's term and the multipliers'
     rows and columns into ``ke``; the arguments as :func:`_dle_2d`'s."""
     xp, zp, xpp, zpp, lam, _cmx, _cmz = state
-    _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx = loads
+    _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx, dqxz_bed = loads
     _e, de_deps, deps_dx = ext
     nn_, dn, ddn = shape
     off = (0, 2, 5, 7)
@@ -271,6 +280,11 @@ def _tangent_2d(ke, ws, wl, ei, ea, extensible, my, state, loads, ext, shape, p0
         for k in range(4):
             for l in range(k, 4):
                 ws[_KX + 4 * k + l] += wq * nn_[k] * nn_[l]
+    if dqxz_bed != 0.0:  # the profile's slope: -N_k dq_x/dz N_l
+        wq = wl * dqxz_bed
+        for k in range(4):
+            for l in range(4):
+                ke[off[k], off[l] + 1] -= wq * nn_[k] * nn_[l]
     if (dxx != 0.0 or dxz != 0.0 or dzx != 0.0 or dzz != 0.0 or dqx_dx != 0.0
             or dqz_dx != 0.0 or my != 0.0):
         # load stiffness -N_k dq_i/du_(l,j), and the moment's H-free term

@@ -13,7 +13,7 @@ r'_a, r_b, r'_b), so with ' = d/ds = (1/le) d/dxi and ds = le dxi
     dr'' = -(2 r'' - N_1'' r'_a - N_3'' r'_b) / le,
 
 where d = d/dle, dx is the x component of dr and lam (linear in xi) does not
-change. The rest is the chain rule: dq = (dq/dx) dx + (dq/dr') dr' with
+change. The rest is the chain rule: dq = (dq/dx) dx + (dq/dz) dz + (dq/dr') dr' with
 the load derivatives the tangent uses (seabed, drag), dc3 = H (dr' x r'' +
 r' x dr'') + dr' x m, and in the constraint row d[(r'.r' - 1)/2 - e] = r'.dr'
 - (1 + eps) (2 EI r''.dr'' + (dTw/dx) dx) / EA. The cut points move with le
@@ -102,11 +102,12 @@ def _cut_jumps(nd, le, ue, model, sec, ncut, cuts, cutlev, ke, want_tangent, dfe
 
 @jit(by_dimension=True, _nrt=False)
 def _dle_gauss_point(nd, le, ue, props, sec, torque, wl, p0, p1, lam, cval, de_deps, deps_dx,
-                     dqx_dx, has_drag, ws, wm, dfe):
+                     dqx_dx, dqx_dz, has_drag, ws, wm, dfe):
     """Add one Gauss point's share of dG/dle to ``dfe`` (module docstring).
 
     Reads the point's values that :func:`.element.element_force_ws` left in
-    ``ws`` and ``wm``; ``sec`` the element's section row; ``torque`` is 0
+    ``ws`` and ``wm``; ``sec`` the element's section row; ``dqx_dx``,
+    ``dqx_dz`` the seabed's load derivatives [N/m2]; ``torque`` is 0
     where the torque term is off. A
     function of its own, not inlined, so that the kernel's Gauss loop runs as
     fast without it.
@@ -131,6 +132,9 @@ def _dle_gauss_point(nd, le, ue, props, sec, torque, wl, p0, p1, lam, cval, de_d
         drpp_rpp += ws[_RPP + i] * drpp
     for i in range(nd):
         dq = dqx_dx * dx if i == 0 else 0.0
+        if i == 0 and dqx_dz != 0.0:  # the profile's slope: dz as dx
+            dz = (ws[_N + 1] * ue[2 * nd - 1] + ws[_N + 3] * ue[ndn + 2 * nd - 1]) * inv_le
+            dq += dqx_dz * dz
         if has_drag:
             dq += ws[_DQ_DX + i] * dx
             for j in range(nd):

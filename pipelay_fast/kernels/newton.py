@@ -402,7 +402,8 @@ def _newton_kernel(nd):
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)
-            friction_track(nd, u, react, model.props, sup.active[ROW_BED], sup.fric, w.s_nd)
+            friction_track(nd, u, react, model.props, model.bed, sup.active[ROW_BED], sup.fric,
+                           w.s_nd)
             changed = _points_update(nd, u, mesh, sup, react, settings) > 0
             trial_converged = accepted and not changed and m1 <= settings.tol * settings.tol
             if changed and sup.kind[ROW_CURVE] != SUP_NONE:

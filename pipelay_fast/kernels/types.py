@@ -9,7 +9,9 @@ they hold references, not copies).
 * :data:`Model`: what an element reads, the case's data (the scene's
   ``props``, the current ``table``), the load path's ``factors``
   (:mod:`.layout`, ``F_*``) and the pipe's ``section``, a row per element
-  ((n_elements, N_SECTION), layout ``S_*``).
+  ((n_elements, N_SECTION), layout ``S_*``) and the seabed profile's knots
+  ``bed`` ((n, 3): z [m], height x [m], dx/dz [-], :mod:`.bed`; (0, 3), the
+  default: none).
 * :data:`Mesh`: the element lengths and the mesh's map onto the contact
   boundaries (node i at s_a[i] + sum_b s_b[b, i] s_bd[b]; ``bnodes[b]`` the
   node on boundary b, -1 none).
@@ -39,7 +41,8 @@ import numpy as np
 
 from . import layout as L
 
-Model = namedtuple("Model", ["props", "table", "factors", "section"])
+Model = namedtuple("Model", ["props", "table", "factors", "section", "bed"],
+                   defaults=(np.zeros((0, 3)),))
 Mesh = namedtuple("Mesh", ["s_el", "s_a", "s_b", "s_bd", "bnodes"])
 Supports = namedtuple("Supports", ["fix_mask", "fix_val", "phi_r", "phi_rp", "kind", "geom",
                                    "active", "fric", "y_held"])

@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..engine.supports import seabed_height
 from .design import bend_regions, fibre_strain, utilisation_along
+from .spans import seabed_heights
 
 __all__ = ["DPI", "PANEL_SIZE", "figure", "marks", "plot_result", "save"]
 
@@ -138,13 +138,17 @@ def _mark(ax, at: dict, bears: bool, label: bool):
 
 
 def _elevation_panel(ax, result, at: dict):
-    """The elevation x [m] against s, with the seabed, the water line, the
-    stinger (a quadratic one at the pipe's s over it; rollers at the s of
-    the material point over each) and the tip bearing's reaction."""
+    """The elevation x [m] against s, with the seabed under the pipe (its
+    profile or slope), the free spans shaded, the water line, the stinger (a
+    quadratic one at the pipe's s over it; rollers at the s of the material
+    point over each) and the tip bearing's reaction."""
     case, cols, sm = result.case, result.columns, result.summary
     s = cols["s"]
     ax.plot(s, cols["x"], color="C0", label="pipe")
-    ax.plot(s, seabed_height(case, cols["z"]), color="saddlebrown", lw=1.0, label="seabed")
+    ax.plot(s, seabed_heights(case, cols["z"]), color="saddlebrown", lw=1.0, label="seabed")
+    for k, (s0, s1) in enumerate(zip(result.spans["start_s"], result.spans["end_s"],
+                                     strict=True)):
+        ax.axvspan(s0, s1, color="C1", alpha=0.15, lw=0, label="free span" if k == 0 else None)
     ax.axhline(case.environment.water_depth, color="C9", lw=1.0, ls="--", label="water line")
     stinger, rollers = case.lay.stinger, result.rollers
     if rollers is not None:  # bearing rollers filled, clear ones open

@@ -21,6 +21,7 @@ from ..input.frame import vessel_note
 from ..kernels import layout as L
 from ..kernels.geometry import centreline_fields
 from .design import DESIGN_UNITS, bend_regions, design_columns, interior_peak
+from .spans import SPAN_UNITS, TOUCHDOWN_UNITS, seabed_heights, span_table, touchdown_columns
 
 PROFILE_UNITS = {
     "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
@@ -40,7 +41,7 @@ SUMMARY_UNITS = {
     "case_id": "", "method": "", "dimension": "", "a": "1/m", "stinger_radius": "m",
     "roller_shift": "m", "water_depth": "m", "trim_deg": "deg",
     "current_speed": "m/s", "current_heading_deg": "deg", "status": "", "message": "",
-    "top_tension": "N", "bottom_tension": "N", "tdp_z": "m", "liftoff_z": "m",
+    "top_tension": "N", "bottom_tension": "N", "tdp_z": "m", **TOUCHDOWN_UNITS, "liftoff_z": "m",
     "liftoff_angle_deg": "deg", "top_angle_deg": "deg", "suspended_length": "m",
     "max_von_mises": "Pa", "max_von_mises_over_smys": "-", "yielded": "",
     "overbend_max_von_mises": "Pa", "sagbend_max_von_mises": "Pa",
@@ -96,6 +97,10 @@ class Result:
     profile : pandas.DataFrame
         One row per node (units in ``PROFILE_UNITS``); built on first access
         from ``columns``, the same data as numpy arrays.
+    spans : pandas.DataFrame
+        The free spans behind touchdown on an elastic seabed, one row each
+        from the lower end (units in ``SPAN_UNITS``, :mod:`.spans`); empty
+        without spans (always on the rigid seabed).
     rollers : pandas.DataFrame or None
         A roller stinger's rollers, one row each from the vessel down (units
         in ``ROLLER_UNITS``): position, the arc length of the material point
@@ -119,8 +124,10 @@ class Result:
     """
 
     def __init__(self, case: Case, summary: dict, columns: dict, state=None,
-                 roller_columns: dict | None = None, functional: dict | None = None):
+                 roller_columns: dict | None = None, functional: dict | None = None,
+                 span_columns: dict | None = None):
         self.case = case
+        self.span_columns = span_columns
         self.functional = functional
         self.summary = summary
         self.columns = columns
@@ -137,6 +144,12 @@ class Result:
         if self._profile is None:
             self._profile = pd.DataFrame(self.columns)
         return self._profile
+
+    @property
+    def spans(self) -> pd.DataFrame:
+        """One row per free span behind touchdown, the columns of
+        ``SPAN_UNITS`` (SI); empty without spans."""
+        return pd.DataFrame(self.span_columns or {k: [] for k in SPAN_UNITS})
 
     @property
     def rollers(self) -> pd.DataFrame | None:
@@ -204,9 +217,10 @@ def node_shares(s) -> np.ndarray:
 
 def foundation_force(s, x, k_bed) -> np.ndarray:
     """Nodal force [N] of an elastic seabed: k (-x) at a node below the
-    surface over its share of the pipe (the NumPy reference of the normal
+    seabed over its share of the pipe (the NumPy reference of the normal
     force W that :func:`pipelay_fast.kernels.contact.friction_track` gives
-    friction). ``s``, ``x`` [m] per node, ``k_bed`` [N/m per m of pipe]."""
+    friction). ``s`` [m] per node, ``x`` [m] the node's clearance above the
+    seabed, ``k_bed`` [N/m per m of pipe]."""
     return k_bed * np.maximum(-x, 0.0) * node_shares(s)
 
 
@@ -314,9 +328,10 @@ def build_profile(case: Case, sol: Solution) -> dict:
         seabed = np.where(act, react[0::ndn], 0.0)
         seabed[0] = react[0]
         contact[0] = "seabed"
-    else:  # the foundation's force, lumped at the nodes below the surface
-        act = u[0::ndn] < 0.0
-        seabed = foundation_force(s, u[0::ndn], case.seabed.stiffness)
+    else:  # the foundation's force, lumped at the nodes below the seabed
+        gap = u[0::ndn] - seabed_heights(case, u[nd - 1::ndn])
+        act = gap < 0.0
+        seabed = foundation_force(s, gap, case.seabed.stiffness)
     contact[act] = "seabed"
     seabed_y = np.zeros(s.size)
     if nd == 3:  # friction (the held lower end's lateral reaction is not)
@@ -436,6 +451,7 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
         "top_tension": float(te[-1]),
         "bottom_tension": _bottom_tension(case, sol, s, te, s_tdp),
         "tdp_z": z_tdp,
+        **touchdown_columns(case, sol, cols, span_table(case, sol)),
         "liftoff_z": liftoff_z,
         "liftoff_angle_deg": liftoff_angle,
         "top_angle_deg": float(cols["angle_deg"][-1]),

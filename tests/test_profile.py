@@ -1,0 +1,105 @@
+"""The seabed profile's input and interpolant (input/profile.py, kernels/bed.py)
+against scipy's Hermite and PCHIP interpolants."""
+
+import numpy as np
+import pytest
+from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
+
+from pipelay_fast.input.profile import bed_knots, check_profile, pchip_slopes
+from pipelay_fast.kernels.bed import bed_height
+
+# a trench then a hump along the route [m]
+PROFILE = [[-400.0, 60.0], [-250.0, 61.0], [-200.0, 64.5], [-170.0, 64.0],
+           [-120.0, 59.0], [-90.0, 58.0], [0.0, 60.0]]
+DEPTH = 60.0
+
+
+def _knots():
+    return bed_knots(check_profile(PROFILE), DEPTH)
+
+
+def test_interior_slopes_are_scipys_pchip():
+    z, x = _knots()[:, 0], _knots()[:, 1]
+    m = pchip_slopes(z, x)
+    ref = PchipInterpolator(z, x).derivative()(z)
+    np.testing.assert_allclose(m[1:-1], ref[1:-1], rtol=1e-13, atol=1e-15)
+    assert m[0] == 0.0 and m[-1] == 0.0
+
+
+def test_kernel_is_the_hermite_interpolant():
+    knots = _knots()
+    ref = CubicHermiteSpline(knots[:, 0], knots[:, 1], knots[:, 2])
+    dref = ref.derivative()
+    for z in np.linspace(-399.0, -1.0, 777):
+        x, dx = bed_height(knots, z)
+        assert x == pytest.approx(float(ref(z)), abs=1e-11)
+        assert dx == pytest.approx(float(dref(z)), abs=1e-11)
+
+
+def test_c1_at_knots_and_held_beyond():
+    knots = _knots()
+    eps = 1e-7
+    for zk, xk, mk in knots:
+        for side in (-eps, eps):
+            x, dx = bed_height(knots, zk + side)
+            assert x == pytest.approx(xk, abs=1e-5)
+            assert dx == pytest.approx(mk, abs=1e-5)
+    assert bed_height(knots, -1e4) == (knots[0, 1], 0.0)
+    assert bed_height(knots, 1e4) == (knots[-1, 1], 0.0)
+    assert bed_height(np.zeros((0, 3)), 12.0) == (0.0, 0.0)
+
+
+def test_no_overshoot():
+    knots = _knots()
+    zs = np.linspace(knots[0, 0], knots[-1, 0], 4001)
+    xs = np.array([bed_height(knots, z)[0] for z in zs])
+    for k in range(knots.shape[0] - 1):
+        inside = (zs >= knots[k, 0]) & (zs <= knots[k + 1, 0])
+        lo, hi = sorted(knots[k:k + 2, 1])
+        assert xs[inside].min() >= lo - 1e-12 and xs[inside].max() <= hi + 1e-12
+
+
+@pytest.mark.parametrize("bad, words", [
+    ([[0.0, 10.0]], "two rows"),
+    ([[0.0, 10.0], [0.0, 12.0]], r"seabed.profile\[1\].*ascend"),
+    ([[0.0, 10.0], [5.0, -1.0]], r"seabed.profile\[1\].*not positive"),
+    ([[0.0, 10.0], [5.0, 0.0]], r"seabed.profile\[1\].*not positive"),
+    ([[0.0, 10.0], [5.0]], r"seabed.profile\[1\].*pair"),
+    ([[0.0, 10.0], [float("nan"), 3.0]], r"seabed.profile\[1\].*finite"),
+    ([[0.0, 10.0], ["a", 3.0]], r"seabed.profile\[1\].*numbers"),
+    ("deep", "table"),
+])
+def test_bad_profiles_are_refused(bad, words):
+    with pytest.raises(ValueError, match=words):
+        check_profile(bad)
+
+
+def test_array_form_is_the_kernels():
+    from pipelay_fast.input.profile import bed_heights
+
+    knots = _knots()
+    z = np.linspace(-450.0, 50.0, 1001)
+    x, dx = bed_heights(knots, z)
+    for zi, xi, dxi in zip(z, x, dx, strict=True):
+        xk, dxk = bed_height(knots, zi)
+        assert xi == pytest.approx(xk, abs=1e-12)
+        assert dxi == pytest.approx(dxk, abs=1e-12)
+    x0, dx0 = bed_heights(np.zeros((0, 3)), z)
+    assert not x0.any() and not dx0.any()
+
+
+def test_guess_beam_rests_at_w_over_k_and_bridges_a_narrow_trench():
+    """The first guess's laid pipe (engine/bed_guess.py): on a flat profile at
+    rest, w_s/k below it; over a trench shorter than the beam can sag into
+    it clear of the trench's bottom (a span), on it at both ends."""
+    from pipelay_fast.engine.bed_guess import laid_on_foundation
+
+    flat = bed_knots(check_profile([[0.0, 100.0], [10.0, 100.0]]), 100.0)
+    z = np.linspace(-50.0, 50.0, 41)
+    x, th = laid_on_foundation(flat, -50.0, 50.0, 2.7e8, 4e5, 3600.0, 1e6, z)
+    np.testing.assert_allclose(x, -3600.0 / 1e6, rtol=1e-6)
+    np.testing.assert_allclose(th, 0.0, atol=1e-9)
+    trench = bed_knots(check_profile([[-10.0, 100.0], [-5.0, 101.0], [5.0, 101.0],
+                                      [10.0, 100.0]]), 100.0)
+    x, _ = laid_on_foundation(trench, -80.0, 80.0, 2.7e8, 4e5, 3600.0, 1e6, np.array([0.0]))
+    assert -1.0 < x[0] < -0.01
