@@ -6,15 +6,16 @@ Layout of ``OUT/``::
     summary/scene=<name>/<chunk>.parquet  one row per case
     profiles/scene=<name>/<chunk>.parquet one row per node per case (column case_id)
     rollers/scene=<name>/<chunk>.parquet  one row per roller per case of a roller stinger
+    spans/scene=<name>/<chunk>.parquet    one row per free span per case (elastic seabed)
     selection.parquet                    written by ``pipelay-fast select``
 
 Every file carries the unit of each column in its schema metadata, as
 :func:`pipelay_fast.output.io.write_table` writes it. A worker encodes each chunk (a
 task's cases) to Parquet bytes; the parent, the only writer, writes them
-atomically (temporary name, then rename), profiles and rollers first and
+atomically (temporary name, then rename), profiles, rollers and spans first and
 summary last, under the same file name in every table: the summary file is
 the chunk's commit mark. On opening, leftovers of an interrupted run
-(temporary files, profile and roller chunks without their summary) are
+(temporary files, profile, roller and span chunks without their summary) are
 removed, so a rerun sees exactly the committed cases and recomputes the rest.
 """
 
@@ -38,10 +39,12 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ..output.results import PROFILE_UNITS, ROLLER_UNITS, SUMMARY_UNITS
+from ..output.spans import SPAN_UNITS
 from .sweep import INPUT_UNITS, TARGET_UNITS, Sweep
 
-__all__ = ["Chunk", "Dataset", "PROFILE_COLUMNS", "ROLLER_COLUMNS", "SUMMARY_COLUMNS",
-           "encode_chunk", "read_profiles", "read_rollers", "read_summary"]
+__all__ = ["Chunk", "Dataset", "PROFILE_COLUMNS", "ROLLER_COLUMNS", "SPAN_COLUMNS",
+           "SUMMARY_COLUMNS", "encode_chunk", "read_profiles", "read_rollers", "read_spans",
+           "read_summary"]
 
 # bookkeeping columns of the summary: the chain and place of a case, whether
 # it was given the previous solution of its chain to start from
@@ -49,6 +52,7 @@ RUN_UNITS = {"chain": "", "chain_position": "", "warm_started": ""}
 SUMMARY_COLUMNS = {**SUMMARY_UNITS, **INPUT_UNITS, **TARGET_UNITS, **RUN_UNITS}
 PROFILE_COLUMNS = {"case_id": "", "node": "", **PROFILE_UNITS}
 ROLLER_COLUMNS = {"case_id": "", **ROLLER_UNITS}
+SPAN_COLUMNS = {"case_id": "", **SPAN_UNITS}
 _INTEGER = ("n_elements", "n_iterations", "n_current_steps", "max_current_step_iterations",
             "n_meshes", "chain_position", "last_roller_in_contact")
 _BOOLEAN = ("warm_started",)
@@ -108,11 +112,11 @@ class Dataset:
         raise RuntimeError(f"cannot lock {self.root}")
 
     def _clean(self):
-        """Remove temporary files, and profile and roller chunks without
-        their summary chunk (an interrupted run's)."""
+        """Remove temporary files, and profile, roller and span chunks
+        without their summary chunk (an interrupted run's)."""
         for tmp in self.root.glob("*/scene=*/.*.tmp"):
             tmp.unlink(missing_ok=True)
-        for table in ("profiles", "rollers"):
+        for table in ("profiles", "rollers", "spans"):
             for chunk in self.root.glob(f"{table}/scene=*/*.parquet"):
                 if not (self.root / "summary" / chunk.parent.name / chunk.name).exists():
                     chunk.unlink()
@@ -152,10 +156,11 @@ class Dataset:
     # ------------------------------------------------------------------ writing
 
     def write_chunk(self, chunk: Chunk) -> None:
-        """Write an encoded chunk: its profiles and rollers, then its summary (the commit)."""
+        """Write an encoded chunk: its profiles, rollers and spans, then its
+        summary (the commit)."""
         part = f"scene={chunk.scene}"
         tables = [("profiles", chunk.profiles), ("rollers", chunk.rollers),
-                  ("summary", chunk.summary)]
+                  ("spans", chunk.spans), ("summary", chunk.summary)]
         for table, data in tables:
             if data is None:
                 continue
@@ -168,8 +173,8 @@ class Dataset:
 class Chunk:
     """The Parquet files of one chunk, encoded (by a worker) and ready to write.
 
-    ``summary``, ``profiles`` and ``rollers`` are Parquet file contents
-    (``profiles``, ``rollers`` None when there are no such rows); ``rows`` and
+    ``summary``, ``profiles``, ``rollers`` and ``spans`` are Parquet file
+    contents (all but ``summary`` None when there are no such rows); ``rows`` and
     ``failed`` count the cases.
     """
 
@@ -180,12 +185,14 @@ class Chunk:
     rows: int
     failed: int
     rollers: bytes | None = None
+    spans: bytes | None = None
 
 
 def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None,
-                 rollers: dict | None = None, extra: Mapping | None = None) -> Chunk:
-    """Encode the summary rows of one scene (and their profile and roller
-    columns) as a chunk; ``extra``: {column: unit} of the float columns the
+                 rollers: dict | None = None, extra: Mapping | None = None,
+                 spans: dict | None = None) -> Chunk:
+    """Encode the summary rows of one scene (and their profile, roller and
+    span columns) as a chunk; ``extra``: {column: unit} of the float columns the
     summary has besides SUMMARY_COLUMNS (the sweep's sensitivities,
     :func:`pipelay_fast.study.sensitivity.sensitivity_columns`, text where the unit is "").
 
@@ -200,10 +207,13 @@ def encode_chunk(sweep: str, scene: str, rows: list[dict], profile: dict | None,
     roller_rows = None
     if rollers is not None:
         roller_rows = encode_arrays(rollers, ROLLER_COLUMNS, meta)
+    span_rows = None
+    if spans is not None:
+        span_rows = encode_arrays(spans, SPAN_COLUMNS, meta)
     extra = dict(extra or {})
     summary = _encode(summary_table(rows, extra), {**SUMMARY_COLUMNS, **extra}, meta)
     failed = sum(r["status"] != "ok" for r in rows)
-    return Chunk(scene, name, summary, profiles, len(rows), failed, roller_rows)
+    return Chunk(scene, name, summary, profiles, len(rows), failed, roller_rows, span_rows)
 
 
 def encode_arrays(columns: dict, units: dict, metadata: dict) -> bytes:
@@ -349,6 +359,13 @@ def read_rollers(root: str | os.PathLike, filters=None) -> pd.DataFrame:
     per roller per case of a roller stinger, columns ``case_id`` and those of
     ``pipelay_fast.output.results.ROLLER_UNITS``."""
     return _read(Path(root) / "rollers", filters)
+
+
+def read_spans(root: str | os.PathLike, filters=None) -> pd.DataFrame:
+    """The spans table of a results directory (``scene`` a column): one row
+    per free span per case (an elastic seabed's), columns ``case_id`` and
+    those of ``pipelay_fast.output.spans.SPAN_UNITS``; empty without spans."""
+    return _read(Path(root) / "spans", filters)
 
 
 def _read(folder: Path, filters) -> pd.DataFrame:

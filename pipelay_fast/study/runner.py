@@ -211,7 +211,8 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
     """
     start_cpu = time.process_time()
     notice_given()  # by the process that runs the sweep
-    rows, parts, roller_parts, times = [], [], [], {"solve": 0.0, "solve_cpu": 0.0}
+    rows, parts, roller_parts, span_parts = [], [], [], []
+    times = {"solve": 0.0, "solve_cpu": 0.0}
     for chain in task:
         for sc, row, result, dt, cpu in solve_chain(chain, warm_start, sensitivities):
             rows.append(row)
@@ -222,8 +223,10 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
                                            **result.columns}))
             if result is not None and result.roller_columns is not None:
                 roller_parts.append((sc.case_id, result.roller_columns))
+            if result is not None and result.span_columns and len(result.span_columns["span"]):
+                span_parts.append((sc.case_id, result.span_columns))
     chunk = encode_chunk(sweep, task[0][0].scene, rows, _joined(parts), _joined(roller_parts),
-                         sensitivity_columns(sensitivities))
+                         sensitivity_columns(sensitivities), _joined(span_parts))
     times["task_cpu"] = time.process_time() - start_cpu
     return chunk, times, os.getpid()
 
