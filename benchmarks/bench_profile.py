@@ -22,10 +22,12 @@ from __future__ import annotations
 
 import argparse
 import collections
+import json
 import time
 
 import numpy as np
-from bench_slope import _machine, _timed
+from bench_jlay import machine_info
+from bench_slope import _timed
 
 import pipelay_fast as pf
 
@@ -60,7 +62,7 @@ def main(argv=None):
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--stiffness", type=float, default=1e6)
     args = parser.parse_args(argv)
-    print(_machine())
+    print(json.dumps(machine_info()))
     t0 = time.perf_counter()
     for dim in ("2d", "3d"):
         flat = _base("j125_2d", dim, args.stiffness)

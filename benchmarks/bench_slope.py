@@ -16,28 +16,15 @@ Prints the machine and the versions.
 from __future__ import annotations
 
 import argparse
-import os
-import platform
+import json
 import time
 
-import numba
 import numpy as np
+from bench_jlay import machine_info
 
 import pipelay_fast as pf
 
 SCENES = ("j125_2d", "s67", "s125")
-
-
-def _machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as info:
-            cpu = next(line.split(":", 1)[1].strip() for line in info
-                       if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return (f"{cpu}, {os.cpu_count()} cpus, {platform.platform()}; Python "
-            f"{platform.python_version()}, numba {numba.__version__}, numpy {np.__version__}")
 
 
 def _base(name: str, dimension: str):
@@ -58,7 +45,7 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=21)
     parser.add_argument("--slopes", type=float, nargs="+", default=[-8.0, -4.0, 4.0, 8.0])
     args = parser.parse_args(argv)
-    print(_machine())
+    print(json.dumps(machine_info()))
     t0 = time.perf_counter()
     _timed(_base("j125_2d", "2d"))
     _timed(_base("j125_2d", "3d"))
