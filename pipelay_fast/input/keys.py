@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import functools
 import inspect
 import re
 import sys
@@ -44,7 +45,7 @@ from dataclasses import dataclass
 
 from .case import Case
 
-__all__ = ["Key", "keys", "render", "tables", "undocumented"]
+__all__ = ["Key", "keys", "number_units", "render", "tables", "undocumented"]
 
 REQUIRED = "required"
 
@@ -151,6 +152,12 @@ def keys(root: type = Case) -> list[Key]:
                 default=_default(field, text), check="; ".join(checks.get(field.name, [])),
                 source=_sources(text, standard)))
     return found
+
+
+@functools.cache
+def number_units() -> dict[str, str]:
+    """{key: its unit} of the case's numeric keys (:func:`keys`)."""
+    return {k.path: k.unit for k in keys() if k.kind == "number"}
 
 
 _HEADER = re.compile(r"^(\w+(?:\s*,\s*\w+)*)\s*(?::.*)?$")

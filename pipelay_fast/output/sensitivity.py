@@ -48,12 +48,6 @@ KINK = 0.1
 # top by the water depth): no kink is sought in it
 NOISE = 1e-8
 
-KEY_UNITS = {
-    "lay.stinger.a": "1/m", "lay.stinger.radius": "m", "lay.stinger.height_shift": "m",
-    "lay.top_tension": "N", "lay.bottom_tension": "N", "lay.pipe_length": "m",
-    "environment.water_depth": "m", "environment.current.speed": "m/s",
-    "environment.current.heading": "deg", "environment.water_density": "kg/m3",
-}
 # the columns that read the functional load case (a second solve, not differentiated)
 FUNCTIONAL_COLUMNS = ("sagbend_lcc_utilisation", "sagbend_lcc_axial_ratio", "max_utilisation")
 # the summary columns whose value is the profile's largest at one node:
@@ -157,7 +151,11 @@ def sensitivity_table(case, state, summary: dict, keys, functional=None) -> pd.D
     frame = pd.DataFrame(table, index=list(rows))
     frame["unit"] = list(rows.values())
     frame["reason"] = ["; ".join(reasons[name]) for name in rows]
-    frame.attrs["key_units"] = {key: KEY_UNITS.get(key, "") for key in keys}
+    # the registry is imported here, not with the package, so that its
+    # generator runs as ``python -m pipelay_fast.input.keys`` without a
+    # second copy of the module
+    from ..input.keys import number_units
+    frame.attrs["key_units"] = {key: number_units().get(key, "") for key in keys}
     frame.attrs["steps"] = steps
     frame.attrs["iterations"] = iterations
     return frame

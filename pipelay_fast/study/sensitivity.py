@@ -19,7 +19,6 @@ interpolant's slope there, kept inside the bracket.
 
 from __future__ import annotations
 
-import functools
 import itertools
 import math
 import numbers
@@ -27,7 +26,7 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..input.keys import keys as case_keys
+from ..input.keys import number_units
 from ..input.validate import fail, get_path
 from ..output.sensitivity import summary_rows
 
@@ -37,19 +36,13 @@ __all__ = ["REASONS", "check_sensitivities", "column_name", "given_keys", "hermi
 REASONS = "sensitivity_reasons"  # the text column of the reasons for NaN
 
 
-@functools.cache
-def _key_units() -> dict[str, str]:
-    """The numeric case keys and their units (the case key registry)."""
-    return {k.path: k.unit for k in case_keys() if k.kind == "number"}
-
-
 def check_sensitivities(path: str, value, cases: Sequence) -> tuple[str, ...]:
     """The keys of a sweep file's ``sensitivities`` (a list of dotted numeric
     case keys, each given as a number by at least one of ``cases``, the
     scenes' base cases). ValueError naming ``path`` otherwise."""
     if not isinstance(value, list) or not all(isinstance(k, str) for k in value):
         fail(path, value, "must be a list of dotted case keys, e.g. [\"lay.stinger.a\"]")
-    units = _key_units()
+    units = number_units()
     for i, key in enumerate(value):
         if key in value[:i]:
             fail(path, value, f"repeats the key {key!r}")
@@ -85,7 +78,7 @@ def sensitivity_columns(keys: Sequence[str]) -> dict[str, str]:
     the reasons' text column); {} without keys."""
     if not keys:
         return {}
-    units = _key_units()
+    units = number_units()
     columns = {column_name(row, key): _unit(unit, units[key])
                for key in keys for row, unit in summary_rows().items()}
     columns[REASONS] = ""
