@@ -75,6 +75,12 @@ class TrimmedStinger:
         """:func:`.parabola.turned` at z [m]: (x, dx/dz, d2x/dz2, u)."""
         return parabola.turned(self.a, self.b, self.c, self.turn, z)
 
+    def _z_of(self, u):
+        """z [m] of the point of the vessel's parabola at its abscissa ``u``
+        [m], turned (the pivot is in the coefficients)."""
+        return math.cos(self.turn) * u - math.sin(self.turn) * ((self.a * u + self.b) * u
+                                                                + self.c)
+
     def height(self, z):
         """Stinger height x(z) [m] at z [m]; vectorised."""
         return vectorised(z, lambda z: self._at(z)[0])
@@ -104,16 +110,12 @@ class TrimmedStinger:
     def z_at_arc(self, z0: float, s):
         """z [m] where the curve's arc length from z0 [m] is ``s`` [m]
         (negative: towards lower z); vectorised in s."""
-        u = parabola.at_arc(self.a, self.b, float(self._at(z0)[3]), s)
-        return math.cos(self.turn) * u - math.sin(self.turn) * ((self.a * u + self.b) * u
-                                                                 + self.c)
+        return self._z_of(parabola.at_arc(self.a, self.b, float(self._at(z0)[3]), s))
 
     def level_z(self) -> float:
         """z [m] where the curve is level: the turned frame's slope
         p = -tan(turn) there."""
-        u = (-math.tan(self.turn) - self.b) / (2.0 * self.a)
-        return math.cos(self.turn) * u - math.sin(self.turn) * ((self.a * u + self.b) * u
-                                                                + self.c)
+        return self._z_of((-math.tan(self.turn) - self.b) / (2.0 * self.a))
 
     def seabed_z(self) -> float:
         """z [m] where the curve continued below the tip meets x = 0: the
@@ -121,8 +123,7 @@ class TrimmedStinger:
         curve rises, 2 a u cos(t) + b cos(t) + sin(t) = +sqrt(disc), in the form
         without cancellation (the tip above x = 0: a real root below it)."""
         cs, sn = math.cos(self.turn), math.sin(self.turn)
-        u = float(parabola.root(-cs * self.a, -(cs * self.b + sn), -cs * self.c))
-        return cs * u - sn * ((self.a * u + self.b) * u + self.c)
+        return self._z_of(float(parabola.root(-cs * self.a, -(cs * self.b + sn), -cs * self.c)))
 
     def support_row(self) -> np.ndarray:
         """Its row of the supports' table (layout ``ST_*``: a, b, c, zL, zU, turn)."""
