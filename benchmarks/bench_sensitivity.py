@@ -194,9 +194,10 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=9)
     parser.add_argument("--quick", action="store_true", help=f"cases {QUICK_CASES} only")
+    parser.add_argument("--cases", nargs="+", choices=CASES, help="these cases only")
     parser.add_argument("--out", type=Path, default=REPO / "benchmarks" / "out")
     args = parser.parse_args(argv)
-    names = QUICK_CASES if args.quick else CASES
+    names = args.cases or (QUICK_CASES if args.quick else CASES)
     info = machine_info()
     print(json.dumps(info))
     costs = [cost(name, args.repeats) for name in names]

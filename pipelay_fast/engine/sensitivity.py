@@ -17,15 +17,18 @@ through derived quantities (the water depth's pressures and current
 profile, the top tension's equation row, the current's drag) is
 differentiated as the model has it.
 
-Newton to the tolerance on each side, not one back-substitution on the
-factored tangent: the tangent is exact in 2D (``benchmarks/check_tangent.py``),
-so the first step from U* misses the converged side by O(h) only, but at
-the relative step used here (1e-4) that is still 8.8e-4 of touchdown's
-move (S67 2D, d/da) against 3e-8 after the second step; in 3D the friction
-springs' kinks keep it inexact. Each side takes two steps at least, and is
-solved to solver.tolerance: from there the second step ends at the
-residual's round-off floor (2e-9 of the reference force, S67 2D), and a
-side's stopping point enters the difference as that floor / h.
+Each neighbour takes :data:`STEPS` Newton steps from U*, with no
+convergence test. One step misses its side by O(h^2), but the transport of
+the nodes that the stinger's boundaries move along the pipe reads the
+pipe's derivative on the side they move to, so that error changes sign
+with h and the central difference of first steps misses by O(h): 3.5e-4
+relative at h = 1e-4 |a| and 1.1e-2 at 1e-3 |a| (S67 2D, d/da, against
+full solves). The second step takes each side to the residual's round-off
+floor (O(h^4)): the central difference then agrees with full solves as
+sides solved to solver.tolerance do (3.5e-6, S67 2D, d/da; 1.2e-6, S67 3D
+with the current in the lay plane, whose friction springs' kinks keep the
+tangent inexact). The solved case itself (the base of the one-sided
+differences) is solved to solver.tolerance on its regraded mesh.
 The output layer differences the post-processed columns
 (:mod:`pipelay_fast.output.sensitivity`).
 """
@@ -52,6 +55,10 @@ FRICTION_PATH = (
     "mesh graded under gravity, the friction springs anchored there, their slip set); "
     "Newton from the answer holds neither and misses finite differences of full solves by "
     "up to 2 % (S67 3D), and the slip set changes within +-1e-4 of a or of the current")
+# the Newton steps each neighbour takes from the solution (the module docstring)
+STEPS = 2
+
+
 def regraded_problem(case: Case, pb: Problem) -> Problem:
     """The problem of ``case`` (a neighbour of the case ``pb`` solved) on
     the mesh a solve of ``case`` grades at ``pb``'s boundaries: its sizes
@@ -91,10 +98,11 @@ _REGIME_PARTS = ("the mesh's element count (the discrete answer jumps)",
                  "the lateral slip set", "the axial slip set")
 
 
-def neighbour_solutions(cases, pb: Problem, held: tuple | None = None):
+def neighbour_solutions(cases, pb: Problem, held: tuple | None = None,
+                        steps: int | None = None):
     """The solutions of ``cases`` (neighbours of the case ``pb`` solved, or
-    that case itself), each by Newton from ``pb``'s state to
-    solver.tolerance, two steps at least, on the mesh a solve of that case grades at
+    that case itself), each by Newton from ``pb``'s state: ``steps`` steps
+    (None: to solver.tolerance, two steps at least), on the mesh a solve of that case grades at
     ``pb``'s boundaries (:func:`regraded_problem`), in one regime. None
     where a case follows the current's path with seabed friction
     (:data:`FRICTION_PATH`).
@@ -114,11 +122,12 @@ def neighbour_solutions(cases, pb: Problem, held: tuple | None = None):
         new.settings.factors = pb.settings.factors.copy()
         new.settings.tolerance = None
         new.settings.in_balance = True  # U* is a refined solution: the boundaries move freely
-        # two steps at least: the first misses the derivative by 2 % (the
-        # module docstring), and may end below the tolerance where h is small
-        status, react, info = run_newton(new, np.zeros_like(new.u), case.solver.tolerance, 1)
-        steps = int(info[L.I_ITER])
-        if status in (L.OK, L.MAX_ITERATIONS):
+        status, react, info = run_newton(new, np.zeros_like(new.u), case.solver.tolerance,
+                                         steps or 1)
+        taken = int(info[L.I_ITER])
+        if steps is not None:  # (a call that ends at its last step ends with MAX_ITERATIONS)
+            status = L.OK if status == L.MAX_ITERATIONS else status
+        elif status in (L.OK, L.MAX_ITERATIONS):  # two steps at least
             new.settings.in_balance = True
             status, react, info = run_newton(new, np.zeros_like(new.u), case.solver.tolerance,
                                              case.solver.max_iterations)
@@ -129,7 +138,8 @@ def neighbour_solutions(cases, pb: Problem, held: tuple | None = None):
             if z_lo < line_span(*new.curve_support)[0]:
                 return None, None, "lift-off passes the stinger's tip (a regime switch)"
         regimes.append(_regime(new))
-        stats = {"iterations": steps + int(info[L.I_ITER]), "meshes": 0, "seconds": 0.0,
+        stats = {"iterations": taken + (int(info[L.I_ITER]) if steps is None else 0),
+                 "meshes": 0, "seconds": 0.0,
                  "current_steps": 0, "current_step_max": 0}
         solutions.append(_solution(new, react, stats, touchdown_position(new),
                                    liftoff_position(case, new)))

@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 from ..engine.model import dimension_of
-from ..engine.sensitivity import neighbour_solutions
+from ..engine.sensitivity import STEPS, neighbour_solutions
 from ..input.validate import get_path
 from .design import bend_regions
 from .results import SUMMARY_UNITS, build_profile, build_rollers, build_summary
@@ -85,8 +85,9 @@ def _side(case, sol, functional):
     return summary, nodes
 
 
-def _key_value(case, key: str) -> float:
-    value = get_path(case.to_dict(), key)
+def _key_value(tables: dict, key: str) -> float:
+    """The value of ``key`` in a case's ``tables`` (its ``to_dict()``)."""
+    value = get_path(tables, key)
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ValueError(f"sensitivities: {key!r} is not a numeric key the case gives "
                          f"(its value: {value!r})")
@@ -117,14 +118,15 @@ def sensitivity_table(case, state, summary: dict, keys, functional=None) -> pd.D
     table = {key: np.full(len(rows), math.nan) for key in keys}
     reasons = {name: [] for name in rows}
     steps, iterations = {}, {}
+    tables = case.to_dict()
     for key in keys:
-        p = _key_value(case, key)
+        p = _key_value(tables, key)
         h = STEP * abs(p) if p != 0.0 else STEP
         steps[key] = h
         moved, why = [], error
         for sign in (1.0, -1.0) if not why else ():
             try:
-                moved.append(case.with_changes({key: p + sign * h}))
+                moved.append(case.with_number(key, p + sign * h))
             except ValueError as err:
                 why = f"p {'+-'[sign < 0]} h outside the key's range ({err})"
                 break
@@ -133,7 +135,7 @@ def sensitivity_table(case, state, summary: dict, keys, functional=None) -> pd.D
                 break
         sols = None
         if not why:
-            sols, _, why = neighbour_solutions(moved, state, regime)
+            sols, _, why = neighbour_solutions(moved, state, regime, STEPS)
         iterations[key] = sum(sol.stats["iterations"] for sol in sols or ())
         if why:
             for name in rows:
