@@ -8,27 +8,28 @@ with the contact set, the slip set and the regime at the stinger's tip
 held, converges to U(p + h) on the branch of U*: the implicit function
 theorem's U(p), whose central difference (U(p + h) - U(p - h)) / 2h is its
 derivative to O(h^2). The case at p + h is built as a solve builds it
-(:func:`.problem.remesh`, :func:`.problem._problem`): its mesh's sizes and
-length of pipe from its own first guess (the flexural length, and with it
-the finest element, changes with the tension and the depth; held, the
-derivative of a sagbend peak misses a full solve's by 1.6e-4, S125 2D), its
+(:func:`.problem.remesh`): its mesh's sizes and length of pipe from its
+own first guess (the flexural length, and with it the finest element,
+changes with the tension and the depth; held, the derivative of a sagbend
+peak misses a full solve's by 1.6e-4, S125 2D; the p - h side's may be
+extrapolated from p's and p + h's, :func:`mirrored_sizes`), its
 loads, supports and ends from its own data, so that a key entering
 through derived quantities (the water depth's pressures and current
 profile, the top tension's equation row, the current's drag) is
 differentiated as the model has it.
 
-Each neighbour takes :data:`STEPS` Newton steps from U*, with no
-convergence test. One step misses its side by O(h^2), but the transport of
-the nodes that the stinger's boundaries move along the pipe reads the
-pipe's derivative on the side they move to, so that error changes sign
-with h and the central difference of first steps misses by O(h): 3.5e-4
-relative at h = 1e-4 |a| and 1.1e-2 at 1e-3 |a| (S67 2D, d/da, against
-full solves). The second step takes each side to the residual's round-off
-floor (O(h^4)): the central difference then agrees with full solves as
-sides solved to solver.tolerance do (3.5e-6, S67 2D, d/da; 1.2e-6, S67 3D
-with the current in the lay plane, whose friction springs' kinks keep the
-tangent inexact). The solved case itself (the base of the one-sided
-differences) is solved to solver.tolerance on its regraded mesh.
+Newton to the tolerance on each side, not one back-substitution on the
+factored tangent: the tangent is exact in 2D (``benchmarks/check_tangent.py``),
+so the first step from U* misses the converged side by O(h^2) only, but
+the transport of the nodes that the stinger's boundaries move along the
+pipe reads the pipe's derivative on the side they move to, so that error
+changes sign with h: the central difference of first steps misses full
+solves by 5e-4 on S125 2D's sagbend peak (d/da, h = 1e-4 |a|), of second
+steps by 7.5e-6 where the case's tolerance is 1e-11 (to it: 1.3e-6); in 3D
+the friction springs' kinks keep the tangent inexact. Each side takes two steps at least, and is
+solved to solver.tolerance: from there the second step ends at the
+residual's round-off floor (2e-9 of the reference force, S67 2D), and a
+side's stopping point enters the difference as that floor / h.
 The output layer differences the post-processed columns
 (:mod:`pipelay_fast.output.sensitivity`).
 """
@@ -44,8 +45,7 @@ from ..kernels import layout as L
 from .boundaries import liftoff_position, stinger_foci, touchdown_position
 from .continuation import run_newton
 from .friction import friction_path
-from .guess import guide_case
-from .problem import _guess, _mesh_stats, remesh
+from .problem import guess_sizes, remesh, sized_mesh
 from .solver import _solution
 from .state import Problem
 from .supports import line_span
@@ -55,19 +55,17 @@ FRICTION_PATH = (
     "mesh graded under gravity, the friction springs anchored there, their slip set); "
     "Newton from the answer holds neither and misses finite differences of full solves by "
     "up to 2 % (S67 3D), and the slip set changes within +-1e-4 of a or of the current")
-# the Newton steps each neighbour takes from the solution (the module docstring)
-STEPS = 2
 
 
-def regraded_problem(case: Case, pb: Problem) -> Problem:
+def regraded_problem(case: Case, pb: Problem, guessed: dict | None = None) -> Problem:
     """The problem of ``case`` (a neighbour of the case ``pb`` solved) on
     the mesh a solve of ``case`` grades at ``pb``'s boundaries: its sizes
-    and length of pipe from ``case``'s first guess (:func:`.problem._mesh_stats`),
-    its map the grading's rates, ``pb``'s state interpolated onto it, its
-    contact sets on the same boundaries (:func:`.problem.remesh`)."""
+    and length of pipe from ``guessed`` (None: ``case``'s first guess's,
+    :func:`.problem.guess_sizes`; :func:`.problem.sized_mesh`), its map the
+    grading's rates, ``pb``'s state interpolated onto it, its contact sets
+    on the same boundaries (:func:`.problem.remesh`)."""
     stats = dict(pb.stats)
-    guess = _guess(guide_case(case) if case.lay.has_rollers else case)
-    sizes = _mesh_stats(case, guess)
+    sizes = sized_mesh(case, guessed or guess_sizes(case))
     total = sizes.pop("cold_total")
     if "cold_total" not in stats:  # laid pipe was added: the solve's length kept
         total = float(pb.s[-1])
@@ -75,6 +73,15 @@ def regraded_problem(case: Case, pb: Problem) -> Problem:
     graded = replace(pb, path=replace(pb.path, stats=stats))
     return remesh(case, graded, touchdown_position(pb), stinger_foci(case, pb), grading=True,
                   total=total)
+
+
+def mirrored_sizes(base: dict, plus: dict) -> dict:
+    """The first guess's sizes (:func:`.problem.guess_sizes`) at p - h from
+    those at p (``base``) and p + h (``plus``), extrapolated linearly: they
+    are smooth in p, and their O(h^2) error enters a derivative as O(h) of
+    the mesh sizes' share of it (1.6e-4 of a sagbend peak's on S125 2D,
+    the module docstring): a guess fewer a key."""
+    return {name: 2.0 * value - plus[name] for name, value in base.items()}
 
 
 def _regime(pb: Problem) -> tuple:
@@ -98,12 +105,12 @@ _REGIME_PARTS = ("the mesh's element count (the discrete answer jumps)",
                  "the lateral slip set", "the axial slip set")
 
 
-def neighbour_solutions(cases, pb: Problem, held: tuple | None = None,
-                        steps: int | None = None):
+def neighbour_solutions(cases, pb: Problem, held: tuple | None = None, guessed=None):
     """The solutions of ``cases`` (neighbours of the case ``pb`` solved, or
-    that case itself), each by Newton from ``pb``'s state: ``steps`` steps
-    (None: to solver.tolerance, two steps at least), on the mesh a solve of that case grades at
-    ``pb``'s boundaries (:func:`regraded_problem`), in one regime. None
+    that case itself), each by Newton from ``pb``'s state to
+    solver.tolerance, two steps at least, on the mesh a solve of that case grades at
+    ``pb``'s boundaries (:func:`regraded_problem`, sized by ``guessed``,
+    one per case, or each case's first guess), in one regime. None
     where a case follows the current's path with seabed friction
     (:data:`FRICTION_PATH`).
 
@@ -115,19 +122,18 @@ def neighbour_solutions(cases, pb: Problem, held: tuple | None = None,
     returned): the node count, a contact set, the slip set, the tip's or a
     roller's branch."""
     solutions, regimes = [], [] if held is None else [held]
-    for case in cases:
+    for case, sizes in zip(cases, guessed or [None] * len(cases), strict=True):
         if friction_path(case):
             return None, None, FRICTION_PATH
-        new = regraded_problem(case, pb)
+        new = regraded_problem(case, pb, sizes)
         new.settings.factors = pb.settings.factors.copy()
         new.settings.tolerance = None
         new.settings.in_balance = True  # U* is a refined solution: the boundaries move freely
-        status, react, info = run_newton(new, np.zeros_like(new.u), case.solver.tolerance,
-                                         steps or 1)
-        taken = int(info[L.I_ITER])
-        if steps is not None:  # (a call that ends at its last step ends with MAX_ITERATIONS)
-            status = L.OK if status == L.MAX_ITERATIONS else status
-        elif status in (L.OK, L.MAX_ITERATIONS):  # two steps at least
+        # two steps at least: the first misses the derivative by 2 % (the
+        # module docstring), and may end below the tolerance where h is small
+        status, react, info = run_newton(new, np.zeros_like(new.u), case.solver.tolerance, 1)
+        steps = int(info[L.I_ITER])
+        if status in (L.OK, L.MAX_ITERATIONS):
             new.settings.in_balance = True
             status, react, info = run_newton(new, np.zeros_like(new.u), case.solver.tolerance,
                                              case.solver.max_iterations)
@@ -138,8 +144,7 @@ def neighbour_solutions(cases, pb: Problem, held: tuple | None = None,
             if z_lo < line_span(*new.curve_support)[0]:
                 return None, None, "lift-off passes the stinger's tip (a regime switch)"
         regimes.append(_regime(new))
-        stats = {"iterations": taken + (int(info[L.I_ITER]) if steps is None else 0),
-                 "meshes": 0, "seconds": 0.0,
+        stats = {"iterations": steps + int(info[L.I_ITER]), "meshes": 0, "seconds": 0.0,
                  "current_steps": 0, "current_step_max": 0}
         solutions.append(_solution(new, react, stats, touchdown_position(new),
                                    liftoff_position(case, new)))
