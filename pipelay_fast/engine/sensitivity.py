@@ -21,15 +21,16 @@ differentiated as the model has it.
 Newton to the tolerance on each side, not one back-substitution on the
 factored tangent: the tangent is exact in 2D (``benchmarks/check_tangent.py``),
 so the first step from U* misses the converged side by O(h^2) only, but
-the transport of the nodes that the stinger's boundaries move along the
-pipe reads the pipe's derivative on the side they move to, so that error
-changes sign with h: the central difference of first steps misses full
-solves by 5e-4 on S125 2D's sagbend peak (d/da, h = 1e-4 |a|), of second
-steps by 7.5e-6 where the case's tolerance is 1e-11 (to it: 1.3e-6); in 3D
-the friction springs' kinks keep the tangent inexact. Each side takes two steps at least, and is
-solved to solver.tolerance: from there the second step ends at the
-residual's round-off floor (2e-9 of the reference force, S67 2D), and a
-side's stopping point enters the difference as that floor / h.
+where the stinger's boundaries move that error changes sign with h (the
+kernel's step carries the nodes they move along the pipe), and the central
+difference of first steps misses full solves in proportion to h (S67 2D,
+d/da: 3.5e-4 at h = 1e-4 |a|, 1.1e-2 at 1e-3 |a|); of second steps, 7.5e-6
+on S125 2D's sagbend peak where the tolerance is 1e-11 (solved to it:
+1.3e-6); in 3D the friction springs' kinks keep the tangent inexact. Each
+side takes two steps at least, and is solved to solver.tolerance: from
+there the second step ends at the residual's round-off floor (2e-9 of the
+reference force, S67 2D), and a side's stopping point enters the
+difference as that floor / h.
 The output layer differences the post-processed columns
 (:mod:`pipelay_fast.output.sensitivity`).
 """
