@@ -1,12 +1,16 @@
 """Sensitivities (``pf.solve(case, sensitivities=[...])``): cost, step size, agreement.
 
-    python benchmarks/bench_sensitivity.py [--repeats N] [--quick] [--out DIR]
+    python benchmarks/bench_sensitivity.py [--repeats N] [--quick] [--cases NAME ...]
+                                           [--out DIR]
 
 1. Cost: per case, the median over ``--repeats`` runs (after a warm-up run
    that compiles, timed apart) of a solve, of the sensitivity table with no
    key (the solution's own refinement, shared by the keys) and with every
    key; the cost of a key is (with every key - with none) / keys, and its
-   ratio to the solve's time is of the same run.
+   ratio to the solve's time is of the same run. Then the table's parts
+   (PARTS: the neighbours' cases, guesses, meshes, Newton calls and
+   post-processing, the base's included), each as its time per key over
+   the solve's, timed in further runs.
 2. Step size: the sensitivities of S67 2D at relative steps 1e-2 .. 1e-6
    against the reference (3).
 3. Agreement: every numeric summary column by every key against the
@@ -29,11 +33,14 @@ import json
 import math
 import statistics
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 from bench_jlay import machine_info
 
 import pipelay_fast as pf
+from pipelay_fast.engine import sensitivity as ES
+from pipelay_fast.input.case import Case
 from pipelay_fast.input.examples import example_path
 from pipelay_fast.input.validate import get_path
 from pipelay_fast.output import sensitivity as S
@@ -62,8 +69,42 @@ def keys_of(case) -> list[str]:
             and not isinstance(get_path(tables, key), bool)]
 
 
+# the parts of a sensitivity table timed apart (module, function): the
+# neighbours' cases, their first guesses, their meshes, their Newton calls and
+# their post-processing
+PARTS = {"case": (Case, "with_number"), "guess": (S, "guess_sizes"),
+         "mesh": (ES, "regraded_problem"), "newton": (ES, "run_newton"),
+         "post-processing": (S, "_side")}
+
+
+@contextmanager
+def timed_parts(spent: dict):
+    """Add the seconds spent in each of PARTS into ``spent`` (the mesh's
+    include the guess a side makes itself) while in the block."""
+    saved = {part: getattr(owner, name) for part, (owner, name) in PARTS.items()}
+
+    def timer(part, function):
+        def timed(*args, **kwargs):
+            t0 = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                spent[part] = spent.get(part, 0.0) + time.perf_counter() - t0
+        return timed
+
+    try:
+        for part, (owner, name) in PARTS.items():
+            setattr(owner, name, timer(part, saved[part]))
+        yield spent
+    finally:
+        for part, (owner, name) in PARTS.items():
+            setattr(owner, name, saved[part])
+
+
 def cost(name: str, repeats: int) -> dict:
-    """Median times [s] of a solve and of the sensitivity table, no key and every key."""
+    """Median times [s] of a solve and of the sensitivity table, no key and
+    every key; and the parts of the table with every key, as shares of the
+    solve per key (their sum over the repeats over that of the solves)."""
     case = pf.load_case(example_path(name))
     keys = keys_of(case)
     t0 = time.perf_counter()
@@ -82,12 +123,18 @@ def cost(name: str, repeats: int) -> dict:
         solve.append(t1 - t0)
         base.append(t2 - t1)
         every.append(t3 - t2)
+    spent = {}
+    with timed_parts(spent):
+        for _ in range(repeats):
+            S.sensitivity_table(case, result.state, result.summary, keys, result.functional)
     t_solve, t_base, t_every = (statistics.median(v) for v in (solve, base, every))
     per_key = (t_every - t_base) / len(keys)
+    parts = {part: spent.get(part, 0.0) / len(keys) / sum(solve) for part in PARTS}
     return {"case": name, "keys": keys, "warm_up_s": warm_up, "solve_s": t_solve,
             "base_s": t_base, "every_key_s": t_every, "per_key_s": per_key,
             "per_key_ratio": per_key / t_solve,
             "per_key_ratio_with_base": t_every / len(keys) / t_solve,
+            "parts_per_key_ratio": parts,
             "newton_iterations": table.attrs["iterations"],
             "solve_iterations": result.summary["n_iterations"],
             "nan_reasons": sorted({r.split(": ", 1)[1][:90] for r in table["reason"] if r})}
@@ -174,6 +221,10 @@ def _markdown(costs, study, agree) -> str:
                  f"{1e3 * c['base_s']:.1f} | {1e3 * c['per_key_s']:.1f} | "
                  f"{c['per_key_ratio']:.2f} | {c['per_key_ratio_with_base']:.2f} | "
                  f"{c['newton_iterations']} | {c['solve_iterations']} |" for c in costs)
+    lines += ["", "## A key's parts (with the base's), per key / solve", "",
+              "| case | " + " | ".join(PARTS) + " |", "|---" * (1 + len(PARTS)) + "|"]
+    lines.extend(f"| {c['case']} | " + " | ".join(f"{c['parts_per_key_ratio'][part]:.3f}"
+                                                  for part in PARTS) + " |" for c in costs)
     lines += ["", "## Step-size study (S67 2D): largest relative difference to the reference",
               "", "| step | " + " | ".join(next(iter(study.values()))) + " |",
               "|---" * (1 + len(next(iter(study.values())))) + "|"]
@@ -194,9 +245,10 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=9)
     parser.add_argument("--quick", action="store_true", help=f"cases {QUICK_CASES} only")
+    parser.add_argument("--cases", nargs="+", choices=CASES, help="these cases only")
     parser.add_argument("--out", type=Path, default=REPO / "benchmarks" / "out")
     args = parser.parse_args(argv)
-    names = QUICK_CASES if args.quick else CASES
+    names = args.cases or (QUICK_CASES if args.quick else CASES)
     info = machine_info()
     print(json.dumps(info))
     costs = [cost(name, args.repeats) for name in names]

@@ -637,3 +637,32 @@ def test_with_changes_derived_defaults_follow_their_source(s67):
     bare = load_case(j125_tables()).with_changes({"pipe.outer_diameter": 0.66,
                                                   "pipe.inner_diameter": 0.6})
     assert bare.pipe.coating_outer_diameter == bare.pipe.hydrodynamic_diameter == 0.66
+
+
+@pytest.mark.parametrize("name", ["s67", "s67_rollers", "j125", "s67_3d"])
+def test_with_number_is_with_changes(name):
+    """Every numeric key the case gives, moved by a relative 1e-4 (or by
+    1e-4 from 0, and to minus its value): the same case as with_changes
+    builds from its tables, or the same refusal."""
+    from pipelay_fast.input.keys import number_units
+    from pipelay_fast.input.validate import get_path
+
+    case = load_case(name)
+    tables = case.to_dict()
+    moved = 0
+    for key in number_units():
+        value = get_path(tables, key)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            continue
+        for new in (value * (1.0 + 1e-4) if value else 1e-4, -value - 1.0):
+            try:
+                expected = case.with_changes({key: new})
+            except ValueError as err:
+                with pytest.raises(ValueError):
+                    case.with_number(key, new)
+                assert str(err)
+                continue
+            got = case.with_number(key, new)
+            assert got == expected and got.to_dict() == expected.to_dict(), key
+            moved += 1
+    assert moved >= 20

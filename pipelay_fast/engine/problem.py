@@ -29,7 +29,7 @@ from .boundaries import (
     touchdown_position,
 )
 from .friction import anchor_friction, friction_laid_length
-from .guess import first_guess, shape
+from .guess import first_guess, guide_case, shape
 from .mesh import graded_nodes, grading_rates
 from .model import build_props, dimension_of, pin_jump, section_array, sections_of
 from .state import EndConditions, Problem, interpolate_state, make_problem
@@ -100,17 +100,38 @@ def _on_profile(case: Case, g, s, x, z, th):
 
 
 def _mesh_stats(case: Case, g) -> dict:
-    """What a case's meshes are graded by, from its first guess ``g``: the
-    element lengths h_max, h_min [m], the flexural length at touchdown [m],
-    the boundary layer [m] (0: none) and the length of pipe modelled [m]."""
-    lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)  # the flexural length at touchdown
+    """What a case's meshes are graded by, from its first guess ``g``
+    (:func:`sized_mesh`)."""
+    return sized_mesh(case, _guessed(case, g))
+
+
+def _guessed(case: Case, g) -> dict:
+    """The first guess ``g``'s values a mesh is sized by (:func:`guess_sizes`)."""
+    return {"flexural_length": math.sqrt(case.pipe.bending_stiffness / g.cat.h),
+            "weight": abs(g.cat.w1), "cold_total": g.total}
+
+
+def guess_sizes(case: Case) -> dict:
+    """The values of a cold solve's first guess (a roller stinger's: its
+    guide case's, :func:`.guess.guide_case`) that its meshes are sized by:
+    the flexural length sqrt(EI/T) at touchdown [m], the effective weight
+    there [N/m] and the length of pipe [m] (:func:`sized_mesh`)."""
+    return _guessed(case, _guess(guide_case(case) if case.lay.has_rollers else case))
+
+
+def sized_mesh(case: Case, guessed: dict) -> dict:
+    """What a case's meshes are graded by, from its first guess's values
+    ``guessed`` (:func:`guess_sizes`): the element lengths h_max, h_min
+    [m], the flexural length at touchdown [m], the boundary layer [m] (0:
+    none) and the length of pipe modelled [m] (``cold_total``)."""
+    lam = guessed["flexural_length"]
     h_max, h_min = _mesh_sizes(case, lam)
     # a tension-dominated lay (the flexural length shorter than the heavy
     # elastica's (EI / w)^(1/3)) has boundary layers of that length at its
     # contact boundaries (:func:`.continuation.boundary_step`); 0: none
-    layer = lam if lam < (case.pipe.bending_stiffness / abs(g.cat.w1)) ** (1.0 / 3.0) else 0.0
+    layer = lam if lam < (case.pipe.bending_stiffness / guessed["weight"]) ** (1.0 / 3.0) else 0.0
     return {"h_min": h_min, "h_max": h_max, "flexural_length": lam, "boundary_layer": layer,
-            "cold_total": g.total}
+            "cold_total": guessed["cold_total"]}
 
 
 def _reference_force(case: Case, g) -> float:

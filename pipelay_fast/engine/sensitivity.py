@@ -8,10 +8,11 @@ with the contact set, the slip set and the regime at the stinger's tip
 held, converges to U(p + h) on the branch of U*: the implicit function
 theorem's U(p), whose central difference (U(p + h) - U(p - h)) / 2h is its
 derivative to O(h^2). The case at p + h is built as a solve builds it
-(:func:`.problem.remesh`, :func:`.problem._problem`): its mesh's sizes and
-length of pipe from its own first guess (the flexural length, and with it
-the finest element, changes with the tension and the depth; held, the
-derivative of a sagbend peak misses a full solve's by 1.6e-4, S125 2D), its
+(:func:`.problem.remesh`): its mesh's sizes and length of pipe from its
+own first guess (the flexural length, and with it the finest element,
+changes with the tension and the depth; held, the derivative of a sagbend
+peak misses a full solve's by 1.6e-4, S125 2D; the p - h side's may be
+extrapolated from p's and p + h's, :func:`mirrored_sizes`), its
 loads, supports and ends from its own data, so that a key entering
 through derived quantities (the water depth's pressures and current
 profile, the top tension's equation row, the current's drag) is
@@ -19,13 +20,17 @@ differentiated as the model has it.
 
 Newton to the tolerance on each side, not one back-substitution on the
 factored tangent: the tangent is exact in 2D (``benchmarks/check_tangent.py``),
-so the first step from U* misses the converged side by O(h) only, but at
-the relative step used here (1e-4) that is still 8.8e-4 of touchdown's
-move (S67 2D, d/da) against 3e-8 after the second step; in 3D the friction
-springs' kinks keep it inexact. Each side takes two steps at least, and is
-solved to solver.tolerance: from there the second step ends at the
-residual's round-off floor (2e-9 of the reference force, S67 2D), and a
-side's stopping point enters the difference as that floor / h.
+so the first step from U* misses the converged side by O(h^2) only, but
+where the stinger's boundaries move that error changes sign with h (the
+kernel's step carries the nodes they move along the pipe), and the central
+difference of first steps misses full solves in proportion to h (S67 2D,
+d/da: 3.5e-4 at h = 1e-4 |a|, 1.1e-2 at 1e-3 |a|); of second steps, 7.5e-6
+on S125 2D's sagbend peak where the tolerance is 1e-11 (solved to it:
+1.3e-6); in 3D the friction springs' kinks keep the tangent inexact. Each
+side takes two steps at least, and is solved to solver.tolerance: from
+there the second step ends at the residual's round-off floor (2e-9 of the
+reference force, S67 2D), and a side's stopping point enters the
+difference as that floor / h.
 The output layer differences the post-processed columns
 (:mod:`pipelay_fast.output.sensitivity`).
 """
@@ -41,8 +46,7 @@ from ..kernels import layout as L
 from .boundaries import liftoff_position, stinger_foci, touchdown_position
 from .continuation import run_newton
 from .friction import friction_path
-from .guess import guide_case
-from .problem import _guess, _mesh_stats, remesh
+from .problem import guess_sizes, remesh, sized_mesh
 from .solver import _solution
 from .state import Problem
 from .supports import line_span
@@ -52,15 +56,17 @@ FRICTION_PATH = (
     "mesh graded under gravity, the friction springs anchored there, their slip set); "
     "Newton from the answer holds neither and misses finite differences of full solves by "
     "up to 2 % (S67 3D), and the slip set changes within +-1e-4 of a or of the current")
-def regraded_problem(case: Case, pb: Problem) -> Problem:
+
+
+def regraded_problem(case: Case, pb: Problem, guessed: dict | None = None) -> Problem:
     """The problem of ``case`` (a neighbour of the case ``pb`` solved) on
     the mesh a solve of ``case`` grades at ``pb``'s boundaries: its sizes
-    and length of pipe from ``case``'s first guess (:func:`.problem._mesh_stats`),
-    its map the grading's rates, ``pb``'s state interpolated onto it, its
-    contact sets on the same boundaries (:func:`.problem.remesh`)."""
+    and length of pipe from ``guessed`` (None: ``case``'s first guess's,
+    :func:`.problem.guess_sizes`; :func:`.problem.sized_mesh`), its map the
+    grading's rates, ``pb``'s state interpolated onto it, its contact sets
+    on the same boundaries (:func:`.problem.remesh`)."""
     stats = dict(pb.stats)
-    guess = _guess(guide_case(case) if case.lay.has_rollers else case)
-    sizes = _mesh_stats(case, guess)
+    sizes = sized_mesh(case, guessed or guess_sizes(case))
     total = sizes.pop("cold_total")
     if "cold_total" not in stats:  # laid pipe was added: the solve's length kept
         total = float(pb.s[-1])
@@ -68,6 +74,15 @@ def regraded_problem(case: Case, pb: Problem) -> Problem:
     graded = replace(pb, path=replace(pb.path, stats=stats))
     return remesh(case, graded, touchdown_position(pb), stinger_foci(case, pb), grading=True,
                   total=total)
+
+
+def mirrored_sizes(base: dict, plus: dict) -> dict:
+    """The first guess's sizes (:func:`.problem.guess_sizes`) at p - h from
+    those at p (``base``) and p + h (``plus``), extrapolated linearly: they
+    are smooth in p, and their O(h^2) error enters a derivative as O(h) of
+    the mesh sizes' share of it (1.6e-4 of a sagbend peak's on S125 2D,
+    the module docstring): a guess fewer a key."""
+    return {name: 2.0 * value - plus[name] for name, value in base.items()}
 
 
 def _regime(pb: Problem) -> tuple:
@@ -91,11 +106,12 @@ _REGIME_PARTS = ("the mesh's element count (the discrete answer jumps)",
                  "the lateral slip set", "the axial slip set")
 
 
-def neighbour_solutions(cases, pb: Problem, held: tuple | None = None):
+def neighbour_solutions(cases, pb: Problem, held: tuple | None = None, guessed=None):
     """The solutions of ``cases`` (neighbours of the case ``pb`` solved, or
     that case itself), each by Newton from ``pb``'s state to
     solver.tolerance, two steps at least, on the mesh a solve of that case grades at
-    ``pb``'s boundaries (:func:`regraded_problem`), in one regime. None
+    ``pb``'s boundaries (:func:`regraded_problem`, sized by ``guessed``,
+    one per case, or each case's first guess), in one regime. None
     where a case follows the current's path with seabed friction
     (:data:`FRICTION_PATH`).
 
@@ -107,10 +123,10 @@ def neighbour_solutions(cases, pb: Problem, held: tuple | None = None):
     returned): the node count, a contact set, the slip set, the tip's or a
     roller's branch."""
     solutions, regimes = [], [] if held is None else [held]
-    for case in cases:
+    for case, sizes in zip(cases, guessed or [None] * len(cases), strict=True):
         if friction_path(case):
             return None, None, FRICTION_PATH
-        new = regraded_problem(case, pb)
+        new = regraded_problem(case, pb, sizes)
         new.settings.factors = pb.settings.factors.copy()
         new.settings.tolerance = None
         new.settings.in_balance = True  # U* is a refined solution: the boundaries move freely

@@ -340,6 +340,36 @@ class Case:
         _follow_grade(new, updates)
         return load_case(new)
 
+    def with_number(self, key: str, value: float) -> Case:
+        """The case with the numeric dotted ``key`` set to ``value``: the
+        case :meth:`with_changes` gives, built by replacing the value in the
+        tables on its path (each re-validated by its own construction, then
+        the case as a whole), with no round trip through :meth:`to_dict`
+        (a sixth of the time). A key that a derived default follows, the
+        pipe's grade and strengths, and a key of a table the case does not
+        have go through :meth:`with_changes`.
+        Raises ValueError as :meth:`with_changes` does."""
+        if any(key in pair for pair in _FOLLOWERS) or key in _GRADE_KEYS:
+            return self.with_changes({key: value})
+        head, *path = key.split(".")
+        table = self.given_lay if head == "lay" else getattr(self, head, None)
+        if head not in {*_TABLES, *_OPTIONAL_TABLES} or table is None or not path:
+            return self.with_changes({key: value})
+        return dataclasses.replace(self, **{head: _replaced(table, path, value)})
+
+
+def _replaced(table, path: list[str], value):
+    """``table`` (a dataclass) with the field at ``path`` set to ``value``,
+    each dataclass on the way built anew (and so checked)."""
+    name = path[0]
+    if not dataclasses.is_dataclass(table) or name not in {f.name for f in fields(table)}:
+        raise ValueError(f"unknown key {'.'.join(path)} in its table")
+    inner = value if len(path) == 1 else _replaced(getattr(table, name), path[1:], value)
+    return dataclasses.replace(table, **{name: inner})
+
+
+_GRADE_KEYS = ("pipe.grade", "pipe.smys", "pipe.smts")
+
 
 def _follow_grade(tables: dict, updates: Mapping) -> None:
     """In ``tables`` changed by ``updates``: a new pipe.grade re-derives the

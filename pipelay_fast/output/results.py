@@ -376,12 +376,15 @@ def _bottom_tension(case: Case, sol: Solution, s, te, s_tdp: float) -> float:
     return sol.bottom_tension if sol.bottom_tension is not None else float(te[0])
 
 def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = None,
-                  functional: dict | None = None) -> dict:
+                  functional: dict | None = None, identify: bool = True) -> dict:
     """The summary row (the columns of ``SUMMARY_UNITS``) of one solved case
     from its solution ``sol`` (the solver's counts and time, touchdown and
     lift-off), its profile columns ``cols``, the roller columns ``rollers``
     (None without rollers) and ``functional``, the profile columns of its functional load case, for
     the code check (:func:`pipelay_fast.output.design.lcc_sections`).
+    ``identify``: False leaves ``case_id`` "" (a summary that is no
+    dataset's row, as the sensitivities' neighbours: the id hashes the
+    case's tables, a third of a millisecond).
 
     Overbend and sagbend are
     :func:`pipelay_fast.output.design.bend_regions`' (by the sign of the
@@ -438,7 +441,7 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
     design = design_columns(case, cols, r, rp, s_tdp, hog, sag, bearing is not None, departure,
                             last_clearance, functional)
     return {
-        "case_id": case_id(case),
+        "case_id": case_id(case) if identify else "",
         "method": case.lay.method,
         "dimension": f"{nd}d",
         **stinger_columns(case.given_lay),

@@ -3,13 +3,14 @@ numeric summary column, and of the nodes its peaks sit on, with respect to
 named numeric case keys (``pipelay_fast.solve(case, sensitivities=[...])``).
 
 Each key p is moved by +-h through the case's own build
-(:meth:`pipelay_fast.input.case.Case.with_changes`); the engine carries the
-solved state to each side, on the mesh a solve of that side grades at the
-solution's boundaries, with its regime held, by Newton from the converged
-state (:func:`pipelay_fast.engine.sensitivity.neighbour_solutions`, the
-implicit function theorem); each side is post-processed as a solve is
-(:func:`.results.build_profile`, :func:`.results.build_summary`) and a
-column's derivative is the central difference (f(p + h) - f(p - h)) / 2h,
+(:meth:`pipelay_fast.input.case.Case.with_number`: the tables on the key's
+path re-validated); the engine carries the solved state to each side, on
+the mesh a solve of that side grades at the solution's boundaries, with its
+regime held, by Newton from the converged state to solver.tolerance
+(:func:`pipelay_fast.engine.sensitivity.neighbour_solutions`, the implicit
+function theorem); each side is post-processed as a solve is (:func:`.results.build_profile`,
+:func:`.results.build_summary`) and a column's derivative is the central
+difference (f(p + h) - f(p - h)) / 2h,
 exact to O(h^2) with no re-solve from the first guess. NaN, with the
 reason, where the column is not differentiable at p: a side's regime
 differs (the mesh's node count, a contact or slip set, the tip's regime),
@@ -28,7 +29,8 @@ import numpy as np
 import pandas as pd
 
 from ..engine.model import dimension_of
-from ..engine.sensitivity import neighbour_solutions
+from ..engine.problem import guess_sizes
+from ..engine.sensitivity import mirrored_sizes, neighbour_solutions
 from ..input.validate import get_path
 from .design import bend_regions
 from .results import SUMMARY_UNITS, build_profile, build_rollers, build_summary
@@ -71,7 +73,8 @@ def summary_rows() -> dict:
 def _side(case, sol, functional):
     """(summary with the peaks' arc lengths, peak nodes) of one side."""
     cols = build_profile(case, sol)
-    summary = build_summary(case, sol, cols, build_rollers(case, sol), functional)
+    summary = build_summary(case, sol, cols, build_rollers(case, sol), functional,
+                            identify=False)
     hog, sag = bend_regions(cols, sol.s_tdp, sol.s_liftoff, case.lay.stinger is not None)
     if hog is None:  # J-lay: the sagbend is the span above touchdown
         hog, sag = np.zeros(sol.s.size, dtype=bool), sol.s >= sol.s_tdp
@@ -85,8 +88,9 @@ def _side(case, sol, functional):
     return summary, nodes
 
 
-def _key_value(case, key: str) -> float:
-    value = get_path(case.to_dict(), key)
+def _key_value(tables: dict, key: str) -> float:
+    """The value of ``key`` in a case's ``tables`` (its ``to_dict()``)."""
+    value = get_path(tables, key)
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ValueError(f"sensitivities: {key!r} is not a numeric key the case gives "
                          f"(its value: {value!r})")
@@ -111,20 +115,22 @@ def sensitivity_table(case, state, summary: dict, keys, functional=None) -> pd.D
     not numeric in the case.
     """
     rows = summary_rows()
-    base, regime, error = neighbour_solutions([case], state)
+    sizes = guess_sizes(case)
+    base, regime, error = neighbour_solutions([case], state, guessed=[sizes])
     if base is not None:
         f0, nodes0 = _side(case, base[0], functional)
     table = {key: np.full(len(rows), math.nan) for key in keys}
     reasons = {name: [] for name in rows}
     steps, iterations = {}, {}
+    tables = case.to_dict()
     for key in keys:
-        p = _key_value(case, key)
+        p = _key_value(tables, key)
         h = STEP * abs(p) if p != 0.0 else STEP
         steps[key] = h
         moved, why = [], error
         for sign in (1.0, -1.0) if not why else ():
             try:
-                moved.append(case.with_changes({key: p + sign * h}))
+                moved.append(case.with_number(key, p + sign * h))
             except ValueError as err:
                 why = f"p {'+-'[sign < 0]} h outside the key's range ({err})"
                 break
@@ -133,7 +139,9 @@ def sensitivity_table(case, state, summary: dict, keys, functional=None) -> pd.D
                 break
         sols = None
         if not why:
-            sols, _, why = neighbour_solutions(moved, state, regime)
+            plus = guess_sizes(moved[0])
+            sols, _, why = neighbour_solutions(moved, state, regime,
+                                               [plus, mirrored_sizes(sizes, plus)])
         iterations[key] = sum(sol.stats["iterations"] for sol in sols or ())
         if why:
             for name in rows:
