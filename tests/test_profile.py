@@ -90,16 +90,19 @@ def test_array_form_is_the_kernels():
 
 def test_guess_beam_rests_at_w_over_k_and_bridges_a_narrow_trench():
     """The first guess's laid pipe (engine/bed_guess.py): on a flat profile at
-    rest, w_s/k below it; over a trench shorter than the beam can sag into
-    it clear of the trench's bottom (a span), on it at both ends."""
+    rest, w_s/k below it (its upper end held there, level); over a trench
+    shorter than the beam can sag into it clear of the trench's bottom (a
+    span), on it at both ends."""
     from pipelay_fast.engine.bed_guess import laid_on_foundation
 
     flat = bed_knots(check_profile([[0.0, 100.0], [10.0, 100.0]]), 100.0)
     z = np.linspace(-50.0, 50.0, 41)
-    x, th = laid_on_foundation(flat, -50.0, 50.0, 2.7e8, 4e5, 3600.0, 1e6, z)
+    x, th = laid_on_foundation(flat, -50.0, 50.0, -3600.0 / 1e6, 0.0, 2.7e8, 4e5, 3600.0, 1e6,
+                               z)
     np.testing.assert_allclose(x, -3600.0 / 1e6, rtol=1e-6)
     np.testing.assert_allclose(th, 0.0, atol=1e-9)
     trench = bed_knots(check_profile([[-10.0, 100.0], [-5.0, 101.0], [5.0, 101.0],
                                       [10.0, 100.0]]), 100.0)
-    x, _ = laid_on_foundation(trench, -80.0, 80.0, 2.7e8, 4e5, 3600.0, 1e6, np.array([0.0]))
+    x, _ = laid_on_foundation(trench, -80.0, 80.0, -3600.0 / 1e6, 0.0, 2.7e8, 4e5, 3600.0,
+                              1e6, np.array([0.0]))
     assert -1.0 < x[0] < -0.01
