@@ -22,8 +22,7 @@ interval, a = 1 where w < x_b (else 0): the contact set by fixed point
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import spsolve
+from scipy.linalg import solve_banded
 
 from ..input.profile import bed_heights
 
@@ -43,22 +42,33 @@ def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei
     z = np.linspace(z0, z1, n + 1)
     d = z[1] - z[0]
     xb = bed_heights(knots, z)[0]
-    d2 = sp.diags([1.0, -2.0, 1.0], [0, 1, 2], shape=(n - 1, n + 1)) / d**2
-    d1 = sp.diags([-1.0, 1.0], [0, 1], shape=(n, n + 1)) / d
-    base = (ei * d * (d2.T @ d2) + h * d * (d1.T @ d1)).tocsr()
+    # the energy's matrix, banded (band[2 + i - j, j] = A[i, j]): EI d D2'D2 + H d D1'D1
+    band = np.zeros((5, n + 1))
+    for coef, stencil in ((ei / d**3, (1.0, -2.0, 1.0)), (h / d, (-1.0, 1.0))):
+        rows = n + 1 - len(stencil) + 1  # the differences taken
+        for a, ca in enumerate(stencil):
+            for b, cb in enumerate(stencil):
+                band[2 + a - b, b:b + rows] += coef * ca * cb
     weight = np.full(n + 1, d)
     weight[[0, -1]] *= 0.5
     # w_n = x1, w_(n-1) = x1 - d slope1: the free unknowns are w_0 .. w_(n-2)
     fixed = np.array([x1 - d * slope1, x1])
     m = n - 1
-    coupling = base[:m, m:] @ fixed
+    coupling = np.zeros(m)
+    for j in (m, n):
+        for i in (j - 2, j - 1):
+            if i < m:
+                coupling[i] += band[2 + i - j, j] * fixed[j - m]
+    band = band[:, :m].copy()
+    band[3, m - 1] = band[4, m - 2:] = 0.0  # (rows past the free block)
+    main = band[2].copy()
     active = np.ones(n + 1, dtype=bool)
     w = np.empty(n + 1)
     w[m:] = fixed
     for _ in range(MAX_SWEEPS):
         ka = k * weight * active
-        a = (base[:m, :m] + sp.diags(ka[:m])).tocsc()
-        w[:m] = spsolve(a, ka[:m] * xb[:m] - ws * weight[:m] - coupling)
+        band[2] = main + ka[:m]
+        w[:m] = solve_banded((2, 2), band, ka[:m] * xb[:m] - ws * weight[:m] - coupling)
         now = w < xb
         if np.array_equal(now, active):
             break
