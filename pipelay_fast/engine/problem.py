@@ -377,10 +377,10 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
                      check=lambda n: check_mesh_size(case, n, total, focus, source), nodes=over)
     u = interpolate_state(pb.s + extra, pb.u, nd, s)
     first = s < extra
-    if first.any():  # along the seabed from the old lower end
+    if first.any():  # along the seabed (its plane, or its profile) from the old lower end
         angle = seabed_row(case.seabed)[1]
         z_first = pb.u[nd - 1] - (extra - s[first]) * math.cos(angle)
-        u[0::ndn][first] = seabed_height(case, z_first)
+        u[0::ndn][first] = seabed_height(case, z_first) + bed_heights(pb.bed, z_first)[0]
         u[nd - 1::ndn][first] = z_first
         u[nd::ndn][first] = math.sin(angle)
         u[2 * nd - 1::ndn][first] = math.cos(angle)
