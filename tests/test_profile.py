@@ -90,16 +90,43 @@ def test_array_form_is_the_kernels():
 
 def test_guess_beam_rests_at_w_over_k_and_bridges_a_narrow_trench():
     """The first guess's laid pipe (engine/bed_guess.py): on a flat profile at
-    rest, w_s/k below it; over a trench shorter than the beam can sag into
-    it clear of the trench's bottom (a span), on it at both ends."""
+    rest, w_s/k below it (its upper end held there, level); over a trench
+    shorter than the beam can sag into it clear of the trench's bottom (a
+    span), on it at both ends."""
     from pipelay_fast.engine.bed_guess import laid_on_foundation
 
     flat = bed_knots(check_profile([[0.0, 100.0], [10.0, 100.0]]), 100.0)
     z = np.linspace(-50.0, 50.0, 41)
-    x, th = laid_on_foundation(flat, -50.0, 50.0, 2.7e8, 4e5, 3600.0, 1e6, z)
+    x, th = laid_on_foundation(flat, -50.0, 50.0, -3600.0 / 1e6, 0.0, 2.7e8, 4e5, 3600.0, 1e6,
+                               z)
     np.testing.assert_allclose(x, -3600.0 / 1e6, rtol=1e-6)
     np.testing.assert_allclose(th, 0.0, atol=1e-9)
     trench = bed_knots(check_profile([[-10.0, 100.0], [-5.0, 101.0], [5.0, 101.0],
                                       [10.0, 100.0]]), 100.0)
-    x, _ = laid_on_foundation(trench, -80.0, 80.0, 2.7e8, 4e5, 3600.0, 1e6, np.array([0.0]))
+    x, _ = laid_on_foundation(trench, -80.0, 80.0, -3600.0 / 1e6, 0.0, 2.7e8, 4e5, 3600.0,
+                              1e6, np.array([0.0]))
     assert -1.0 < x[0] < -0.01
+
+
+def test_laid_pipe_prepended_on_a_profile_lies_on_it():
+    """Laid pipe prepended at the lower end (engine/problem.py remesh: the
+    laid length doubled) is put on the profile's height at its z, scipy's
+    PCHIP of the table (a 1 m deeper stretch there), not on the reference
+    level."""
+    from pipelay_fast.engine.problem import build_problem, remesh
+    from pipelay_fast.input.case import load_case
+
+    table = [[-600.0, 126.0], [-300.0, 126.0], [-200.0, 125.0], [600.0, 125.0]]
+    case = load_case("j125_2d").with_changes(
+        {"environment.current.speed": 0.0, "checks": None, "seabed.stiffness": 1e6,
+         "seabed.profile": table, "solver.laid_length": 60.0})
+    pb = build_problem(case)
+    ndn = pb.ndn
+    z_old = float(pb.u[pb.nd - 1])
+    new = remesh(case, pb, 60.0, laid=600.0)
+    z = new.u[new.nd - 1::ndn]
+    first = z < z_old - 1e-9
+    assert first.sum() > 10 and z.min() < -300.0
+    rows = np.asarray(table)
+    depth = PchipInterpolator(rows[:, 0], rows[:, 1])(np.clip(z[first], -600.0, 600.0))
+    np.testing.assert_allclose(new.u[0::ndn][first], 125.0 - depth, rtol=0.0, atol=1e-9)

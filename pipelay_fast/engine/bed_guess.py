@@ -1,16 +1,22 @@
-"""The first guess's laid pipe on a seabed profile: a tensioned beam on the
+"""The first guess's pipe near the seabed profile: a tensioned beam on the
 elastic foundation, small slopes, by finite differences (engine layer).
 
 The laid pipe follows the profile's features only where its bending
 stiffness and tension let it: it bridges a trench and spans down from a
 hump. Started on the profile itself, Newton has to find those spans through
-the foundation's kink; started here, it starts near them. On a uniform grid
-of spacing d along z, with w the pipe's height,
+the foundation's kink; started here, it starts near them. The beam runs
+from the lower end, a free end pulled by the tension (no moment, no shear:
+the model's), through touchdown to a point of the suspended span, where it
+takes the catenary guess's height and slope: touchdown itself then lands
+where the profile lets it (on a hump's flank, over a trench), not where the
+flat seabed's catenary put it. It is the minimum of the discrete energy,
+on a uniform grid of spacing d along z, with w the pipe's height,
 
-    EI w'''' - H w'' + k a (w - x_b) = -w_s,   a = 1 where w < x_b, else 0,
+    sum EI/2 (w'')^2 d + sum H/2 (w')^2 d + sum (k a/2 (w - x_b)^2 + w_s w) d,
 
-the contact set ``a`` by fixed point (active set) from all in contact; both
-ends at rest on the seabed (w = x_b - w_s/k, w' = 0).
+w'' the second differences at interior points, w' the first on each
+interval, a = 1 where w < x_b (else 0): the contact set by fixed point
+(active set) from all in contact.
 """
 
 from __future__ import annotations
@@ -23,36 +29,46 @@ from ..input.profile import bed_heights
 MAX_SWEEPS = 50  # active-set sweeps (it settles in a few on the tests' profiles)
 
 
-def laid_on_foundation(knots, z0: float, z1: float, ei: float, h: float, ws: float, k: float,
-                       z_at) -> tuple[np.ndarray, np.ndarray]:
-    """(height x [m], slope angle [rad]) at ``z_at`` [m] of the laid pipe from
-    ``z0`` to ``z1`` [m] (module docstring) with bending stiffness ``ei`` [N
-    m2], tension ``h`` [N], submerged weight ``ws`` [N/m] on the foundation
-    of stiffness ``k`` [N/m per m] over the profile with ``knots``."""
+def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei: float,
+                       h: float, ws: float, k: float, z_at) -> tuple[np.ndarray, np.ndarray]:
+    """(height x [m], slope angle [rad]) at ``z_at`` [m] (within [z0, z1]) of
+    the pipe from its free lower end at ``z0`` to ``z1`` [m], where its
+    height is ``x1`` [m] and its slope ``slope1`` [-] (module docstring),
+    with bending stiffness ``ei`` [N m2], tension ``h`` [N], submerged weight
+    ``ws`` [N/m] on the foundation of stiffness ``k`` [N/m per m] over the
+    profile with ``knots``."""
     lf = (4.0 * ei / k) ** 0.25
     n = int(min(4000, max(16, np.ceil((z1 - z0) / (0.25 * lf)))))
     z = np.linspace(z0, z1, n + 1)
     d = z[1] - z[0]
     xb = bed_heights(knots, z)[0]
-    rest = xb - ws / k
-    c4, c2 = ei / d**4, h / d**2
+    # the energy's matrix, banded (band[2 + i - j, j] = A[i, j]): EI d D2'D2 + H d D1'D1
+    band = np.zeros((5, n + 1))
+    for coef, stencil in ((ei / d**3, (1.0, -2.0, 1.0)), (h / d, (-1.0, 1.0))):
+        rows = n + 1 - len(stencil) + 1  # the differences taken
+        for a, ca in enumerate(stencil):
+            for b, cb in enumerate(stencil):
+                band[2 + a - b, b:b + rows] += coef * ca * cb
+    weight = np.full(n + 1, d)
+    weight[[0, -1]] *= 0.5
+    # w_n = x1, w_(n-1) = x1 - d slope1: the free unknowns are w_0 .. w_(n-2)
+    fixed = np.array([x1 - d * slope1, x1])
+    m = n - 1
+    coupling = np.zeros(m)
+    for j in (m, n):
+        for i in (j - 2, j - 1):
+            if i < m:
+                coupling[i] += band[2 + i - j, j] * fixed[j - m]
+    band = band[:, :m].copy()
+    band[3, m - 1] = band[4, m - 2:] = 0.0  # (rows past the free block)
+    main = band[2].copy()
     active = np.ones(n + 1, dtype=bool)
-    w = rest.copy()
+    w = np.empty(n + 1)
+    w[m:] = fixed
     for _ in range(MAX_SWEEPS):
-        ab = np.zeros((5, n + 1))
-        rhs = -ws + k * active * xb
-        ab[2] = 6.0 * c4 + 2.0 * c2 + k * active
-        ab[1, 1:] = ab[3, :-1] = -4.0 * c4 - c2
-        ab[0, 2:] = ab[4, :-2] = c4
-        for i in (0, 1, n - 1, n):  # w = rest at both ends, and at their neighbours (w' = 0)
-            for band in range(5):
-                col = i + 2 - band
-                if 0 <= col <= n:
-                    ab[band, col] = 0.0
-            ab[2, i] = 1.0
-            rhs[i] = rest[0] if i < 2 else rest[-1]
-        # (rows i of the banded storage: ab[2 + i - j, j] = A[i, j]; zeroed above)
-        w = solve_banded((2, 2), ab, rhs)
+        ka = k * weight * active
+        band[2] = main + ka[:m]
+        w[:m] = solve_banded((2, 2), band, ka[:m] * xb[:m] - ws * weight[:m] - coupling)
         now = w < xb
         if np.array_equal(now, active):
             break

@@ -81,22 +81,27 @@ def _guess(case: Case, laid: float | None = None):
 
 def _on_profile(case: Case, g, s, x, z, th):
     """The guess's shape (``x``, ``z``, ``th`` at ``s``, :func:`.guess.shape`)
-    moved onto the seabed profile: the laid pipe (s < g.laid) onto the
-    tensioned beam on the foundation (:func:`.bed_guess.laid_on_foundation`,
-    the guess's tension), the suspended span by x_b at touchdown, less
-    in proportion to its arc length up to the fixed top. Unchanged without a
-    profile."""
+    moved onto the seabed profile: the suspended span lifted by x_b at the
+    guess's touchdown, less in proportion to its arc length up to the fixed
+    top; from the lower end to a flexural length sqrt(EI/H) past touchdown
+    (the boundary layer over which the pipe leaves the seabed; at most half
+    way to the top), the tensioned beam on the foundation
+    (:func:`.bed_guess.laid_on_foundation`, the guess's tension H) that ends
+    there on that lifted span, with its height and slope. Unchanged without
+    a profile."""
     if case.seabed.profile is None:
         return x, th
     knots = bed_knots(case.seabed.profile, case.environment.water_depth)
-    z_td = float(z[np.searchsorted(s, g.laid)])
-    x_td = float(bed_heights(knots, np.array([z_td]))[0][0])
-    laid = s < g.laid
-    x_laid, th_laid = laid_on_foundation(knots, float(z[0]), z_td, case.pipe.bending_stiffness,
-                                         g.cat.h, float(case.effective_weight(0.0)),
-                                         case.seabed.stiffness, z)
-    lift = np.where(laid, x_laid, x_td * (g.total - s) / (g.total - g.laid))
-    return x + lift, np.where(laid, th_laid, th)
+    x_td = float(bed_heights(knots, np.array([np.interp(g.laid, s, z)]))[0][0])
+    x = x + x_td * np.clip((g.total - s) / (g.total - g.laid), 0.0, 1.0)
+    lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)
+    s1 = min(g.laid + lam, 0.5 * (g.laid + g.total))
+    near = s <= s1
+    beam_x, beam_th = laid_on_foundation(
+        knots, float(z[0]), float(np.interp(s1, s, z)), float(np.interp(s1, s, x)),
+        math.tan(float(np.interp(s1, s, th))), case.pipe.bending_stiffness, g.cat.h,
+        float(case.effective_weight(0.0)), case.seabed.stiffness, z)
+    return np.where(near, beam_x, x), np.where(near, beam_th, th)
 
 
 def _mesh_stats(case: Case, g) -> dict:
@@ -393,10 +398,10 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
                      check=lambda n: check_mesh_size(case, n, total, focus, source), nodes=over)
     u = interpolate_state(pb.s + extra, pb.u, nd, s)
     first = s < extra
-    if first.any():  # along the seabed from the old lower end
+    if first.any():  # along the seabed (its plane, or its profile) from the old lower end
         angle = seabed_row(case.seabed)[1]
         z_first = pb.u[nd - 1] - (extra - s[first]) * math.cos(angle)
-        u[0::ndn][first] = seabed_height(case, z_first)
+        u[0::ndn][first] = seabed_height(case, z_first) + bed_heights(pb.bed, z_first)[0]
         u[nd - 1::ndn][first] = z_first
         u[nd::ndn][first] = math.sin(angle)
         u[2 * nd - 1::ndn][first] = math.cos(angle)

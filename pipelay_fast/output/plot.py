@@ -2,11 +2,13 @@
 
 :func:`plot_result`: every panel against the arc length s from the lower end,
 with touchdown, lift-off and the stinger's tip marked on each as vertical
-lines (:func:`marks`): the elevation x with the seabed, the water line and
-the stinger; the lateral offset y (3D); the signed in-plane moment; von Mises
-stress with the SMYS line; the utilisations where the code checks apply them
-(:func:`pipelay_fast.output.design.utilisation_along`), or the extreme-fibre
-strain without ``[checks]``. ``Result.plot()`` calls it. The sweep's figure
+lines (:func:`marks`): the elevation with the seabed (flat, the slope's
+plane or the profile, at the pipe's z), its free spans shaded with their
+lengths, the water line and the stinger, in the frame the case's lay is
+given in (:func:`elevation_offset`); the lateral offset y (3D); the signed
+in-plane moment; von Mises stress with the SMYS line; the utilisations where
+the code checks apply them (:func:`pipelay_fast.output.design.utilisation_along`),
+or the extreme-fibre strain without ``[checks]``. ``Result.plot()`` calls it. The sweep's figure
 is :mod:`pipelay_fast.study.plot`'s.
 
 Figures are built without pyplot (no display needed, nothing global changed);
@@ -23,7 +25,7 @@ import numpy as np
 from .design import bend_regions, fibre_strain, utilisation_along
 from .spans import seabed_heights
 
-__all__ = ["DPI", "PANEL_SIZE", "figure", "marks", "plot_result", "save"]
+__all__ = ["DPI", "PANEL_SIZE", "elevation_offset", "figure", "marks", "plot_result", "save"]
 
 DPI = 100
 PANEL_SIZE = (6.4, 3.0)  # in, width and height of one panel
@@ -137,35 +139,62 @@ def _mark(ax, at: dict, bears: bool, label: bool):
         ax.axvline(where, color=color, ls=style, lw=1.0, label=text if label else None)
 
 
+def elevation_offset(case) -> tuple[float, str]:
+    """(offset [m], axis label) of the elevation panel in the frame ``case``'s
+    lay is given in (``lay.frame``): the plotted elevation is x - offset, x
+    the height above the reference seabed (where ``environment.water_depth``
+    is measured). Waterline frame: the elevation about the still water
+    (offset = water_depth, the water line at 0); seabed frame: x itself
+    (offset 0, the water line at water_depth)."""
+    if case.given_lay.frame == "waterline":
+        return case.environment.water_depth, "elevation [m] above still water"
+    return 0.0, "x [m] above the reference seabed"
+
+
 def _elevation_panel(ax, result, at: dict):
-    """The elevation x [m] against s, with the seabed under the pipe (its
-    profile or slope), the free spans shaded, the water line, the stinger (a
-    quadratic one at the pipe's s over it; rollers at the s of the material
-    point over each) and the tip bearing's reaction."""
+    """The elevation against s in the case's frame (:func:`elevation_offset`),
+    with the seabed under the pipe (its profile or slope, at the pipe's z),
+    each free span shaded between the pipe and the seabed (a collection of
+    gid "span" per row of ``result.spans``) and labelled with its length, the
+    water line, the stinger (a quadratic one at the pipe's s over it; rollers
+    at the s of the material point over each) and the tip bearing's
+    reaction."""
     case, cols, sm = result.case, result.columns, result.summary
     s = cols["s"]
-    ax.plot(s, cols["x"], color="C0", label="pipe")
-    ax.plot(s, seabed_heights(case, cols["z"]), color="saddlebrown", lw=1.0, label="seabed")
-    for k, (s0, s1) in enumerate(zip(result.spans["start_s"], result.spans["end_s"],
-                                     strict=True)):
-        ax.axvspan(s0, s1, color="C1", alpha=0.15, lw=0, label="free span" if k == 0 else None)
-    ax.axhline(case.environment.water_depth, color="C9", lw=1.0, ls="--", label="water line")
+    offset, label = elevation_offset(case)
+    pipe = cols["x"] - offset
+    bed = seabed_heights(case, cols["z"]) - offset
+    ax.plot(s, pipe, color="C0", label="pipe")
+    ax.plot(s, bed, color="saddlebrown", lw=1.0, label="seabed")
+    spans = result.spans
+    for k, (s0, s1, length) in enumerate(zip(spans["start_s"], spans["end_s"], spans["length"],
+                                             strict=True)):
+        on = (s >= s0) & (s <= s1)
+        ax.fill_between(s[on], bed[on], pipe[on], color="C1", alpha=0.35, lw=0,
+                        label="free span" if k == 0 else None, gid="span")
+        top = float(pipe[on].max()) if on.any() else float(np.interp(s0, s, pipe))
+        ax.annotate(f"{length:.1f} m", (0.5 * (s0 + s1), top), xytext=(0, 3),
+                    textcoords="offset points", ha="center", va="bottom", fontsize="x-small",
+                    color="C1", gid="span length")
+    ax.axhline(case.environment.water_depth - offset, color="C9", lw=1.0, ls="--",
+               label="water line")
     stinger, rollers = case.lay.stinger, result.rollers
     if rollers is not None:  # bearing rollers filled, clear ones open
         on = rollers["in_contact"].to_numpy()
-        ax.plot(rollers["s"][on], rollers["x"][on], "o", color="k", ms=4, label="roller, bearing")
-        ax.plot(rollers["s"][~on], rollers["x"][~on], "o", color="k", ms=4, mfc="none",
+        rx = rollers["x"].to_numpy() - offset
+        ax.plot(rollers["s"][on], rx[on], "o", color="k", ms=4, label="roller, bearing")
+        ax.plot(rollers["s"][~on], rx[~on], "o", color="k", ms=4, mfc="none",
                 label="roller, clear")
     elif stinger is not None:
         zs = np.linspace(stinger.lower[1], stinger.upper[1], 101)
-        ax.plot(np.interp(zs, cols["z"], s), stinger.height(zs), color="k", lw=2.5, alpha=0.5,
-                label="stinger")
+        ax.plot(np.interp(zs, cols["z"], s), stinger.height(zs) - offset, color="k", lw=2.5,
+                alpha=0.5, label="stinger")
     if sm["bears_on_tip"] and at["tip"] is not None:  # a roller stinger's tip: its last roller
         reaction = (sm["tip_reaction"] if rollers is None
                     else float(rollers["reaction"].iloc[-1]))
-        ax.plot([at["tip"]], [np.interp(at["tip"], s, cols["x"])], "*", color="C3", ms=10,
+        ax.plot([at["tip"]], [np.interp(at["tip"], s, pipe)], "*", color="C3", ms=10,
                 label=f"bears on tip, {reaction / 1e3:.0f} kN")
-    ax.set(ylabel="x [m]",
+    ax.set(ylabel=label,
            title=f"{case.name}: {sm['method']}-lay {sm['dimension']}, "
                  f"top tension {sm['top_tension'] / 1e3:.0f} kN, layback {sm['layback']:.1f} m")
 
