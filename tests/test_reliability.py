@@ -1,5 +1,6 @@
 """Classes of refusal of issue 42, each a case of its class solved and checked
-against the planar elastica of ``tests/reference`` (2D)."""
+against the planar elastica of ``tests/reference`` (2D). The straight stinger
+(class 4, a = 0) is a case of tests/test_boundaries.py's tip regime test."""
 
 from __future__ import annotations
 
@@ -55,3 +56,4 @@ def test_slay_first_load_step_matches_elastica(name):
     assert sm["top_tension"] == pytest.approx(top, rel=AGREE)
     for key in ("sagbend_max_moment", "overbend_max_moment"):
         assert sm[key] == pytest.approx(ref[key], rel=AGREE)
+

@@ -65,9 +65,18 @@ def follow_nodes(case: Case, pb: Problem, nodes):
     """The mesh follows the boundaries on ``nodes`` (touchdown, lift-off, then
     one per rigid point, the stinger's tip first; -1: none), each with a zone
     of DECAY_LENGTHS flexural lengths either side (one that reaches past an
-    end or another boundary ends there, :meth:`.Problem.follow`)."""
+    end or another boundary ends there, :meth:`.Problem.follow`). Bearing on
+    the tip, the gap span between the tip and re-contact above it is one
+    zone, both boundaries' (each one's zone reaches the other): a zone's edge
+    inside it would be a node that stays put, past which neither boundary
+    could move, whereas the span's length is what the bearing regime solves
+    for (from re-contact's first estimate, :func:`regained_span`, to the
+    answer's is often more than its three flexural lengths)."""
     zone = T.DECAY_LENGTHS * pb.stats["flexural_length"]
-    pb.mesh.follow(nodes, [(zone, zone)] * len(nodes))
+    zones = [[zone, zone] for _ in nodes]
+    if len(nodes) > B_PT and nodes[B_LO] >= 0 and nodes[B_PT] >= 0:
+        zones[B_LO][0] = zones[B_PT][1] = math.inf
+    pb.mesh.follow(nodes, zones)
 
 
 def graded_on_boundaries(case: Case, pb: Problem) -> bool:
