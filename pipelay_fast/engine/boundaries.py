@@ -27,7 +27,7 @@ from ..input.profile import bed_heights
 from ..kernels import layout as L
 from ..kernels.constraints import point_gaps
 from ..kernels.contact import tip_geometry
-from ..kernels.layout import B_LO
+from ..kernels.layout import B_LO, B_PT
 from . import tuning as T
 from .mesh import graded_nodes
 from .supports import line_span
@@ -65,9 +65,18 @@ def follow_nodes(case: Case, pb: Problem, nodes):
     """The mesh follows the boundaries on ``nodes`` (touchdown, lift-off, then
     one per rigid point, the stinger's tip first; -1: none), each with a zone
     of DECAY_LENGTHS flexural lengths either side (one that reaches past an
-    end or another boundary ends there, :meth:`.Problem.follow`)."""
+    end or another boundary ends there, :meth:`.Problem.follow`). Bearing on
+    the tip, the gap span between the tip and re-contact above it is one
+    zone, both boundaries' (each one's zone reaches the other): a zone's edge
+    inside it would be a node that stays put, past which neither boundary
+    could move, whereas the span's length is what the bearing regime solves
+    for (from re-contact's first estimate, :func:`regained_span`, to the
+    answer's is often more than its three flexural lengths)."""
     zone = T.DECAY_LENGTHS * pb.stats["flexural_length"]
-    pb.mesh.follow(nodes, [(zone, zone)] * len(nodes))
+    zones = [[zone, zone] for _ in nodes]
+    if len(nodes) > B_PT and nodes[B_LO] >= 0 and nodes[B_PT] >= 0:
+        zones[B_LO][0] = zones[B_PT][1] = math.inf
+    pb.mesh.follow(nodes, zones)
 
 
 def graded_on_boundaries(case: Case, pb: Problem) -> bool:
@@ -281,8 +290,11 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     stinger further up, with the gap span between free: :func:`regained_span`
     above it when ``past`` [m] is known, how far past the tip Newton's step
     took lift-off (or the first guess's lift-off lies,
-    :func:`.guess.slay_liftoff`), else one flexural length above (a solve
-    that lifted off but ended passing below the tip: :func:`passes_below_tip`).
+    :func:`.guess.slay_liftoff`). Without it (a solve that lifted off but
+    ended passing below the tip: :func:`passes_below_tip`) the pipe keeps
+    its shape, re-contact on lift-off's node (:func:`_bear_in_place`), or,
+    where the pipe crosses the tip's height too near lift-off for a node of
+    its own, re-contact one flexural length above.
 
     Re-contact's boundary is put on the node nearest there, which is then
     moved onto the estimate, the mesh following it
@@ -291,6 +303,8 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     The nearest node rather than the next one above: measured by the cold
     iterations on the grid, benchmarks/bench_contact.py part 1."""
     s = pb.s
+    if (past is None or past <= 0.0) and _bear_in_place(case, pb):
+        return
     kt = pb.tip_node
     if kt < 0:  # lifting off there was none: lift-off's node, now at the tip
         kt = pb.lo_node
@@ -311,6 +325,34 @@ def bear_on_tip(case: Case, pb: Problem, past: float | None = None):
     follow_nodes(case, pb, (pb.td_node, k, kt))
     if s[kt] + T.HOLD_SPLIT * pb.stats["h_min"] < target < s[pb.nn - 2]:
         pb.move_boundary(B_LO, target)
+
+
+def _bear_in_place(case: Case, pb: Problem) -> bool:
+    """Bearing on the tip from a state lifting off that passes below it (no
+    step past the tip to measure): the pipe keeps its shape, re-contact
+    stays on lift-off's node and the tip's boundary goes on the node below
+    it nearest the material point over the tip, moved onto that point (the
+    mesh following it, :meth:`.Problem.move_boundary`). That start is off
+    balance only by the pipe's clearance below the tip, which the bearing
+    answer closes. False (nothing changed) when the pipe does not cross the
+    tip's height, or crosses it within HOLD_SPLIT h_min of lift-off or
+    below touchdown's node."""
+    if pb.lo_node < 0 or pb.tip_node >= 0:
+        return False
+    found, _gap, s_tip = tip_geometry(pb.nd, pb.s_el, pb.u, *pb.curve_support)
+    s = pb.s
+    k_lo = pb.lo_node
+    if not found or s_tip > s[k_lo] - T.HOLD_SPLIT * pb.stats["h_min"]:
+        return False
+    kt = min(int(np.argmin(np.abs(s[:k_lo] - s_tip))), k_lo - 1)
+    if kt <= max(pb.td_node, 0):
+        return False
+    pb.contacts.st_active[:] = 0
+    pb.contacts.st_active[k_lo:-1] = 1
+    pb.tip[0], pb.tip[1] = 1.0, 0.0
+    follow_nodes(case, pb, (pb.td_node, k_lo, kt))
+    pb.move_boundary(B_PT, float(s_tip))
+    return True
 
 
 def lift_off_above_tip(case: Case, pb: Problem):
