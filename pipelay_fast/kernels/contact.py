@@ -21,12 +21,14 @@ top). This module carries:
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import layout as L
 from ._jit import jit
-from .bed import bed_height
 from .element_shapes import hermite_crossing
+from .loads import seabed_surface
 from .supports import holds_laterally, support_height, support_span
 from .tuning import LATERAL_HYSTERESIS, SLIP_ROUNDOFF
 
@@ -271,7 +273,8 @@ def friction_track(nd, u, react, props, bed, bed_active, fric, s):
     """Per Newton iteration: on an elastic seabed each node's normal force W,
     the foundation's force at a node below the surface, k (x_b(z) - x) over
     the node's share of the pipe (half of each element beside it; x_b the
-    profile's height, :func:`.bed.bed_height` of its knots ``bed``); a rigid
+    seabed's height, :func:`.loads.seabed_surface` (the profile's knots ``bed``); on a
+    sloped plane its normal force, times cos(angle), :func:`.loads.foundation`); a rigid
     contact's W is its present reaction (:func:`normal_force`), and its
     linearised reaction ``react`` only says whether it still pushes. Nodes
     off the seabed (or whose contact pulls) keep their anchors where they
@@ -285,10 +288,11 @@ def friction_track(nd, u, react, props, bed, bed_active, fric, s):
             continue
         w = 0.0
         if bed_active[node] == 0 and k_bed > 0.0:
-            x_b, _dx_b = bed_height(bed, u[base + nd - 1])
+            x_b, _dx_b = seabed_surface(props, bed, u[base + nd - 1])
             if u[base] < x_b:
                 share = 0.5 * (s[min(node + 1, nn - 1)] - s[max(node - 1, 0)])
-                w = k_bed * (x_b - u[base]) * share
+                m = props[L.SEABED_TAN]  # a sloped plane: the normal penetration's
+                w = k_bed * (x_b - u[base]) * share / math.sqrt(1.0 + m * m)
         if w > 0.0:
             fric[node, L.FR_W] = w
         else:
