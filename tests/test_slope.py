@@ -236,7 +236,8 @@ def test_the_seabed_line_under_the_pipe():
     ({"seabed.slope_origin": float("inf")}, "seabed.slope_origin"),
     ({"seabed.slope_deg": 5.0, "lay.top_tension": None, "lay.bottom_tension": 4e5},
      "lay.bottom_tension"),
-    ({"seabed.slope_deg": 5.0, "environment.current.speed": 1.0}, "seabed.lateral_friction"),
+    ({"seabed.slope_deg": 5.0, "environment.current.speed": 1.0, "seabed.axial_friction": 0.3},
+     "seabed.axial_friction"),
     ({"seabed.slope_deg": 20.0, "seabed.slope_origin": 0.0}, "lay.top"),
 ])
 def test_a_bad_slope_is_refused_naming_the_key(changes, key):
