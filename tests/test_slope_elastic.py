@@ -173,3 +173,19 @@ def test_the_touchdown_offset_on_a_slope_scales_with_the_foundation_length(on_a_
         beta = (4.0 * base.pipe.bending_stiffness / k) ** 0.25
         assert 0.0 < off < 1.5 * beta, (k, off, beta)
     assert offset[1e8] / offset[1e9] == pytest.approx(10.0 ** 0.25, rel=2e-2)
+
+
+@pytest.mark.parametrize("name", ["j125_2d", "s67"])
+def test_3d_on_an_elastic_slope_without_lateral_load_is_the_plane_answer(name):
+    """In 3D with no lateral load the elastic sloped seabed's answer is the
+    planar one (the foundation's normal has no y part): tension at touchdown,
+    touchdown, the sagbend's peak moment and stress to 1e-9, and no free
+    span on the plane."""
+    import pipelay_fast as pf
+
+    base = _sloped(name, 6.0, **{"seabed.stiffness": 1e7})
+    a = pf.solve(base.with_changes({"solver.dimension": "2d"})).summary
+    b = pf.solve(base.with_changes({"solver.dimension": "3d"})).summary
+    for key in ("bottom_tension", "tdp_z", "sagbend_max_moment", "max_von_mises"):
+        assert b[key] == pytest.approx(a[key], rel=1e-9), key
+    assert a["n_spans"] == b["n_spans"] == 0
