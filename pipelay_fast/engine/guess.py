@@ -399,7 +399,9 @@ def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
     """The guess (x, z [m], theta [rad] at arc lengths ``s`` [m], touchdown
     at ``z_tdp`` [m]) onto a sloped seabed: the laid pipe on the slope's
     line; the suspended span of a catenary touching down on the slope
-    (:func:`sloped_span`) raised to touchdown's height, a flat seabed's
+    (:func:`sloped_span`) raised to touchdown's height, and the seabed's
+    height there off it (the miss :func:`on_seabed` leaves) sheared in as
+    below, so that the span meets the laid pipe; a flat seabed's
     sheared (its heights moved by the seabed's height under them, in full at
     touchdown and not at the span's upper end; Newton corrects the rest).
     The stinger's part is kept."""
