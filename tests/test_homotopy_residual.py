@@ -51,7 +51,7 @@ def plain_residual(pb):
            pb.kernel_ends(np.zeros_like(pb.u)), False, np.zeros((pb.bnodes.size, pb.nn)),
            np.full(pb.bnodes.size, -1, dtype=np.int64), np.zeros((pb.bnodes.size, 1)))
     friction_forces(pb.nd, pb.u, g, no_band, 0, pb.model(), pb.contacts.active[L.ROW_BED],
-                    pb.contacts.fric, np.zeros_like(pb.u), pb.s)
+                    pb.contacts.fric, np.zeros_like(pb.u), pb.s, False)
     return g
 
 

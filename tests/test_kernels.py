@@ -417,7 +417,7 @@ def test_friction_tangent_is_the_derivative_of_its_forces():
                 np.full(nb, -1, dtype=np.int64), np.zeros((nb, n)))
         if friction:
             friction_forces(nd, u, g, ab, 2 * kl if tangent else 0, pb.model(),
-                            pb.contacts.bed_active, pb.contacts.fric, np.zeros(n), s)
+                            pb.contacts.bed_active, pb.contacts.fric, np.zeros(n), s, False)
         return g, ab
 
     def dense(ab):
@@ -584,7 +584,7 @@ def test_an_anchor_interpolated_towards_a_free_neighbour_moves_with_it():
         kl = 2 * ndn - 1
         ab = np.zeros((3 * kl + 1, u.size)) if tangent else np.zeros((1, 1))
         friction_forces(nd, u, g, ab, 2 * kl if tangent else 0, model, bed, f,
-                        np.zeros(u.size), s)
+                        np.zeros(u.size), s, False)
         return g, ab, kl
 
     _, ab, kl = residual(u0, True)

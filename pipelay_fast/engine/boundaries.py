@@ -23,14 +23,13 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..input.errors import SolveError
-from ..input.profile import bed_heights
 from ..kernels import layout as L
 from ..kernels.constraints import point_gaps
 from ..kernels.contact import tip_geometry
 from ..kernels.layout import B_LO, B_PT
 from . import tuning as T
 from .mesh import graded_nodes
-from .supports import line_span
+from .supports import line_span, surface_heights
 
 if TYPE_CHECKING:
     from ..input.case import Case
@@ -113,11 +112,12 @@ def lateral_hold_start(case: Case, pb: Problem):
 def touchdown_position(pb: Problem) -> float:
     """Arc length of touchdown [m]: its node's on a rigid seabed; on an
     elastic one, where the pipe rises out of the foundation for the last
-    time (its clearance x - x_b(z) above the seabed's height, 0 without a
-    profile, linear between the last node below the seabed and the next)."""
+    time (its clearance x - x_b(z) above the seabed's surface,
+    :func:`.supports.surface_heights`, linear between the last node below
+    the seabed and the next)."""
     if pb.td_node >= 0:
         return float(pb.s[pb.td_node])
-    x_b, _slope = bed_heights(pb.bed, pb.u[pb.nd - 1::pb.ndn])
+    x_b, _slope = surface_heights(pb.props, pb.bed, pb.u[pb.nd - 1::pb.ndn])
     return foundation_exit(pb.s, pb.u[0::pb.ndn] - x_b)
 
 

@@ -3,6 +3,8 @@ path, the laid length it needs, and the springs' anchors."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..input.case import Case
@@ -61,8 +63,10 @@ def drag_share(case: Case, x_top: float) -> float:
 
 
 def _sliding_force(case: Case) -> float:
-    """Lateral friction of the laid pipe when sliding, mu w [N/m]."""
-    return case.seabed.lateral_friction * float(case.effective_weight(0.0))
+    """Lateral friction of the laid pipe when sliding, mu w cos(slope) [N/m]
+    (the normal force from the seabed's plane)."""
+    return (case.seabed.lateral_friction * float(case.effective_weight(0.0))
+            * math.cos(case.seabed.slope))
 
 
 def friction_laid_length(case: Case, cat) -> float:

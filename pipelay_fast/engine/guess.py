@@ -399,7 +399,9 @@ def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
     """The guess (x, z [m], theta [rad] at arc lengths ``s`` [m], touchdown
     at ``z_tdp`` [m]) onto a sloped seabed: the laid pipe on the slope's
     line; the suspended span of a catenary touching down on the slope
-    (:func:`sloped_span`) raised to touchdown's height, a flat seabed's
+    (:func:`sloped_span`) raised to touchdown's height, and the seabed's
+    height there off it (the miss :func:`on_seabed` leaves) sheared in as
+    below, so that the span meets the laid pipe; a flat seabed's
     sheared (its heights moved by the seabed's height under them, in full at
     touchdown and not at the span's upper end; Newton corrects the rest).
     The stinger's part is kept."""
@@ -407,11 +409,15 @@ def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
     on_bed = s < g.laid
     z = np.where(on_bed, z_tdp - (g.laid - s) * math.cos(angle), z)
     span = ~on_bed if g.s_liftoff is None else (~on_bed) & (s < g.s_liftoff)
-    if g.cat.tan0 != 0.0:  # the catenary touches down on the slope: its heights from there
-        x = np.where(on_bed, seabed_height(case, z), np.where(span, x + g.x_tdp, x))
-        return x, z, np.where(on_bed, angle, th)
     x_end = float(g.cat.at(g.cat.length)[0])
     share = np.clip(1.0 - x / x_end, 0.0, 1.0)
+    if g.cat.tan0 != 0.0:  # the catenary touches down on the slope: its heights from there,
+        # and the seabed's height at touchdown off its own (:func:`on_seabed`'s r)
+        # sheared in, in full at touchdown and not at the span's upper end
+        miss = float(seabed_height(case, z_tdp)) - g.x_tdp
+        tan_t = np.tan(th) * (1.0 - miss / x_end)
+        x = np.where(on_bed, seabed_height(case, z), np.where(span, x + g.x_tdp + miss * share, x))
+        return x, z, np.where(on_bed, angle, np.where(span, np.arctan(tan_t), th))
     f = seabed_height(case, z)
     tan_t = np.tan(th) * (1.0 - f / x_end) + math.tan(angle) * share
     x = np.where(on_bed, f, np.where(span, x + f * share, x))

@@ -64,6 +64,8 @@ def build_props(case: Case):
     p[L.MU_Y] = case.seabed.lateral_friction
     p[L.MU_Z] = case.seabed.axial_friction
     p[L.FRICTION_SLIP] = case.seabed.friction_slip
+    p[L.SEABED_TAN] = math.tan(case.seabed.slope)
+    p[L.SEABED_Z0] = case.seabed.slope_origin
     if cur.profile == "table" and cur.table:
         table = np.ascontiguousarray(np.array(cur.table, dtype=np.float64).reshape(-1, 2))
     else:

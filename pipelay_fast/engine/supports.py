@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..input.parabola import turned
+from ..input.profile import bed_heights
 from ..kernels import layout as L
 
 
@@ -66,6 +67,17 @@ def seabed_row(seabed) -> tuple[float, float, float]:
     input's ``seabed`` table: the plane through the reference level x = 0 at
     z = ``slope_origin``."""
     return 0.0, seabed.slope, seabed.slope_origin
+
+
+def surface_heights(props, bed, z):
+    """(x [m], dx/dz [-]) at ``z`` [m] (an array) of the elastic seabed's
+    surface: the arithmetic of :func:`pipelay_fast.kernels.loads.seabed_surface`
+    (the sloped plane of ``props``, else the profile's knots ``bed``)."""
+    z = np.asarray(z, dtype=float)
+    m = props[L.SEABED_TAN]
+    if m != 0.0:
+        return m * (z - props[L.SEABED_Z0]), np.full(z.shape, m)
+    return bed_heights(bed, z)
 
 
 def seabed_height(case, z):

@@ -133,8 +133,13 @@ class Seabed:
         it by the weight's component w sin(slope_deg) per metre; the
         result's ``bottom_tension`` is then the effective tension at
         touchdown, and ``lay.bottom_tension`` is refused (give
-        ``lay.top_tension`` or ``lay.pipe_length``). A slope needs the rigid
-        seabed and no seabed friction on the current's path.
+        ``lay.top_tension`` or ``lay.pipe_length``). The elastic seabed
+        (``stiffness`` a number) pushes along the plane's normal, with
+        ``stiffness`` times the normal penetration of the pipe's axis
+        (vertically on the flat seabed and on a ``profile``). Lateral
+        friction acts in the plane (y lies in it), mu_y times the normal
+        force from the plane; ``axial_friction`` with a current is refused
+        on a slope.
     slope_origin : float
         z [m] where the sloped seabed passes through the reference level
         x = 0, default 0.
@@ -197,18 +202,15 @@ class Seabed:
 
 def check_slope(case) -> None:
     """Refuse what a sloped seabed (``seabed.slope_deg`` not 0) does not
-    support, naming the keys: an elastic seabed, a given bottom tension (on a
+    support, naming the keys: a given bottom tension (on a
     slope the laid pipe's tension changes along it, so the tension at the
     modelled lower end is not a property of the lay), the vessel's top, the
-    stinger's tip or a roller at or below the seabed, and seabed friction on
-    the current's path."""
+    stinger's tip or a roller at or below the seabed, and axial seabed
+    friction on the current's path."""
     bed = case.seabed
     if bed.slope_deg == 0.0:
         return
     head = f"seabed.slope_deg = {bed.slope_deg!r}"
-    if not bed.is_rigid:
-        raise ValueError(f"{head} needs the rigid seabed: seabed.stiffness = "
-                         f"{bed.stiffness!r} is not supported on a slope")
     if case.lay.bottom_tension is not None:
         raise ValueError(f"{head}: lay.bottom_tension = {case.lay.bottom_tension!r} N is "
                          "refused on a slope (the laid pipe's tension changes along it); "
@@ -225,10 +227,8 @@ def check_slope(case) -> None:
         if x <= (z - bed.slope_origin) * tan_a:
             raise ValueError(f"{head} with seabed.slope_origin = {bed.slope_origin!r} m puts "
                              f"the seabed at or above {key} = {[float(x), float(z)]}")
-    friction = bed.lateral_friction > 0.0 or bed.axial_friction > 0.0
-    if friction and case.environment.current.speed > 0.0:
-        raise ValueError(f"{head}: seabed friction (seabed.lateral_friction = "
-                         f"{bed.lateral_friction!r}, seabed.axial_friction = "
+    if bed.axial_friction > 0.0 and case.environment.current.speed > 0.0:
+        raise ValueError(f"{head}: axial seabed friction (seabed.axial_friction = "
                          f"{bed.axial_friction!r}) with a current (environment.current.speed "
                          f"= {case.environment.current.speed!r} m/s) is not supported on a "
-                         "slope: set both frictions to 0")
+                         "slope (lateral friction is): set seabed.axial_friction to 0")

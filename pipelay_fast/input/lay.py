@@ -169,8 +169,14 @@ class Lay:
         Effective tension at the top [N].
     bottom_tension : float or None
         Effective (residual) tension at a lower end sliding along z [N].
-        Refused on a sloped seabed (``seabed.slope_deg`` not 0), where the
-        laid pipe's tension changes along the slope.
+        On a sloped seabed (``seabed.slope_deg`` not 0) the bottom tension
+        is defined as the effective tension at touchdown (the result's
+        ``bottom_tension`` there): along the laid pipe the tension changes
+        by the weight's component w sin(slope_deg) per metre, so the
+        tension at the modelled lower end is not a property of the lay. As
+        an input it is refused there (give ``top_tension`` or
+        ``pipe_length``): holding it at touchdown would make the lower
+        end's load depend on touchdown's position, an unknown of the solve.
     pipe_length : float or None
         Unstretched length with a fixed lower end [m].
         Exactly one of the three tension keys is given.

@@ -21,12 +21,14 @@ top). This module carries:
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import layout as L
 from ._jit import jit
-from .bed import bed_height
 from .element_shapes import hermite_crossing
+from .loads import seabed_surface
 from .supports import holds_laterally, support_height, support_span
 from .tuning import LATERAL_HYSTERESIS, SLIP_ROUNDOFF
 
@@ -167,14 +169,31 @@ def _anchor_slope(fric, col, s, node):
 
 
 @jit(_nrt=False)
-def normal_force(nd, g, bed_active, fric, node):
+def plane_normal(props):
+    """(n_x, n_z) [-]: the unit normal of the seabed's plane, (cos a, -sin a)
+    with tan a = props[SEABED_TAN] ((1, 0) on the flat seabed)."""
+    m = props[L.SEABED_TAN]
+    if m == 0.0:
+        return 1.0, 0.0
+    c = 1.0 / math.sqrt(1.0 + m * m)
+    return c, -m * c
+
+
+@jit(_nrt=False)
+def normal_force(nd, g, props, bed_active, fric, node, nodal):
     """The normal force W [N] a node's friction acts with: on a rigid seabed
-    contact its reaction at the present state, the residual of its x row
-    ``g`` (elements and loads, before friction, which acts on other rows),
+    contact its reaction at the present state along the plane's normal
+    (:func:`plane_normal`), from the residual's x and z rows ``g``
+    (elements and loads, before friction; in the global frame, or with
+    ``nodal`` in the nodal frames, where a contact's x row is its normal),
     not less than 0; on an elastic seabed the foundation's force
     (:func:`friction_track`)."""
     if bed_active[node] != 0:
-        return max(g[node * (2 * nd + 1)], 0.0)
+        base = node * (2 * nd + 1)
+        n_x, n_z = plane_normal(props)
+        if n_z == 0.0 or nodal:
+            return max(g[base], 0.0)
+        return max(n_x * g[base] + n_z * g[base + nd - 1], 0.0)
     return fric[node, L.FR_W]
 
 
@@ -191,10 +210,13 @@ def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
     for node in range(bed_active.shape[0]):
-        w = normal_force(nd, g, bed_active, fric, node)
+        w = normal_force(nd, g, props, bed_active, fric, node, False)
         if w <= 0.0:
             continue
-        dw = col[node * ndn] if bed_active[node] != 0 else 0.0
+        dw = 0.0
+        if bed_active[node] != 0:
+            n_x, n_z = plane_normal(props)
+            dw = n_x * col[node * ndn] + n_z * col[node * ndn + nd - 1]
         for comp in range(2):
             slot, mu, ccol, _dcol = _friction_dofs(nd, props, comp)
             if slot < 0 or mu <= 0.0:
@@ -209,7 +231,7 @@ def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
 
 
 @jit(entry=True, _nrt=False)
-def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
+def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s, nodal):
     """Add the seabed friction springs to the residual ``g`` (and, when ``ab``
     has more than one row, their stiffness to its diagonal row ``kv``).
 
@@ -217,11 +239,13 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
     with the force -mu W clip(d / d_slip, -1, 1): elastic up to the mobilising
     displacement d_slip, then sliding at mu W. W is the node's normal force
     at the present state (:func:`normal_force`: the x row of ``g``, which
-    holds the elements' residual when this is called), and the tangent
-    carries its derivative, the x row of the tangent times mu clip(d) (the
-    band holds it: the x row's columns lie within the y and z rows' band).
+    holds the elements' residual when this is called; on a sloped plane
+    its normal component), and the tangent carries its derivative, the x
+    row of the tangent (the normal's rows) times mu clip(d) (the band holds
+    it: the x and z rows' columns lie within the y and z rows' band).
     ``out`` (ndof,) receives the force on the pipe; ``s`` (nn,) holds the
-    node arc lengths [m] (see :func:`anchor_at`).
+    node arc lengths [m] (see :func:`anchor_at`); ``nodal``: ``g``'s rows
+    are in the nodal frames (:func:`normal_force`).
     """
     if model.factors[L.F_FRICTION] == 0.0:  # off on gravity's path
         return
@@ -231,7 +255,7 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
     tangent = ab.shape[0] > 1
     n = g.shape[0]
     for node in range(bed_active.shape[0]):
-        w = normal_force(nd, g, bed_active, fric, node)
+        w = normal_force(nd, g, props, bed_active, fric, node, nodal)
         if w <= 0.0:
             continue
         xrow = node * ndn
@@ -256,12 +280,18 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s):
                         odof = other * ndn + slot
                         ab[kv + dof - odof, odof] -= f_max / d_slip * t
                 if bed_active[node] != 0:
-                    # dW/du: the x row of the tangent, whose columns are the
-                    # unknowns of the node and its two neighbours (within
-                    # the y and z rows' band too)
+                    # dW/du: the x row of the tangent (and, on a sloped
+                    # plane, its z row), whose columns are the unknowns of
+                    # the node and its two neighbours (within the y and z
+                    # rows' band too)
                     f = mu * clipped
+                    n_x, n_z = plane_normal(props)
+                    zrow = xrow + nd - 1
                     for j in range(max(0, xrow - ndn), min(n, xrow + 2 * ndn)):
-                        ab[kv + dof - j, j] += f * ab[kv + xrow - j, j]
+                        dw_j = ab[kv + xrow - j, j]
+                        if n_z != 0.0:
+                            dw_j = n_x * dw_j + n_z * ab[kv + zrow - j, j]
+                        ab[kv + dof - j, j] += f * dw_j
             g[dof] -= force
             out[dof] = force
 
@@ -271,7 +301,8 @@ def friction_track(nd, u, react, props, bed, bed_active, fric, s):
     """Per Newton iteration: on an elastic seabed each node's normal force W,
     the foundation's force at a node below the surface, k (x_b(z) - x) over
     the node's share of the pipe (half of each element beside it; x_b the
-    profile's height, :func:`.bed.bed_height` of its knots ``bed``); a rigid
+    seabed's height, :func:`.loads.seabed_surface` (the profile's knots ``bed``); on a
+    sloped plane its normal force, times cos(angle), :func:`.loads.foundation`); a rigid
     contact's W is its present reaction (:func:`normal_force`), and its
     linearised reaction ``react`` only says whether it still pushes. Nodes
     off the seabed (or whose contact pulls) keep their anchors where they
@@ -285,10 +316,11 @@ def friction_track(nd, u, react, props, bed, bed_active, fric, s):
             continue
         w = 0.0
         if bed_active[node] == 0 and k_bed > 0.0:
-            x_b, _dx_b = bed_height(bed, u[base + nd - 1])
+            x_b, _dx_b = seabed_surface(props, bed, u[base + nd - 1])
             if u[base] < x_b:
                 share = 0.5 * (s[min(node + 1, nn - 1)] - s[max(node - 1, 0)])
-                w = k_bed * (x_b - u[base]) * share
+                m = props[L.SEABED_TAN]  # a sloped plane: the normal penetration's
+                w = k_bed * (x_b - u[base]) * share / math.sqrt(1.0 + m * m)
         if w > 0.0:
             fric[node, L.FR_W] = w
         else:

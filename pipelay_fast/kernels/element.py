@@ -27,7 +27,6 @@ from __future__ import annotations
 
 from . import layout as L
 from ._jit import jit, phase
-from .bed import bed_height
 from .element_dle import _cut_jumps, _dle_gauss_point
 from .element_shapes import (
     _C3,
@@ -49,7 +48,7 @@ from .element_shapes import (
     hermite,
     level_cuts,
 )
-from .loads import drag_force, effective_weight, wall_minus_effective
+from .loads import drag_force, effective_weight, foundation, wall_minus_effective
 
 
 @jit(by_dimension=True, _nrt=False)
@@ -157,7 +156,7 @@ def element_force_ws(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, 
                                use_moment, moments, fe)
         if want_dle:
             _dle_gauss_point(nd, le, ue, props, sec, hh, wl, p0, p1, lam, cval, de_deps, deps_dx,
-                             dq_bed[0], dq_bed[1], has_drag, ws, wm, dfe)
+                             dq_bed, has_drag, ws, wm, dfe)
         if want_tangent:
             _point_tangent(nd, idx, wl, ei, ea, lam, extensible, de_deps, deps_dx, dq_bed,
                            has_drag, p0, p1, pt, ka, kx, hh, use_moments, use_moment, moments, ke)
@@ -179,11 +178,10 @@ def element_force_ws(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, 
 def _point_values(nd, le, ue, xi, model, sec, k_bed, pt):
     """A Gauss point's values at ``xi`` into the views ``pt``: the shape
     functions, r, r', r'', the distributed load q [N/m] (the effective
-    weight, the elastic seabed k (x_b(z) - x) at and below its height x_b(z),
-    :func:`.bed.bed_height`, 0 without a profile; the drag, its derivatives,
+    weight, the elastic seabed, :func:`.loads.foundation`; the drag, its derivatives,
     :func:`.loads.drag_force`; ``sec`` the element's section row). Returns
-    (r'.r', kappa^2 = r''.r'' [1/m2], the seabed's (dq_x/dx, dq_x/dz)
-    [N/m2], whether drag acts)."""
+    (r'.r', kappa^2 = r''.r'' [1/m2], the seabed's (dq_x/dx, dq_x/dz,
+    dq_z/dx, dq_z/dz) [N/m2], whether drag acts)."""
     n, dn, ddn, r, rp, rpp, q, qd, dq_drp, dq_dx, dwork = pt
     ndn = 2 * nd + 1
     props = model.props
@@ -206,18 +204,15 @@ def _point_values(nd, le, ue, xi, model, sec, k_bed, pt):
     for i in range(nd):
         q[i] = 0.0
     q[0] = -effective_weight(props, sec, x)
-    dqx_dx = 0.0
-    dqx_dz = 0.0
-    x_b, dx_b = bed_height(model.bed, r[nd - 1])
-    if k_bed > 0.0 and x <= x_b:  # (at x = x_b its tangent: the pipe lands on it)
-        q[0] += k_bed * (x_b - x)
-        dqx_dx = -k_bed
-        dqx_dz = k_bed * dx_b
+    fx, fz, dqx_dx, dqx_dz, dqz_dx, dqz_dz = foundation(props, model.bed, k_bed, x, r[nd - 1])
+    if dqx_dx != 0.0:
+        q[0] += fx
+        q[nd - 1] += fz
     has_drag = drag_force(model, sec, nd, x, rp, qd, dq_drp, dq_dx, dwork)
     if has_drag:
         for i in range(nd):
             q[i] += qd[i]
-    return rp2, kap2, (dqx_dx, dqx_dz), has_drag
+    return rp2, kap2, (dqx_dx, dqx_dz, dqz_dx, dqz_dz), has_drag
 
 
 @phase
@@ -279,8 +274,9 @@ def _point_tangent(nd, idx, wl, ei, ea, lam, extensible, de_deps, deps_dx, dq_be
                    p1, pt, ka, kx, hh, use_moments, use_moment, moments, ke):
     """A Gauss point's share of the tangent: the bending and lam blocks and
     the seabed's x-x stiffness into the 4 x 4 sums ``ka``, ``kx`` (upper
-    triangles), the seabed's x-z coupling (``dq_bed`` = (dq_x/dx, dq_x/dz)
-    [N/m2], the profile's slope), the drag's load stiffness, the
+    triangles), the seabed's other terms (``dq_bed`` = (dq_x/dx, dq_x/dz,
+    dq_z/dx, dq_z/dz) [N/m2]: the profile's slope, a sloped plane's
+    normal), the drag's load stiffness, the
     multipliers' rows and columns and, with ``use_moments``, the torque's
     and the moment's terms into ``ke`` (:func:`_point_residual`'s ``rp3``,
     ``rpp3``; ``c3``, ``e3`` scratch)."""
@@ -290,7 +286,7 @@ def _point_tangent(nd, idx, wl, ei, ea, lam, extensible, de_deps, deps_dx, dq_be
     rp3, rpp3, m3, c3, e3 = moments
     wei = wl * ei
     wlam = wl * lam
-    dqx_dx, dqx_dz = dq_bed
+    dqx_dx, dqx_dz, dqz_dx, dqz_dz = dq_bed
     for k in range(4):
         for l in range(k, 4):
             ka[4 * k + l] += wei * ddn[k] * ddn[l] + wlam * dn[k] * dn[l]
@@ -298,6 +294,11 @@ def _point_tangent(nd, idx, wl, ei, ea, lam, extensible, de_deps, deps_dx, dq_be
         for k in range(4):
             for l in range(4):
                 ke[off[k], off[l] + nd - 1] -= wl * dqx_dz * n[k] * n[l]
+    if dqz_dx != 0.0:  # a sloped plane's normal: -N_k dq_z/du_l N_l
+        for k in range(4):
+            for l in range(4):
+                ke[off[k] + nd - 1, off[l]] -= wl * dqz_dx * n[k] * n[l]
+                ke[off[k] + nd - 1, off[l] + nd - 1] -= wl * dqz_dz * n[k] * n[l]
     if dqx_dx != 0.0:
         wq = wl * dqx_dx
         for k in range(4):

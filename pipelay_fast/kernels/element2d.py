@@ -27,11 +27,10 @@ from __future__ import annotations
 
 from . import layout as L
 from ._jit import jit, phase
-from .bed import bed_height
 from .element import _extension
 from .element_dle import _cut_jumps
 from .element_shapes import _CUTLEV, _CUTS, GAUSS_W, GAUSS_XI, level_cuts
-from .loads import current_speed, effective_weight
+from .loads import current_speed, effective_weight, foundation
 
 # element unknowns: node a (x, z, x', z', lam) then node b
 _XA, _ZA, _XPA, _ZPA, _LA = 0, 1, 2, 3, 4
@@ -169,20 +168,16 @@ def element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm):
 def _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, z, xp, zp):
     """The distributed load at (``x``, ``z``) [m] with slope (``xp``, ``zp``):
     (q_x, q_z [N/m], the seabed's dq_x/dx [N/m2], the drag's dq_x/dx',
-    dq_x/dz', dq_z/dx', dq_z/dz' [N/m], dq_x/dx, dq_z/dx [N/m2] and the
-    seabed's dq_x/dz [N/m2]); ``sec`` the element's section row. The elastic
-    seabed pushes k (x_b(z) - x) up where x <= x_b(z), x_b the profile's
-    height (:func:`.bed.bed_height`; 0 without a profile)."""
+    dq_x/dz', dq_z/dx', dq_z/dz' [N/m], dq_x/dx, dq_z/dx (the drag's and the
+    seabed's) [N/m2] and the seabed's dq_x/dz, dq_z/dz [N/m2]); ``sec`` the
+    element's section row. The elastic seabed: :func:`.loads.foundation`."""
     props = model.props
     qx = -effective_weight(props, sec, x)
     qz = 0.0
-    dqx_bed = 0.0
-    dqxz_bed = 0.0
-    x_b, dx_b = bed_height(model.bed, z)
-    if k_bed > 0.0 and x <= x_b:  # (at x = x_b its tangent: the pipe lands on it)
-        qx += k_bed * (x_b - x)
-        dqx_bed = -k_bed
-        dqxz_bed = k_bed * dx_b
+    fx, fz, dqx_bed, dqxz_bed, dqzx_bed, dqzz_bed = foundation(props, model.bed, k_bed, x, z)
+    if dqx_bed != 0.0:
+        qx += fx
+        qz += fz
     dxx = 0.0  # drag: dq/dr' (dxx = dqx/dx' ...) and dq/dx
     dxz = 0.0
     dzx = 0.0
@@ -196,7 +191,7 @@ def _loads_2d(model, sec, k_bed, has_current, c_drag, ez, x, z, xp, zp):
                                                                    xp, zp)
             qx += fx
             qz += fz
-    return qx, qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx, dqxz_bed
+    return qx, qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx + dqzx_bed, dqxz_bed, dqzz_bed
 
 
 @phase
@@ -222,7 +217,7 @@ def _dle_2d(dfe, wl, inv_le, ei, ea, extensible, my, slopes, state, loads, ext, 
     constraint's value, ``p0``, ``p1`` the multiplier's shape functions."""
     xpa, zpa, xpb, zpb = slopes
     xp, zp, xpp, zpp, lam, _cmx, _cmz = state
-    _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx, dqxz_bed = loads
+    _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx, dqxz_bed, dqzz_bed = loads
     _e, de_deps, deps_dx = ext
     nn_, dn, ddn = shape
     dx = (nn_[1] * xpa + nn_[3] * xpb) * inv_le
@@ -237,6 +232,8 @@ def _dle_2d(dfe, wl, inv_le, ei, ea, extensible, my, slopes, state, loads, ext, 
     if dqxz_bed != 0.0:
         dqx += dqxz_bed * (nn_[1] * zpa + nn_[3] * zpb) * inv_le
     dqz = dqz_dx * dx + dzx * dxp + dzz * dzp
+    if dqzz_bed != 0.0:
+        dqz += dqzz_bed * (nn_[1] * zpa + nn_[3] * zpb) * inv_le
     dlam = wl * (cval * inv_le + dcval)
     dfe[_LA] += p0 * dlam
     dfe[_LB] += p1 * dlam
@@ -266,7 +263,7 @@ def _tangent_2d(ke, ws, wl, ei, ea, extensible, my, state, loads, ext, shape, p0
     triangles), the load stiffness, the moment's term and the multipliers'
     rows and columns into ``ke``; the arguments as :func:`_dle_2d`'s."""
     xp, zp, xpp, zpp, lam, _cmx, _cmz = state
-    _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx, dqxz_bed = loads
+    _qx, _qz, dqx_bed, dxx, dxz, dzx, dzz, dqx_dx, dqz_dx, dqxz_bed, dqzz_bed = loads
     _e, de_deps, deps_dx = ext
     nn_, dn, ddn = shape
     off = (0, 2, 5, 7)
@@ -285,6 +282,11 @@ def _tangent_2d(ke, ws, wl, ei, ea, extensible, my, state, loads, ext, shape, p0
         for k in range(4):
             for l in range(4):
                 ke[off[k], off[l] + 1] -= wq * nn_[k] * nn_[l]
+    if dqzz_bed != 0.0:  # a sloped plane's normal: -N_k dq_z/dz N_l
+        wq = wl * dqzz_bed
+        for k in range(4):
+            for l in range(4):
+                ke[off[k] + 1, off[l] + 1] -= wq * nn_[k] * nn_[l]
     if (dxx != 0.0 or dxz != 0.0 or dzx != 0.0 or dzz != 0.0 or dqx_dx != 0.0
             or dqz_dx != 0.0 or my != 0.0):
         # load stiffness -N_k dq_i/du_(l,j), and the moment's H-free term

@@ -102,12 +102,13 @@ def _cut_jumps(nd, le, ue, model, sec, ncut, cuts, cutlev, ke, want_tangent, dfe
 
 @jit(by_dimension=True, _nrt=False)
 def _dle_gauss_point(nd, le, ue, props, sec, torque, wl, p0, p1, lam, cval, de_deps, deps_dx,
-                     dqx_dx, dqx_dz, has_drag, ws, wm, dfe):
+                     dq_bed, has_drag, ws, wm, dfe):
     """Add one Gauss point's share of dG/dle to ``dfe`` (module docstring).
 
     Reads the point's values that :func:`.element.element_force_ws` left in
-    ``ws`` and ``wm``; ``sec`` the element's section row; ``dqx_dx``,
-    ``dqx_dz`` the seabed's load derivatives [N/m2]; ``torque`` is 0
+    ``ws`` and ``wm``; ``sec`` the element's section row; ``dq_bed`` the
+    seabed's load derivatives (dq_x/dx, dq_x/dz, dq_z/dx, dq_z/dz) [N/m2]
+    (:func:`.loads.foundation`); ``torque`` is 0
     where the torque term is off. A
     function of its own, not inlined, so that the kernel's Gauss loop runs as
     fast without it.
@@ -130,11 +131,15 @@ def _dle_gauss_point(nd, le, ue, props, sec, torque, wl, p0, p1, lam, cval, de_d
         ws[_DRPP + i] = drpp
         dcval += ws[_RP + i] * drp
         drpp_rpp += ws[_RPP + i] * drpp
+    dqx_dx, dqx_dz, dqz_dx, dqz_dz = dq_bed
     for i in range(nd):
         dq = dqx_dx * dx if i == 0 else 0.0
         if i == 0 and dqx_dz != 0.0:  # the profile's slope: dz as dx
             dz = (ws[_N + 1] * ue[2 * nd - 1] + ws[_N + 3] * ue[ndn + 2 * nd - 1]) * inv_le
             dq += dqx_dz * dz
+        if i == nd - 1 and dqz_dx != 0.0:  # a sloped plane's normal
+            dz = (ws[_N + 1] * ue[2 * nd - 1] + ws[_N + 3] * ue[ndn + 2 * nd - 1]) * inv_le
+            dq += dqz_dx * dx + dqz_dz * dz
         if has_drag:
             dq += ws[_DQ_DX + i] * dx
             for j in range(nd):

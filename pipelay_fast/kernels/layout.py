@@ -39,7 +39,9 @@ MOM_Z = 15
 MU_Y = 16  # lateral seabed friction coefficient [-]
 MU_Z = 17  # axial seabed friction coefficient [-]
 FRICTION_SLIP = 18  # displacement that mobilises full friction [m]
-N_PROPS = 19
+SEABED_TAN = 19  # tan of the seabed plane's angle [-] (0: flat); the elastic seabed's normal
+SEABED_Z0 = 20  # z where the sloped plane passes through x = 0 [m]
+N_PROPS = 21
 
 # --- section: the pipe's properties, a row per element ---------------------
 # ``Model.section`` is (n_elements, N_SECTION) float64, C-contiguous; element e

@@ -9,7 +9,8 @@ from __future__ import annotations
 import math
 
 from . import layout as L
-from ._jit import jit
+from ._jit import jit, phase
+from .bed import bed_height
 from .tuning import POWER_FLOOR
 
 
@@ -28,6 +29,41 @@ def effective_weight(props, sec, x):
     if x < props[L.DEPTH]:
         w -= sec[L.S_W_BUOY]
     return w
+
+
+@phase
+def seabed_surface(props, bed, z):
+    """(x [m], dx/dz [-]) of the elastic seabed's surface at z [m]: the
+    sloped plane tan(a) (z - z0) (props ``SEABED_TAN``, ``SEABED_Z0``; the
+    arithmetic of :func:`.supports.support_height`'s plane) or, flat, the
+    profile's height (:func:`.bed.bed_height` of the knots ``bed``; 0
+    without)."""
+    m = props[L.SEABED_TAN]
+    if m != 0.0:
+        return m * (z - props[L.SEABED_Z0]), m
+    return bed_height(bed, z)
+
+
+@phase
+def foundation(props, bed, k_bed, x, z):
+    """The elastic seabed's load at (``x``, ``z``) [m]: (q_x, q_z [N/m],
+    dq_x/dx, dq_x/dz, dq_z/dx, dq_z/dz [N/m2]), zeros above the seabed's
+    height x_b(z) (:func:`seabed_surface`) or with
+    ``k_bed`` 0 (rigid). It pushes where x <= x_b(z) (at x = x_b its tangent:
+    the pipe lands on it) along the plane's normal n = (1, -m) / sqrt(1 +
+    m^2), m = props[SEABED_TAN] the sloped plane's tan(angle), with k_bed
+    [N/m per m] times the normal penetration (x_b - x) / sqrt(1 + m^2):
+    q = k_bed (x_b - x) / (1 + m^2) (1, -m); m = 0 (the flat seabed, a
+    profile): vertically, k_bed (x_b - x) e_x."""
+    x_b, dx_b = seabed_surface(props, bed, z)
+    if k_bed <= 0.0 or x > x_b:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    m = props[L.SEABED_TAN]
+    if m == 0.0:
+        return k_bed * (x_b - x), 0.0, -k_bed, k_bed * dx_b, 0.0, 0.0
+    kn = k_bed / (1.0 + m * m)
+    pen = x_b - x
+    return kn * pen, -kn * m * pen, -kn, kn * dx_b, kn * m, -kn * m * dx_b
 
 
 @jit(_nrt=False)

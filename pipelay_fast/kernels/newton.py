@@ -416,15 +416,16 @@ def _newton_kernel(nd):
                     break
                 res_change = res_max
         if status == L.OK:
-            # the springs' normal forces of the answer (for the results), their
+            # the springs' normal forces of the answer (w.g in the nodal frames), their
             # forces joined to the reactions; slipping springs' anchors follow
             w.fr_out[:] = 0.0
             node_arcs(mesh.s_el, w.s_nd)
             bed = sup.active[ROW_BED]
             for node in range(sup.phi_r.shape[0]):
-                sup.fric[node, L.FR_W] = normal_force(nd, w.g, bed, sup.fric, node)
+                sup.fric[node, L.FR_W] = normal_force(nd, w.g, model.props, bed, sup.fric,
+                                                      node, True)
             friction_forces(nd, u, w.g, w.no_ab, 0, model, bed, sup.fric, w.fr_out,
-                            w.s_nd)
+                            w.s_nd, True)
             for i in range(u.shape[0]):
                 react[i] += w.fr_out[i]
             friction_commit(nd, u, model, bed, sup.fric, w.s_nd)

@@ -100,7 +100,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
             bnodes, w.bcols)
     node_arcs(mesh.s_el, w.s_nd)
     friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model, sup.active[ROW_BED],
-                    sup.fric, w.fr_out, w.s_nd)
+                    sup.fric, w.fr_out, w.s_nd, False)
     te_top = 0.0
     if _solves_tb(ends):
         if want_tangent:

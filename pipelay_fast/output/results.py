@@ -331,7 +331,8 @@ def build_profile(case: Case, sol: Solution) -> dict:
     else:  # the foundation's force, lumped at the nodes below the seabed
         gap = u[0::ndn] - seabed_heights(case, u[nd - 1::ndn])
         act = gap < 0.0
-        seabed = foundation_force(s, gap, case.seabed.stiffness)
+        # (on a sloped plane its normal force, the normal penetration's)
+        seabed = foundation_force(s, gap, case.seabed.stiffness) * np.cos(case.seabed.slope)
     contact[act] = "seabed"
     seabed_y = np.zeros(s.size)
     if nd == 3:  # friction (the held lower end's lateral reaction is not)

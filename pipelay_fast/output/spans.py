@@ -92,12 +92,12 @@ pipe's clearance (its Hermite interpolant), so that a span's ends and its
 largest gap are the element's, not a straight line's between its nodes."""
 
 
-def laid_spans(s, u, nd: int, knots, s_td: float) -> dict:
+def laid_spans(s, u, nd: int, heights, s_td: float) -> dict:
     """The free spans (:func:`find_spans`) of the pipe with unknowns ``u`` on
     nodes ``s`` [m] in dimension ``nd`` behind its touchdown at arc length
-    ``s_td`` [m], over the seabed profile with ``knots``
-    (:func:`pipelay_fast.input.profile.bed_knots`; (0, 3): the flat seabed):
-    its clearance x - x_b(z) at SUBDIVISIONS points per element of the cubic
+    ``s_td`` [m], over the seabed whose height x_b [m] at z [m] (an array)
+    is ``heights(z)`` (:func:`seabed_heights`): its clearance x - x_b(z)
+    at SUBDIVISIONS points per element of the cubic
     Hermite interpolant of its nodal positions and tangents."""
     s = np.asarray(s, dtype=float)
     if s_td <= s[0]:
@@ -109,7 +109,7 @@ def laid_spans(s, u, nd: int, knots, s_td: float) -> dict:
     uf = interpolate_state(s, u, nd, fine)
     ndn = 2 * nd + 1
     x, z = uf[0::ndn], uf[nd - 1::ndn]
-    return find_spans(fine, z, x - bed_heights(knots, z)[0])
+    return find_spans(fine, z, x - heights(z))
 
 
 TOUCHDOWN_UNITS = {"tdp_x": "m", "seabed_depth_at_tdp": "m", "n_spans": "-",
@@ -134,8 +134,7 @@ def span_table(case, sol) -> dict:
     touchdown)."""
     if case.seabed.is_rigid:
         return find_spans(np.zeros(0), np.zeros(0), np.zeros(0))
-    knots = bed_knots(case.seabed.profile, case.environment.water_depth)
-    return laid_spans(sol.s, sol.u, sol.nd, knots, sol.s_tdp)
+    return laid_spans(sol.s, sol.u, sol.nd, lambda z: seabed_heights(case, z), sol.s_tdp)
 
 
 def touchdown_columns(case, sol, cols: dict, spans: dict) -> dict:
