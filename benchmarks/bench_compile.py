@@ -2,6 +2,7 @@
 
     python benchmarks/bench_compile.py [--scenes j125 s67 s67_3d]
     python benchmarks/bench_compile.py --trees BASE NEW [NEW2 ...] [--pairs 3]
+    python benchmarks/bench_compile.py --trees BASE NEW --sweep [--pairs 3]
 
 For each scene, two fresh interpreters in turn, sharing one NUMBA_CACHE_DIR
 that starts empty: the first compiles every kernel the scene's solve uses
@@ -17,7 +18,11 @@ With ``--trees``, each directory holding a ``pipelay_fast`` package (a git
 worktree each) is run with ``PYTHONPATH`` set to it, first solves only, in
 ``--pairs`` rounds that interleave the trees (A, B, A, B, ...) so that a
 drift in the machine's load falls on all of them; the table gives the
-medians over the rounds and each tree's ratio to the first.
+medians over the rounds and each tree's ratio to the first. With
+``--sweep``, each round runs the README's main job instead,
+``pipelay-fast sweep sweeps/paper.toml`` on its default 2 workers into a
+fresh results directory and a fresh cache: its wall-clock seconds, and the
+CPU seconds of the command and its worker processes (``RUSAGE_CHILDREN``).
 """
 
 from __future__ import annotations
@@ -25,10 +30,12 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from bench_jlay import STARTUP_SCRIPT, check_imported, machine_info
@@ -51,14 +58,36 @@ def startup(case_file: Path, cache_dir: str, tree: Path | None = None) -> dict:
     return answer
 
 
+SWEEP_SCRIPT = "import sys; from pipelay_fast.cli import main; sys.exit(main(sys.argv[1:]))"
+
+
+def sweep_run(tree: Path) -> dict:
+    """Wall and CPU seconds of the README's main sweep run from ``tree`` in a fresh cache."""
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(tree)}
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-c", SWEEP_SCRIPT, "sweep", "sweeps/paper.toml",
+                        "--out", os.path.join(out, "paper")], env=env, cwd=tree,
+                       capture_output=True, text=True, check=True)
+        wall = time.perf_counter() - t0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+    return {"first_solve_s": wall, "first_solve_cpu_s": cpu, "max_rss_mb": after.ru_maxrss / 1024}
+
+
 def compare_trees(trees: list[Path], scenes: list[str], pairs: int) -> None:
-    """Interleaved first solves of ``scenes`` in each tree; medians and ratios to trees[0]."""
+    """Interleaved first solves of ``scenes`` in each tree (the scene "sweep":
+    :func:`sweep_run`); medians and ratios to trees[0]."""
     runs = {(scene, i): [] for scene in scenes for i in range(len(trees))}
     for _ in range(pairs):
         for scene in scenes:
             for i, tree in enumerate(trees):
-                with tempfile.TemporaryDirectory() as cache:
-                    run = startup(EXAMPLES / f"{scene}.toml", cache, tree)
+                if scene == "sweep":
+                    run = sweep_run(tree)
+                else:
+                    with tempfile.TemporaryDirectory() as cache:
+                        run = startup(EXAMPLES / f"{scene}.toml", cache, tree)
                 runs[scene, i].append(run)
                 print(f"{scene} [{i}]: CPU {run['first_solve_cpu_s']:.1f} s, wall "
                       f"{run['first_solve_s']:.1f} s, peak RSS {run['max_rss_mb']:.0f} MB",
@@ -85,7 +114,11 @@ def main(argv=None):
     parser.add_argument("--scenes", nargs="+", default=["j125", "s67", "s67_3d"])
     parser.add_argument("--trees", nargs="+", type=Path, help="source trees to compare")
     parser.add_argument("--pairs", type=int, default=3, help="interleaved rounds with --trees")
+    parser.add_argument("--sweep", action="store_true",
+                        help="with --trees: the README's main sweep instead of --scenes")
     args = parser.parse_args(argv)
+    if args.sweep:
+        args.scenes = ["sweep"]
     info = machine_info()
     print("## Machine\n")
     for key, value in info.items():

@@ -93,6 +93,37 @@ def test_one_and_two_workers_give_the_same_summary(sweep, one_worker, two_worker
     assert_same_table(left, right)
 
 
+def test_a_cold_cache_puts_one_task_of_each_dimension_first(sweep):
+    tasks = runner.pack(chains(sweep.cases()), 4)
+
+    def dims(task):
+        return {chain[0].case.resolved_dimension for chain in task if chain[0].case is not None}
+
+    ordered, first = runner.compile_first(tasks)
+    assert first == 2 and sorted(ordered, key=id) == sorted(tasks, key=id)
+    assert ordered[0] is next(t for t in tasks if dims(t)) and dims(ordered[0]) == {"2d"}
+    assert ordered[1] is next(t for t in tasks if "3d" in dims(t))
+    assert ordered[2:] == [t for t in tasks if t is not ordered[0] and t is not ordered[1]]
+    planar = [t for t in tasks if "3d" not in dims(t)]
+    assert runner.compile_first(planar) == (planar, 0)
+
+
+def test_the_cold_cache_order_gives_the_same_summary(sweep, one_worker, tmp_path, monkeypatch):
+    monkeypatch.setattr(runner, "kernels_cached", lambda: False)
+    rounds = []
+    compile_first = runner.compile_first
+
+    def recorded(tasks):
+        ordered, first = compile_first(tasks)
+        rounds.append(first)
+        return ordered, first
+
+    monkeypatch.setattr(runner, "compile_first", recorded)
+    report = run_sweep(sweep, tmp_path / "results", workers=2, chunk_size=4, progress=False)
+    assert rounds == [2] and report.solved == len(sweep.cases())
+    assert_same_table(by_case(tmp_path / "results"), by_case(one_worker[0]))
+
+
 def test_summary_equals_direct_solves_along_each_chain(sweep, one_worker):
     """Each chain replayed with pf.solve (warm from the previous case) gives the
     sweep's rows; its first case is a plain cold pf.solve."""

@@ -10,7 +10,13 @@ between cases.
 Workers are the backend's processes (loky by default; dask.distributed or Ray
 through joblib). A worker keeps its compiled kernels for all the tasks it runs,
 so kernels are loaded (from Numba's on-disk cache) once per worker process, not
-once per case. The parent process is the only writer of the dataset.
+once per case. On a cold cache (:func:`pipelay_fast.kernels._jit.kernels_cached`)
+with more than one worker, the sweep starts with one round of a task per
+dimension (:func:`compile_first`), which all finish before the other tasks
+start: each of those workers compiles one dimension's kernels while the
+other compiles the other's, and every later task loads them from the cache,
+instead of every worker compiling both. The parent process is the only
+writer of the dataset.
 """
 
 from __future__ import annotations
@@ -29,6 +35,7 @@ from ..api.notice import announce_compile, notice_given
 from ..api.solve import solve
 from ..api.target import solve_for
 from ..input.errors import SolveError
+from ..kernels._jit import kernels_cached
 from ..output.results import SUMMARY_UNITS
 from .dataset import Dataset, encode_chunk, repeated_text
 from .sensitivity import sensitivity_columns, sensitivity_values
@@ -151,12 +158,15 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         todo = [c for c in cases if c.case_id not in done] if done else cases
         report.skipped = len(cases) - len(todo)
         tasks = pack(chains(todo), chunk_size or _default_chunk(len(todo), workers))
+        first = 0
+        if tasks and workers > 1 and not kernels_cached():
+            tasks, first = compile_first(tasks)
         if tasks:
             announce_compile()  # here, once, rather than in each worker
         with (progress_bar(len(todo), enabled=progress) as bar,
               _backend(backend, workers, scheduler)):
             for chunk, times, pid in _parallel(tasks, (sweep.name, profiles, warm_start,
-                                                       sweep.sensitivities), workers):
+                                                       sweep.sensitivities), workers, first):
                 t0 = time.perf_counter()
                 dataset.write_chunk(chunk)
                 report.write_seconds += time.perf_counter() - t0
@@ -189,6 +199,25 @@ def pack(chain_list: list[list[SweepCase]], size: int) -> list[list[list[SweepCa
     if current:
         tasks.append(current)
     return tasks
+
+
+def compile_first(tasks: list[list[list[SweepCase]]]) -> tuple[list, int]:
+    """``tasks`` reordered for a cold kernel cache, and how many of them form
+    the first round: the first task of each dimension ("2d", "3d": the Newton
+    kernel's two compilations, :mod:`pipelay_fast.kernels.newton`), so that
+    each of the first round's workers compiles a dimension of its own and the
+    later tasks load it from numba's cache instead of compiling it again.
+    First round 0 (no round) when the tasks have a single dimension."""
+    picked, seen = [], set()
+    for i, task in enumerate(tasks):
+        dims = {chain[0].case.resolved_dimension for chain in task if chain[0].case is not None}
+        if dims - seen:
+            picked.append(i)
+            seen |= dims
+    if len(picked) < 2:
+        return tasks, 0
+    return [tasks[i] for i in picked] + [t for i, t in enumerate(tasks) if i not in picked], \
+        len(picked)
 
 
 def _default_chunk(n: int, workers: int) -> int:
@@ -324,13 +353,17 @@ def _failed_row(sc: SweepCase, base: dict, message: str) -> dict:
 # --------------------------------------------------------------------------- scheduling
 
 
-def _parallel(tasks, args: tuple, workers: int):
+def _parallel(tasks, args: tuple, workers: int, first: int = 0):
     """Results of ``solve_task`` over ``tasks`` (each with the further
-    arguments ``args``) as they finish."""
+    arguments ``args``) as they finish; the ``first`` tasks all finish before
+    the others start (:func:`compile_first`)."""
     if workers == 1 or len(tasks) <= 1:
         for task in tasks:
             yield solve_task(task, *args)
         return
+    if first:
+        yield from _parallel(tasks[:first], args, workers)
+        tasks = tasks[first:]
     from joblib import Parallel, delayed
 
     calls = (delayed(solve_task)(task, *args) for task in tasks)
