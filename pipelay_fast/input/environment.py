@@ -139,7 +139,11 @@ class Seabed:
         (vertically on the flat seabed and on a ``profile``). Lateral
         friction acts in the plane (y lies in it), mu_y times the normal
         force from the plane; ``axial_friction`` with a current is refused
-        on a slope.
+        on a slope. A plane that reaches the still water level (x >=
+        ``environment.water_depth``) along the modelled pipe, laid pipe
+        included, is refused when the mesh is built
+        (:func:`pipelay_fast.input.surface.check_water`); the vessel must
+        lie above it (:func:`pipelay_fast.input.surface.check_vessel`).
     slope_origin : float
         z [m] where the sloped seabed passes through the reference level
         x = 0, default 0.
