@@ -156,3 +156,17 @@ def test_s67_on_a_falling_slope_with_a_current_is_refused_by_the_solve():
     with pytest.raises(ValueError, match=r"seabed\.slope_deg = -5\.0 .* at or above the still "
                                          r"water level"):
         pf.solve(case)
+
+
+def test_a_generated_roller_turned_below_the_slope_names_the_path_and_the_trim():
+    """A radius path's rollers are named by their index; turned by a trim,
+    the message gives the turned point and the plane's height at its z."""
+    case = load("s67_radius")
+    last = case.given_lay.roller_positions()[-1].tolist()
+    message = refused("s67_radius", **{"seabed.slope_deg": 10.0, "lay.trim_deg": 1.0,
+                                       "lay.trim_pivot": [70.0, 400.0]})
+    n = case.lay.roller_count - 1
+    assert message.startswith(f"lay.stinger (generated rollers)[{n}] = {last}, turned by "
+                              "lay.trim_deg = 1.0 deg about lay.trim_pivot = [70.0, 400.0]")
+    z = float(re.search(r"to \[[^,]+, (-?[0-9.e+-]+)\]", message).group(1))
+    assert seabed_x(message) == pytest.approx(z * math.tan(math.radians(10.0)), rel=1e-5)
