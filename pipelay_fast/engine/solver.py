@@ -31,6 +31,7 @@ import numpy as np
 from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import IterationBudget
+from ..input.surface import check_water
 from ..kernels import layout as L
 from ..kernels.contact import friction_track
 from . import tuning as T
@@ -70,7 +71,9 @@ def solve_problem(case: Case, warm: Problem | None = None):
         When no equilibrium is found within the budget, or the answer lifts
         off below the stinger's tip (:func:`.boundaries.check_final_regime`).
     ValueError
-        When the laid pipe, doubled, would exceed solver.max_elements.
+        When the laid pipe, doubled, would exceed solver.max_elements, or a
+        mesh reaches where the seabed rises to the still water level
+        (:func:`pipelay_fast.input.surface.check_water`, before its solve).
     """
     t0 = time.perf_counter()
     laid = None  # the case's
@@ -119,6 +122,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         pb, guide_iterations = _from_guide(case, budget, laid)
     else:
         pb = build_problem(case, laid)
+    check_water(case, pb.u[pb.nd - 1::pb.ndn])  # the seabed below the water along the mesh
     # friction is path dependent: gravity first, then the current in steps
     path = friction_path(case)
     if path:

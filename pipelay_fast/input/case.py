@@ -37,6 +37,7 @@ from .frame import to_seabed
 from .lay import Lay, RollerStinger, Stinger
 from .limits import ROUNDOFF, check_case
 from .pipe import Pipe
+from .surface import check_vessel
 from .trim import trimmed
 from .validate import (
     assign,
@@ -209,6 +210,7 @@ class Case:
             fail("solver.dimension", "2d", "cannot be used: the case has lateral loads "
                  "(lateral current, torque or distributed moment about x or z)")
         check_slope(self)
+        check_vessel(self)  # the trimmed, seabed-frame vessel above the seabed
         check_case(self)  # the model's limits first, then what the code checks need
         check_inputs(self.pipe, self.checks)
 

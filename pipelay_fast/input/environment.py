@@ -139,7 +139,11 @@ class Seabed:
         (vertically on the flat seabed and on a ``profile``). Lateral
         friction acts in the plane (y lies in it), mu_y times the normal
         force from the plane; ``axial_friction`` with a current is refused
-        on a slope.
+        on a slope. A plane that reaches the still water level (x >=
+        ``environment.water_depth``) along the modelled pipe, laid pipe
+        included, is refused when the mesh is built
+        (:func:`pipelay_fast.input.surface.check_water`); the vessel must
+        lie above it (:func:`pipelay_fast.input.surface.check_vessel`).
     slope_origin : float
         z [m] where the sloped seabed passes through the reference level
         x = 0, default 0.
@@ -204,9 +208,9 @@ def check_slope(case) -> None:
     """Refuse what a sloped seabed (``seabed.slope_deg`` not 0) does not
     support, naming the keys: a given bottom tension (on a
     slope the laid pipe's tension changes along it, so the tension at the
-    modelled lower end is not a property of the lay), the vessel's top, the
-    stinger's tip or a roller at or below the seabed, and axial seabed
-    friction on the current's path."""
+    modelled lower end is not a property of the lay) and axial seabed
+    friction on the current's path. The vessel against the plane:
+    :func:`.surface.check_vessel`."""
     bed = case.seabed
     if bed.slope_deg == 0.0:
         return
@@ -215,18 +219,6 @@ def check_slope(case) -> None:
         raise ValueError(f"{head}: lay.bottom_tension = {case.lay.bottom_tension!r} N is "
                          "refused on a slope (the laid pipe's tension changes along it); "
                          "give lay.top_tension or lay.pipe_length")
-    lay = case.lay
-    points = [("lay.top", lay.top)]
-    if lay.curve is not None:
-        points.append(("lay.stinger.lower", lay.curve.lower))
-    rollers = lay.roller_positions()
-    if rollers is not None:
-        points += [(f"lay.stinger.rollers[{i}]", tuple(p)) for i, p in enumerate(rollers)]
-    tan_a = math.tan(bed.slope)
-    for key, (x, z) in points:
-        if x <= (z - bed.slope_origin) * tan_a:
-            raise ValueError(f"{head} with seabed.slope_origin = {bed.slope_origin!r} m puts "
-                             f"the seabed at or above {key} = {[float(x), float(z)]}")
     if bed.axial_friction > 0.0 and case.environment.current.speed > 0.0:
         raise ValueError(f"{head}: axial seabed friction (seabed.axial_friction = "
                          f"{bed.axial_friction!r}) with a current (environment.current.speed "

@@ -1,6 +1,7 @@
 """The vessel's frame (``lay.frame``): the lay geometry given as heights above
-the seabed or as elevations about the still water level, and the checks of
-the vessel against the water and the seabed.
+the seabed or as elevations about the still water level, and the note on a
+vessel standing too high above the water (its check against the seabed:
+:mod:`.surface`).
 
 In the ``"waterline"`` frame ``lay.top``, ``lay.stinger.lower``/``upper``,
 ``lay.stinger.rollers`` and ``lay.trim_pivot`` give x as the elevation e [m]
@@ -24,8 +25,6 @@ from __future__ import annotations
 
 import dataclasses
 from decimal import Context, Decimal
-
-from .validate import fail
 
 FRAMES = ("seabed", "waterline")
 
@@ -51,14 +50,13 @@ def to_seabed(lay, depth: float):
     (``frame = "seabed"``, heights above the seabed) in ``depth`` [m] of water.
 
     A seabed-frame ``lay`` is returned as it is; a waterline one has its
-    heights raised by ``depth`` (:func:`raised`) after :func:`check_seabed`
-    has checked them against the seabed in the frame they were given in.
+    heights raised by ``depth`` (:func:`raised`); the case checks them
+    against the seabed (:func:`.surface.check_vessel`).
     A roller path's rollers follow ``lay.top``; their ``height_step``
     rounds heights above the seabed (the elevations when ``depth`` is a
     multiple of the step)."""
     if lay.frame == "seabed":
         return lay
-    check_seabed(lay, depth)
     st = lay.stinger
     changes = {"frame": "seabed", "top": _point(lay.top, depth)}
     if lay.trim_pivot is not None:
@@ -71,27 +69,6 @@ def to_seabed(lay, depth: float):
         changes["stinger"] = dataclasses.replace(
             st, lower=_point(st.lower, depth), upper=_point(st.upper, depth))
     return dataclasses.replace(lay, **changes)
-
-
-def check_seabed(lay, depth: float) -> None:
-    """Refuse a waterline-frame ``lay`` whose top, stinger tip or a roller
-    lies below the seabed ``depth`` [m] under the water, naming the key and
-    its value as given."""
-    where = f"below the seabed: environment.water_depth = {depth!r} m puts the seabed at "
-    where += f"x = {-depth!r} m in the waterline frame (lay.frame = 'waterline')"
-    st = lay.stinger
-    if lay.has_rollers:  # the lowest, the last (Lay checks that they fall)
-        last = lay.roller_positions()[-1].tolist()
-        if raised(last[0], depth) < 0.0:
-            n = st.count - 1
-            fail(f"lay.stinger.rollers[{n}]" if st.rollers is not None else
-                 f"lay.stinger (generated rollers)[{n}]", last, f"is {where}")
-    elif lay.curve is not None and raised(st.lower[0], depth) < 0.0:
-        fail("lay.stinger.lower", list(st.lower), f"is {where}")
-    if raised(lay.top[0], depth) <= 0.0:
-        fail("lay.stinger.upper" if lay.curve is not None else "lay.top", list(lay.top),
-             f"is not above the seabed: environment.water_depth = {depth!r} m puts the "
-             f"seabed at x = {-depth!r} m in the waterline frame (lay.frame = 'waterline')")
 
 
 def vessel_note(given, lay, depth: float) -> str:

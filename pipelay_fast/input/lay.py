@@ -47,8 +47,8 @@ class Stinger:
     The geometry is checked up front: a concave-up stinger (a > 0) would hold
     the pipe at its ends only, not along the one contiguous stretch the model
     solves for; the upper end must lie above the tip (z_U > z_L, x_U > x_L;
-    with a <= 0 the whole stinger is then above its tip, which :class:`Lay`
-    checks against the seabed); and the
+    with a <= 0 the whole stinger is then above its tip, which the case
+    checks against the seabed, :func:`.surface.check_vessel`); and the
     stinger may turn the pipe by at most 90 deg between its ends (tangent angle
     at the tip minus that at the upper end): more, and the stinger overhangs,
     its tip pointing back under the pipe that comes from the vessel. The
@@ -183,7 +183,10 @@ class Lay:
     top : (float, float)
         (x, z) of the pipe's upper end [m], x in the frame of ``frame``; for
         S-lay on a quadratic stinger its upper end; required with a roller
-        stinger (where the vessel holds the pipe, above the rollers).
+        stinger (where the vessel holds the pipe, above the rollers). It must
+        lie above the seabed's surface (flat, sloped or profiled), the
+        stinger's tip and rollers on it at the lowest, once the frame and
+        the trim are applied (:func:`pipelay_fast.input.surface.check_vessel`).
     top_angle : float, "pinned" or None
         Prescribed top angle from horizontal [deg], in (0, 90], or "pinned".
         Omitted: pinned for J-lay; for S-lay the firing line, the pipe held
@@ -295,10 +298,6 @@ class Lay:
             if self.top is None:
                 raise ValueError("missing required key lay.top: (x, z) of the J-lay hang-off [m]")
             assign(self, "top", vector("lay.top", self.top, 2))
-        if self.frame == "seabed" and self.top[0] <= 0:
-            fail("lay.top", self.top, "must be above the seabed (x > 0)")
-        if self.frame == "seabed" and self.curve is not None and self.stinger.lower[0] < 0:
-            fail("lay.stinger.lower", self.stinger.lower, "is below the seabed (x < 0)")
         self._check_top_angle()
 
     def _check_top_angle(self):
@@ -312,7 +311,8 @@ class Lay:
 
     def _check_rollers(self):
         """A roller stinger's top, top angle and rollers: the rollers below
-        and behind the top, falling from one to the next, above the seabed."""
+        and behind the top, falling from one to the next (the seabed below
+        them: :func:`.surface.check_vessel`)."""
         st, p = self.stinger, "lay.stinger"
         if self.top is None:
             raise ValueError("missing required key lay.top: (x, z) [m] where the vessel holds "
@@ -344,8 +344,6 @@ class Lay:
                 fail(f"{where}[{i}]", pts[i].tolist(),
                      f"must lie below and behind roller {i - 1} at {pts[i - 1].tolist()} (x and "
                      "z falling from the vessel down; a coarse height_step can merge heights)")
-        if self.frame == "seabed" and pts[-1, 0] < 0.0:
-            fail(f"{where}[{len(pts) - 1}]", pts[-1].tolist(), "is below the seabed (x < 0)")
 
     def roller_positions(self) -> np.ndarray | None:
         """(n, 2) roller positions (x, z) [m] of a roller stinger; None otherwise."""

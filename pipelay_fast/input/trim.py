@@ -18,9 +18,11 @@ passes): a stinger whose upper end no longer lies above and ahead of its
 tip, or whose tangent reaches 90 deg from horizontal (at its tip, the
 steepest point of a concave-down curve, or its upper end); a firing line
 ``lay.top_angle`` + trim outside (0, 90] deg; rollers no longer falling
-from one to the next in x and z (:class:`.lay.Lay`'s check); a tip or a
-roller below the seabed. No other bound: a trim is whatever keeps the
-vessel's geometry a lay.
+from one to the next in x and z (:class:`.lay.Lay`'s check). The case
+then checks the trimmed geometry against the seabed as it does an
+untrimmed one (:func:`.surface.check_vessel`, its message naming the
+trim). No other bound: a trim is whatever keeps the vessel's geometry a
+lay.
 """
 
 from __future__ import annotations
@@ -152,9 +154,6 @@ def _check_curve(st: TrimmedStinger, trim_deg: float) -> None:
     if not (tip < 90.0 and top > -90.0):
         fail("lay.trim_deg", trim_deg, f"turns the stinger's tangent to {tip:.6g} deg at its "
              f"tip and {top:.6g} deg at its upper end: it must stay within 90 deg of horizontal")
-    if x_l < 0.0:
-        fail("lay.trim_deg", trim_deg, f"lowers the stinger's tip to {[x_l, z_l]}, below "
-             "the seabed (x < 0)")
 
 
 def trimmed(lay):
@@ -169,8 +168,6 @@ def trimmed(lay):
     st = lay.stinger
     if lay.has_rollers:
         pts = [parabola.rotate(p, turn, pivot) for p in lay.roller_positions()]
-        if min(p[0] for p in pts) < 0.0:
-            fail("lay.trim_deg", lay.trim_deg, "lowers a roller below the seabed (x < 0)")
         changes["stinger"] = dataclasses.replace(
             st, rollers=tuple(pts), radius=None, arc_length=None, spacing=None,
             straight_length=0.0, height_step=None, height_shift=0.0, shifted=None)
