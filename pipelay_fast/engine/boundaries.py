@@ -112,13 +112,36 @@ def lateral_hold_start(case: Case, pb: Problem):
 def touchdown_position(pb: Problem) -> float:
     """Arc length of touchdown [m]: its node's on a rigid seabed; on an
     elastic one, where the pipe rises out of the foundation for the last
-    time (its clearance x - x_b(z) above the seabed's surface,
-    :func:`.supports.surface_heights`, linear between the last node below
-    the seabed and the next)."""
+    time: its clearance x - x_b(z) above the seabed's surface (the flat
+    seabed, the slope's plane or the profile,
+    :func:`.supports.surface_heights`) changes sign in the element after
+    the last node below the seabed, found along the element's cubic Hermite x(s), z(s) (not its
+    chord, which would move touchdown with the mesh's nodes by a share of
+    their move); the lower end's when no node is below it."""
     if pb.td_node >= 0:
         return float(pb.s[pb.td_node])
-    x_b, _slope = surface_heights(pb.props, pb.bed, pb.u[pb.nd - 1::pb.ndn])
-    return foundation_exit(pb.s, pb.u[0::pb.ndn] - x_b)
+    nd, ndn, u, s = pb.nd, pb.ndn, pb.u, pb.s
+    gap = u[0::ndn] - surface_heights(pb.props, pb.bed, u[nd - 1::ndn])[0]
+    below = np.flatnonzero(gap < 0.0)
+    if below.size == 0:
+        return float(s[0])
+    k = int(below[-1])
+    if k + 1 >= s.size:
+        return float(s[k])
+    le = float(s[k + 1] - s[k])
+    a, b = k * ndn, (k + 1) * ndn
+    # Hermite coefficients of x and z on the element, xi = (s - s_k) / le
+    x = (u[a], le * u[a + nd], u[b], le * u[b + nd])
+    z = (u[a + nd - 1], le * u[a + 2 * nd - 1], u[b + nd - 1], le * u[b + 2 * nd - 1])
+
+    def clearance(xi):
+        n = (1.0 - 3.0 * xi**2 + 2.0 * xi**3, xi - 2.0 * xi**2 + xi**3,
+             3.0 * xi**2 - 2.0 * xi**3, xi**3 - xi**2)
+        z_i = sum(c * f for c, f in zip(z, n, strict=True))
+        return (sum(c * f for c, f in zip(x, n, strict=True))
+                - float(surface_heights(pb.props, pb.bed, np.array([z_i]))[0][0]))
+
+    return float(s[k] + le * brentq(clearance, 0.0, 1.0, xtol=T.REL_ROUNDOFF))
 
 
 def conform_end(pb: Problem):
@@ -362,20 +385,6 @@ def lift_off_above_tip(case: Case, pb: Problem):
     at re-contact's node, with no node over the tip."""
     pb.tip[0], pb.tip[1] = 0.0, 0.0
     follow_nodes(case, pb, (pb.td_node, pb.lo_node, -1))
-
-
-def foundation_exit(s, x) -> float:
-    """Arc length [m] where the pipe rises out of an elastic seabed for the
-    last time: its clearance ``x`` [m] (per node) 0 between the last node
-    below the seabed (x < 0) and the next, linearly; the lower end's when no
-    node is below it."""
-    below = np.flatnonzero(x < 0.0)
-    if below.size == 0:
-        return float(s[0])
-    k = int(below[-1])
-    if k + 1 >= s.size:
-        return float(s[k])
-    return float(s[k] + (s[k + 1] - s[k]) * (-x[k]) / (x[k + 1] - x[k]))
 
 
 def last_roller_in_contact(pb) -> int:
