@@ -118,3 +118,34 @@ def test_slay_pipe_length_lands_the_lower_end_at_the_origin(extra):
     arc = float(st.arc_length(g.liftoff_z, st.upper[1]))
     assert g.laid == pytest.approx(length - ref["suspended_length"] - arc, abs=1e-9 * length)
     assert g.liftoff_z - ref["horizontal_span"] == pytest.approx(g.laid, abs=1e-6)
+
+
+@pytest.mark.parametrize("lam_over_span", [0.01, 0.3, 30.0])
+def test_beam_span_solves_the_beam_column(lam_over_span):
+    """The beam-column guess of a bending-dominated J-lay solves
+    EI y'''' - h y'' = -w (the second difference of EI y'' - h y is -w),
+    touches down with y = y' = y'' = 0 and reaches the top's height with
+    y'' = 0 (pinned); its span tends to the weightless beam's
+    (24 EI x_top / w)^(1/4) for lam >> L and to the catenary's
+    lam + sqrt(2 h x_top / w) for lam << L (no overflow there)."""
+
+    from pipelay_fast.engine.beam import BeamSpan
+
+    w, x_top, ei = 600.0, 70.0, 2.7e12
+    beam_span = (24.0 * ei * x_top / w) ** 0.25
+    h = ei / (lam_over_span * beam_span) ** 2
+    b = BeamSpan(h, w, w, 1e9, x_top, ei)
+    xi = np.linspace(0.0, b.span, 4001)
+    y, dy, ddy = b._y(xi)
+    assert (y[0], dy[0], ddy[0]) == pytest.approx((0.0, 0.0, 0.0), abs=1e-9 * x_top)
+    assert y[-1] == pytest.approx(x_top, rel=1e-9)
+    assert ddy[-1] == pytest.approx(0.0, abs=1e-9 * np.abs(ddy).max())
+    # EI y'''' - h y'' + w = 0: the second difference of EI y'' - h y is -w
+    q = ei * ddy - h * y
+    d2 = (q[2:] - 2.0 * q[1:-1] + q[:-2]) / (xi[1] - xi[0]) ** 2
+    assert d2 == pytest.approx(-w * np.ones_like(d2), rel=1e-3)
+    lam = math.sqrt(ei / h)
+    if lam_over_span > 1.0:
+        assert b.span == pytest.approx(beam_span, rel=1e-2)
+    elif lam_over_span < 0.1:
+        assert b.span == pytest.approx(lam + math.sqrt(2.0 * h * x_top / w), rel=1e-2)

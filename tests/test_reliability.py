@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 import pipelay_fast as pf
-from tests.helpers import EXAMPLES, weights
+from tests.helpers import EXAMPLES, elastica_for, weights
 from tests.reference.slay import slay_elastica
 
 # Class 1, S-lay that failed at the homotopy's first load step: a switch to
@@ -57,3 +57,41 @@ def test_slay_first_load_step_matches_elastica(name):
     for key in ("sagbend_max_moment", "overbend_max_moment"):
         assert sm[key] == pytest.approx(ref[key], rel=AGREE)
 
+
+
+# Class 5, the near-rigid pipe (E = 1e15 Pa): its flexural length sqrt(EI/T)
+# is kilometres, above the heavy elastica's (EI/w)^(1/3), and it touches down
+# about (24 EI x_top / w)^(1/4) from the top, where the catenary guess is
+# 1.4 km off (the cases 1:2d-117 and 1:2d-208 of benchmarks/bench_random.py
+# --seed 1, rounded; the top pinned).
+RIGID_JLAY = {
+    "bottom tension, bare": {
+        "pipe.outer_diameter": 0.66751, "pipe.inner_diameter": 0.61541,
+        "pipe.coating_outer_diameter": 0.66751, "pipe.hydrodynamic_diameter": 0.66751,
+        "pipe.coating_density": 0.0, "environment.water_depth": 55.713,
+        "lay.top": [70.151, 377.619], "lay.bottom_tension": 215676.0, "lay.top_tension": None},
+    "top tension, coated": {
+        "pipe.outer_diameter": 1.07822, "pipe.inner_diameter": 0.99637,
+        "pipe.coating_outer_diameter": 1.14474, "pipe.hydrodynamic_diameter": 1.14474,
+        "pipe.coating_density": 1965.3, "environment.water_depth": 50.286,
+        "lay.top": [55.775, 235.238], "lay.top_tension": 452860.0},
+}
+
+
+@pytest.mark.parametrize("name", RIGID_JLAY)
+def test_near_rigid_jlay_matches_elastica(name):
+    """A near-rigid J-lay pipe (class 5, E = 1e15 Pa, extensible) with the
+    top pinned: the engine solves it, and its top and bottom tensions and its
+    largest moment agree with the independent planar elastica within 0.5 %."""
+    changes = {**RIGID_JLAY[name], "pipe.youngs_modulus": 1e15, "lay.top_angle": None,
+               "environment.current.speed": 0.0, "solver.dimension": "2d", "checks": None}
+    case = pf.load_case(EXAMPLES / "j125_2d.toml").with_changes(changes)
+    lay = case.lay
+    tension = ({"T_top": lay.top_tension} if lay.top_tension is not None
+               else {"T_bottom": lay.bottom_tension})
+    ref = elastica_for(case, **tension)
+    result = pf.solve(case)
+    sm = result.summary
+    assert sm["top_tension"] == pytest.approx(ref["top_tension"], rel=AGREE)
+    assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=AGREE)
+    assert float(result.profile["moment"].max()) == pytest.approx(ref["max_moment"], rel=AGREE)

@@ -24,6 +24,7 @@ from scipy.optimize import brentq
 
 from ..input.case import Case
 from . import tuning as T
+from .beam import BeamSpan
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
 from .supports import seabed_height
@@ -336,6 +337,20 @@ def _slay_bottom_tension(case: Case) -> float:
     return h
 
 
+def _bending_dominated(case: Case, cat: Catenary) -> bool:
+    """Whether a J-lay's guess is the beam-column's (:class:`.beam.BeamSpan`)
+    rather than the catenary ``cat``: a pinned top over a flat seabed, with
+    no pipe length given, where the flexural length sqrt(EI/h) is at least
+    the heavy elastica's (EI/w)^(1/3) (the pipe's stiffness, not its
+    tension, sets the span; the same test as the mesh's boundary layer,
+    :func:`.problem.sized_mesh`). On the same height and tension the
+    pinned top's effective tension is the catenary's (M = 0 there)."""
+    ei = case.pipe.bending_stiffness
+    return (case.lay.top_angle in (None, "pinned") and case.lay.pipe_length is None
+            and case.seabed.profile is None
+            and math.sqrt(ei / cat.h) >= (ei / cat.w1) ** (1.0 / 3.0))
+
+
 def first_guess(case: Case, laid_of) -> Guess:
     """The first shape; ``laid_of(cat)`` gives the laid length [m] behind the
     suspended span's natural catenary ``cat`` (not called when
@@ -346,6 +361,9 @@ def first_guess(case: Case, laid_of) -> Guess:
         cat, x_tdp = free_span(case), 0.0
         if case.seabed.slope != 0.0 and lay.top_tension is not None:
             cat, x_tdp = sloped_span(case, cat)
+        elif _bending_dominated(case, cat):
+            cat = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top,
+                           case.pipe.bending_stiffness)
         susp = cat.length
         if lay.pipe_length is not None:
             laid = lay.pipe_length - susp
@@ -376,7 +394,11 @@ def shape(case: Case, g: Guess, s):
     x = np.where(on_bed, 0.0, x)
     th = np.where(on_bed, 0.0, th)
     te = np.where(on_bed, cat.h, te)
-    kappa = np.where(on_bed, 0.0, np.cos(th) ** 2 * np.asarray(case.effective_weight(x)) / cat.h)
+    if isinstance(cat, BeamSpan):
+        kappa = np.where(on_bed, 0.0, cat.curvature(np.clip(s - g.laid, 0.0, cat.length)))
+    else:
+        kappa = np.where(on_bed, 0.0,
+                         np.cos(th) ** 2 * np.asarray(case.effective_weight(x)) / cat.h)
     if case.seabed.slope != 0.0:
         x, z, th = _onto_slope(case, g, s, x, z, th, z_tdp)
     if g.s_liftoff is not None:

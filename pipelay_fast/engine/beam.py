@@ -1,0 +1,100 @@
+"""The small-slope beam-column: a bending-dominated J-lay's first guess
+(engine layer).
+
+A pipe of bending stiffness EI under the constant horizontal tension ``h``
+and the effective weight ``w`` per length leaves a flat seabed tangent to
+it with no moment at touchdown (xi = 0, y = y' = y'' = 0) and reaches a
+pinned top (y'' = 0) at height ``x_top`` a horizontal span L further. With
+lam = sqrt(EI / h) and small slopes, EI y'''' - h y'' = -w gives
+
+    y = (w/h) [xi^2/2 - lam^2 (cosh(xi/lam) - 1) + lam tanh(L/(2 lam)) (lam sinh(xi/lam) - xi)],
+
+and the span L is the root of  y(L) = (w/h) [L^2/2 - lam L tanh(L/(2 lam))] = x_top,
+which grows with L from 0. Its limits: the catenary (parabola) one flexural
+length further out, (w/2h) (L - lam)^2, where lam << L; the weightless
+beam's w L^4 / (24 EI) where lam >> L. The catenary guess
+(:mod:`.catenary`) touches down a span near sqrt(2 h x_top / w) from the
+top; a bending-dominated pipe (lam above (EI/w)^(1/3)) touches down
+(24 EI x_top / w)^(1/4) from it, kilometres further for a near-rigid pipe.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+# points along the span on which the shape is tabulated against arc length
+_TABLE = 2001
+
+
+class BeamSpan:
+    """The small-slope beam-column from touchdown (s = 0, x = z = 0) to a
+    pinned top at height ``x_top`` [m], in the horizontal tension ``h`` [N]
+    under the weight ``w1`` [N/m] (the seabed's; ``w2`` [N/m] above the
+    surface at height ``depth`` [m] only sets the effective tension), of
+    bending stiffness ``ei`` [N m^2]. Duck-types
+    :class:`.catenary.Catenary` for :func:`.guess.shape`."""
+
+    tan0 = 0.0
+
+    def __init__(self, h: float, w1: float, w2: float, depth: float, x_top: float, ei: float):
+        self.h, self.w1, self.w2, self.depth, self.x_top, self.ei = h, w1, w2, depth, x_top, ei
+        self.lam = math.sqrt(ei / h)
+        self.span = self._span()
+        xi = np.linspace(0.0, self.span, _TABLE)
+        y, dy, ddy = self._y(xi)
+        ds = np.hypot(1.0, dy)
+        self._s = np.concatenate([[0.0], np.cumsum(0.5 * (ds[1:] + ds[:-1]) * np.diff(xi))])
+        self._xi, self._x, self._th = xi, y, np.arctan(dy)
+        self._kappa = ddy / ds**3
+        self.length = float(self._s[-1])
+
+    def _height(self, span: float) -> float:
+        lam = self.lam
+        return self.w1 / self.h * (0.5 * span * span - lam * span * math.tanh(0.5 * span / lam))
+
+    def _span(self) -> float:
+        """The root L of y(L) = x_top (bracketed by the two limits' spans)."""
+        cable = self.lam + math.sqrt(2.0 * self.h * self.x_top / self.w1)
+        beam = (24.0 * self.ei * self.x_top / self.w1) ** 0.25
+        top = 2.0 * max(cable, beam)
+        return brentq(lambda L: self._height(L) - self.x_top, 0.0, top)
+
+    def _y(self, xi):
+        """y, y', y'' at horizontal distances ``xi`` [m] from touchdown (in
+        u = xi/lam and U = L/(2 lam): cosh u - tanh U sinh u = cosh(u - U) /
+        cosh U, each exponent below 0 for 0 <= u <= 2U, so no overflow)."""
+        lam, q = self.lam, self.w1 / self.h
+        big = 0.5 * self.span / lam
+        t = math.tanh(big)
+        u = np.asarray(xi, dtype=np.float64) / lam
+        a, b, n = np.exp(u - 2.0 * big), np.exp(-u), 1.0 + math.exp(-2.0 * big)
+        ch, sh = (a + b) / n, (a - b) / n  # cosh(u - U) / cosh U, sinh(u - U) / cosh U
+        y = q * (0.5 * xi * xi + lam * lam * (1.0 - ch) - lam * t * xi)
+        dy = q * (xi - lam * (sh + t))
+        ddy = q * (1.0 - ch)
+        return y, dy, ddy
+
+    @property
+    def top_tension(self) -> float:
+        """Effective tension at the pinned top [N]: h plus the weight of the
+        height climbed (exact for a pinned top, where M = 0)."""
+        below = min(self.x_top, self.depth)
+        return self.h + self.w1 * below + self.w2 * max(self.x_top - self.depth, 0.0)
+
+    def at(self, s):
+        """Shape at arc lengths ``s`` [m] from touchdown: x, z [m], theta [rad],
+        Te [N] (h plus the weight of the height climbed, less M^2 / (2 EI))."""
+        s = np.asarray(s, dtype=np.float64)
+        x = np.interp(s, self._s, self._x)
+        z = np.interp(s, self._s, self._xi)
+        th = np.interp(s, self._s, self._th)
+        kappa = self.curvature(s)
+        rise = self.w1 * np.minimum(x, self.depth) + self.w2 * np.maximum(x - self.depth, 0.0)
+        return x, z, th, self.h + rise - 0.5 * self.ei * kappa * kappa
+
+    def curvature(self, s):
+        """Curvature [1/m] at arc lengths ``s`` [m] from touchdown."""
+        return np.interp(np.asarray(s, dtype=np.float64), self._s, self._kappa)
