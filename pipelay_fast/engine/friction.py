@@ -9,6 +9,7 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
+from ..kernels.contact import plane_tangent
 from . import tuning as T
 from .model import dimension_of
 
@@ -94,12 +95,15 @@ def friction_path(case: Case) -> bool:
     return (lateral or case.seabed.axial_friction > 0.0) and case.environment.current.speed > 0.0
 
 
-def anchor_friction(fric, u, nd, s):
+def anchor_friction(fric, u, nd, s, props):
     """Friction springs unstretched: anchors at the nodes' present positions
-    and material points (arc lengths ``s`` [m])."""
+    and material points (arc lengths ``s`` [m]); the axial one's along the
+    seabed plane's tangent (:func:`..kernels.contact.slip_coordinate`, z on
+    the flat seabed, ``props`` the model's properties)."""
     ndn = 2 * nd + 1
     fric[:, L.FR_S] = s
-    fric[:, L.FR_Z] = u[nd - 1::ndn]
+    t_x, t_z = plane_tangent(props)
+    fric[:, L.FR_Z] = u[nd - 1::ndn] if t_x == 0.0 else t_x * u[0::ndn] + t_z * u[nd - 1::ndn]
     if nd == 3:
         fric[:, L.FR_Y] = u[1::ndn]
     fric[:, L.FR_DIR] = 0.0
