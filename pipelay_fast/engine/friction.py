@@ -9,7 +9,6 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
-from ..kernels.contact import plane_tangent
 from . import tuning as T
 from .model import dimension_of
 
@@ -102,8 +101,9 @@ def anchor_friction(fric, u, nd, s, props):
     the flat seabed, ``props`` the model's properties)."""
     ndn = 2 * nd + 1
     fric[:, L.FR_S] = s
-    t_x, t_z = plane_tangent(props)
-    fric[:, L.FR_Z] = u[nd - 1::ndn] if t_x == 0.0 else t_x * u[0::ndn] + t_z * u[nd - 1::ndn]
+    m = props[L.SEABED_TAN]  # the plane's tangent (m c, c), as the kernels' plane_tangent
+    c = 1.0 / math.sqrt(1.0 + m * m)
+    fric[:, L.FR_Z] = u[nd - 1::ndn] if m == 0.0 else m * c * u[0::ndn] + c * u[nd - 1::ndn]
     if nd == 3:
         fric[:, L.FR_Y] = u[1::ndn]
     fric[:, L.FR_DIR] = 0.0
