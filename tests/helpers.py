@@ -40,6 +40,49 @@ def weights(case):
     return w_dry - env.water_density * g * np.pi * p.coating_outer_diameter**2 / 4, w_dry
 
 
+def friction_system(pb):
+    """Closures over a solved problem's state ``pb`` (its load factors set by
+    the caller), for the seabed friction springs' tests: the node arc lengths
+    s (nn,) [m]; ``residual(u, tangent, friction=True)`` -> (g, ab), the
+    elements' residual and band tangent (rows 2 kl + i - j) with the springs
+    (:func:`pipelay_fast.kernels.contact.friction_forces`) or without;
+    ``dense(ab)`` -> the band as a dense matrix; ``friction_only(u)`` -> the
+    springs' share of the residual."""
+    from pipelay_fast.kernels import layout as L
+    from pipelay_fast.kernels.contact import friction_forces, node_arcs
+    from pipelay_fast.kernels.system import _system
+
+    nd, ndn, n = pb.nd, pb.ndn, pb.u.size
+    kl = 2 * ndn - 1
+    torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
+    s = np.zeros(pb.nn)
+    node_arcs(pb.s_el, s)
+    nb = pb.bnodes.size
+
+    def residual(u, tangent, friction=True):
+        g = np.zeros(n)
+        ab = np.zeros((3 * kl + 1, n)) if tangent else np.zeros((1, 1))
+        _system(nd, pb.s_el, u, pb.model(), torques, ab, kl, kl, g,
+                pb.kernel_ends(np.zeros(n)), tangent, np.zeros((nb, pb.nn)),
+                np.full(nb, -1, dtype=np.int64), np.zeros((nb, n)))
+        if friction:
+            friction_forces(nd, u, g, ab, 2 * kl if tangent else 0, pb.model(),
+                            pb.contacts.bed_active, pb.contacts.fric, np.zeros(n), s, False)
+        return g, ab
+
+    def dense(ab):
+        k = np.zeros((n, n))
+        for j in range(n):
+            for r in range(max(0, j - kl), min(n, j + kl + 1)):
+                k[r, j] = ab[2 * kl + r - j, j]
+        return k
+
+    def friction_only(u):
+        return residual(u, False)[0] - residual(u, False, False)[0]
+
+    return s, residual, dense, friction_only
+
+
 def elastica_for(case, **tension):
     """The planar J-lay elastica (:func:`jlay_elastica`) of ``case`` with ``tension`` given."""
     w_sub, w_dry = weights(case)

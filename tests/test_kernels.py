@@ -26,10 +26,9 @@ from pipelay_fast.kernels.contact import (
     node_arcs,
 )
 from pipelay_fast.kernels.layout import I_RES
-from pipelay_fast.kernels.system import _system
 from pipelay_fast.kernels.types import load_factors
 from pipelay_fast.output.results import foundation_force
-from tests.helpers import EXAMPLES
+from tests.helpers import EXAMPLES, friction_system
 
 
 @pytest.mark.parametrize("n,kl,ku", [(4, 1, 1), (7, 2, 3), (60, 9, 9), (200, 13, 13)])
@@ -402,33 +401,8 @@ def test_friction_tangent_is_the_derivative_of_its_forces():
         {"seabed.axial_friction": 0.3, "environment.current.profile": "linear"})
     pb = pf.solve(case).state
     pb.settings.factors[:] = load_factors(1.0, True)  # the answer's load: full current, friction on
-    nd, ndn, n = pb.nd, pb.ndn, pb.u.size
-    kl = 2 * ndn - 1
-    torques = np.full(pb.nn - 1, pb.props[L.TORQUE])
-    s = np.zeros(pb.nn)
-    node_arcs(pb.s_el, s)
-    nb = pb.bnodes.size
-
-    def residual(u, tangent, friction=True):
-        g = np.zeros(n)
-        ab = np.zeros((3 * kl + 1, n)) if tangent else np.zeros((1, 1))
-        _system(nd, pb.s_el, u, pb.model(), torques, ab, kl, kl, g,
-                pb.kernel_ends(np.zeros(n)), tangent, np.zeros((nb, pb.nn)),
-                np.full(nb, -1, dtype=np.int64), np.zeros((nb, n)))
-        if friction:
-            friction_forces(nd, u, g, ab, 2 * kl if tangent else 0, pb.model(),
-                            pb.contacts.bed_active, pb.contacts.fric, np.zeros(n), s, False)
-        return g, ab
-
-    def dense(ab):
-        k = np.zeros((n, n))
-        for j in range(n):
-            for r in range(max(0, j - kl), min(n, j + kl + 1)):
-                k[r, j] = ab[2 * kl + r - j, j]
-        return k
-
-    def friction_only(u):
-        return residual(u, False)[0] - residual(u, False, False)[0]
+    nd, ndn = pb.nd, pb.ndn
+    s, residual, dense, friction_only = friction_system(pb)
 
     on_bed = np.flatnonzero(pb.contacts.bed_active)[-8:]  # up to touchdown
     assert np.all(np.abs(pb.u[on_bed * ndn]) < 1e-9)  # on the seabed
@@ -558,7 +532,6 @@ def test_an_anchor_interpolated_towards_a_free_neighbour_moves_with_it():
     difference of the residual with the neighbour's anchor tracked). Without
     it a random J-lay's current steps converged linearly, 0.70 a step (43
     iterations; 5 with it)."""
-    from pipelay_fast.kernels.contact import friction_forces
     from pipelay_fast.kernels.types import Model
 
     nd, ndn, nn = 3, 7, 3

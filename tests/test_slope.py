@@ -236,16 +236,13 @@ def test_the_seabed_line_under_the_pipe():
     ({"seabed.slope_origin": float("inf")}, "seabed.slope_origin"),
     ({"seabed.slope_deg": 5.0, "lay.top_tension": None, "lay.bottom_tension": 4e5},
      "lay.bottom_tension"),
-    ({"seabed.slope_deg": 5.0, "environment.current.speed": 1.0, "seabed.axial_friction": 0.3},
-     "seabed.axial_friction"),
     ({"seabed.slope_deg": 20.0, "seabed.slope_origin": 0.0}, "lay.top"),
 ])
 def test_a_bad_slope_is_refused_naming_the_key(changes, key):
     """A slope beyond 30 deg either way, one that is not a finite number, a
     seabed above the vessel's top (J125's top (130, 440): 20 deg through
     z = 0 is at 160 m there), and what a slope does not support (a given
-    bottom tension, friction on the current's path) are
-    refused naming the key."""
+    bottom tension) are refused naming the key."""
     base = pf.load_case("j125_2d").with_changes({"environment.current.speed": 0.0})
     with pytest.raises(ValueError, match=key.replace(".", r"\.")):
         base.with_changes(changes)

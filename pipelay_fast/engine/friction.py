@@ -94,12 +94,16 @@ def friction_path(case: Case) -> bool:
     return (lateral or case.seabed.axial_friction > 0.0) and case.environment.current.speed > 0.0
 
 
-def anchor_friction(fric, u, nd, s):
+def anchor_friction(fric, u, nd, s, props):
     """Friction springs unstretched: anchors at the nodes' present positions
-    and material points (arc lengths ``s`` [m])."""
+    and material points (arc lengths ``s`` [m]); the axial one's along the
+    seabed plane's tangent (:func:`..kernels.contact.slip_coordinate`, z on
+    the flat seabed, ``props`` the model's properties)."""
     ndn = 2 * nd + 1
     fric[:, L.FR_S] = s
-    fric[:, L.FR_Z] = u[nd - 1::ndn]
+    m = props[L.SEABED_TAN]  # the plane's tangent (m c, c), as the kernels' plane_tangent
+    c = 1.0 / math.sqrt(1.0 + m * m)
+    fric[:, L.FR_Z] = u[nd - 1::ndn] if m == 0.0 else m * c * u[0::ndn] + c * u[nd - 1::ndn]
     if nd == 3:
         fric[:, L.FR_Y] = u[1::ndn]
     fric[:, L.FR_DIR] = 0.0

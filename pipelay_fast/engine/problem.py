@@ -340,7 +340,7 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
         fix_val[zi] = u[0] * math.sin(angle) + u[zi] * math.cos(angle)
     props, table = build_props(case)
     fric = np.zeros((nn, L.N_FRIC))
-    anchor_friction(fric, u, nd, s)
+    anchor_friction(fric, u, nd, s, props)
     ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target,
                          angle)
     section = section_array(s, sections_of(case))

@@ -180,7 +180,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
             pb.mesh.follow_rates(pb.bnodes, pb.mesh.zone_b)
         pb.path.before_current = snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
-        anchor_friction(pb.contacts.fric, pb.u, pb.nd, pb.s)
+        anchor_friction(pb.contacts.fric, pb.u, pb.nd, pb.s, pb.props)
         friction_track(pb.nd, pb.u, react, pb.props, pb.bed, pb.contacts.bed_active,
                        pb.contacts.fric, pb.s)
         pb.settings.factors[L.F_FRICTION] = 1.0

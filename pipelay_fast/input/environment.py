@@ -136,10 +136,11 @@ class Seabed:
         ``lay.top_tension`` or ``lay.pipe_length``). The elastic seabed
         (``stiffness`` a number) pushes along the plane's normal, with
         ``stiffness`` times the normal penetration of the pipe's axis
-        (vertically on the flat seabed and on a ``profile``). Lateral
-        friction acts in the plane (y lies in it), mu_y times the normal
-        force from the plane; ``axial_friction`` with a current is refused
-        on a slope. A plane that reaches the still water level (x >=
+        (vertically on the flat seabed and on a ``profile``). Friction
+        acts in the plane with the normal force N from the plane: lateral
+        along y, at most mu_y N, axial along the plane's line in the
+        (x, z) plane, at most mu_z N, each spring on its own (a rectangular
+        cone in the plane, not an elliptic one). A plane that reaches the still water level (x >=
         ``environment.water_depth``) along the modelled pipe, laid pipe
         included, is refused when the mesh is built
         (:func:`pipelay_fast.input.surface.check_water`); the vessel must
@@ -206,11 +207,10 @@ class Seabed:
 
 def check_slope(case) -> None:
     """Refuse what a sloped seabed (``seabed.slope_deg`` not 0) does not
-    support, naming the keys: a given bottom tension (on a
+    support, naming the key: a given bottom tension (on a
     slope the laid pipe's tension changes along it, so the tension at the
-    modelled lower end is not a property of the lay) and axial seabed
-    friction on the current's path. The vessel against the plane:
-    :func:`.surface.check_vessel`."""
+    modelled lower end is not a property of the lay). The vessel against
+    the plane: :func:`.surface.check_vessel`."""
     bed = case.seabed
     if bed.slope_deg == 0.0:
         return
@@ -219,8 +219,3 @@ def check_slope(case) -> None:
         raise ValueError(f"{head}: lay.bottom_tension = {case.lay.bottom_tension!r} N is "
                          "refused on a slope (the laid pipe's tension changes along it); "
                          "give lay.top_tension or lay.pipe_length")
-    if bed.axial_friction > 0.0 and case.environment.current.speed > 0.0:
-        raise ValueError(f"{head}: axial seabed friction (seabed.axial_friction = "
-                         f"{bed.axial_friction!r}) with a current (environment.current.speed "
-                         f"= {case.environment.current.speed!r} m/s) is not supported on a "
-                         "slope (lateral friction is): set seabed.axial_friction to 0")

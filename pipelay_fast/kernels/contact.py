@@ -180,6 +180,76 @@ def plane_normal(props):
 
 
 @jit(_nrt=False)
+def plane_tangent(props):
+    """(t_x, t_z) [-]: the seabed plane's unit tangent along the route, where
+    axial friction acts: (m c, c), m = props[SEABED_TAN], c = 1 / sqrt(1 +
+    m^2) ((0, 1) flat)."""
+    m = props[L.SEABED_TAN]
+    if m == 0.0:
+        return 0.0, 1.0
+    c = 1.0 / math.sqrt(1.0 + m * m)
+    return m * c, c
+
+
+@jit(_nrt=False)
+def slip_coordinate(nd, v, base, slot, t_x, t_z):
+    """The coordinate [m] the friction spring at ``slot`` of the node at rows
+    ``base`` measures in ``v`` (positions or a step): y (lateral), or along
+    the plane's tangent (:func:`plane_tangent`) t_x x + t_z z (axial, slot
+    nd - 1; z on the flat seabed, t_x = 0)."""
+    if slot == nd - 1 and t_x != 0.0:
+        return t_x * v[base] + t_z * v[base + slot]
+    return v[base + slot]
+
+
+@jit(_nrt=False)
+def _add_along(v, nd, base, slot, t_x, t_z, value):
+    """Add ``value`` along a spring's direction e to the node's rows of ``v``
+    (from ``base``): y, or the axial spring's (x, z) rows times (t_x, t_z)."""
+    if slot == nd - 1 and t_x != 0.0:
+        v[base] += t_x * value
+        v[base + slot] += t_z * value
+    else:
+        v[base + slot] += value
+
+
+@jit(_nrt=False)
+def _add_outer(ab, kv, nd, row_base, col_base, slot, t_x, t_z, k):
+    """Add k e e^T to the tangent's rows of the node at ``row_base``, columns
+    of the node at ``col_base``; e the spring's direction (:func:`_add_along`)."""
+    if slot == nd - 1 and t_x != 0.0:
+        for a in range(2):
+            i = row_base + (0 if a == 0 else slot)
+            t_i = t_x if a == 0 else t_z
+            for b in range(2):
+                j = col_base + (0 if b == 0 else slot)
+                t_j = t_x if b == 0 else t_z
+                ab[kv + i - j, j] += k * t_i * t_j
+    else:
+        ab[kv + row_base - col_base, col_base + slot] += k
+
+
+@jit(_nrt=False)
+def _add_normal_rate(ab, kv, n, nd, xrow, slot, t_x, t_z, f, n_z, n_x):
+    """Add f e dW/du to the rows of the node at ``xrow``, e the spring's
+    direction (:func:`_add_outer`): dW/du the normal's rows of the tangent
+    (x, or n_x x + n_z z), their columns the node's and its neighbours'
+    unknowns (within the y and z rows' band too), each read before written."""
+    ndn = 2 * nd + 1
+    zrow = xrow + nd - 1
+    tilt = slot == nd - 1 and t_x != 0.0
+    for j in range(max(0, xrow - ndn), min(n, xrow + 2 * ndn)):
+        dw_j = ab[kv + xrow - j, j]
+        if n_z != 0.0:
+            dw_j = n_x * dw_j + n_z * ab[kv + zrow - j, j]
+        if tilt:
+            ab[kv + xrow - j, j] += f * t_x * dw_j
+            ab[kv + zrow - j, j] += f * t_z * dw_j
+        else:
+            ab[kv + xrow + slot - j, j] += f * dw_j
+
+
+@jit(_nrt=False)
 def normal_force(nd, g, props, bed_active, fric, node, nodal):
     """The normal force W [N] a node's friction acts with: on a rigid seabed
     contact its reaction at the present state along the plane's normal
@@ -209,6 +279,7 @@ def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
     props = model.props
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
+    t_x, t_z = plane_tangent(props)
     for node in range(bed_active.shape[0]):
         w = normal_force(nd, g, props, bed_active, fric, node, False)
         if w <= 0.0:
@@ -221,13 +292,16 @@ def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
             slot, mu, ccol, _dcol = _friction_dofs(nd, props, comp)
             if slot < 0 or mu <= 0.0:
                 continue
-            dof = node * ndn + slot
-            d = (u[dof] - anchor_at(fric, ccol, s, node)) / d_slip
+            base = node * ndn
+            d = (slip_coordinate(nd, u, base, slot, t_x, t_z)
+                 - anchor_at(fric, ccol, s, node)) / d_slip
             clipped = min(max(d, -1.0), 1.0)
-            # g -= force, force = -mu w clip(d): dg = mu (dw clip(d) + w dd)
-            col[dof] += mu * dw * clipped
+            # g -= force e, force = -mu w clip(d): dg = mu (dw clip(d) + w dd) e,
+            # e the spring's direction (:func:`_add_rows`)
+            _add_along(col, nd, base, slot, t_x, t_z, mu * dw * clipped)
             if abs(d) < 1.0 and s_b[node] != 0.0:
-                col[dof] -= mu * w * _anchor_slope(fric, ccol, s, node) * s_b[node] / d_slip
+                _add_along(col, nd, base, slot, t_x, t_z,
+                           -(mu * w * _anchor_slope(fric, ccol, s, node) * s_b[node] / d_slip))
 
 
 @jit(entry=True, _nrt=False)
@@ -237,15 +311,21 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s, nodal):
 
     Each seabed contact resists lateral (and axial) motion from its anchor d
     with the force -mu W clip(d / d_slip, -1, 1): elastic up to the mobilising
-    displacement d_slip, then sliding at mu W. W is the node's normal force
+    displacement d_slip, then sliding at mu W. The lateral spring acts along
+    y; the axial one along the seabed plane's tangent e = (t_x, t_z)
+    (:func:`plane_tangent`, z on the flat seabed), d measured along it
+    (:func:`slip_coordinate`), so its force enters the x and z rows as
+    force e and its stiffness as mu W / d_slip e e^T. The two springs are
+    independent: each holds its own cone, |f_y| <= mu_y W and |f_t| <= mu_z W
+    (a rectangle in the plane, not an ellipse). W is the node's normal force
     at the present state (:func:`normal_force`: the x row of ``g``, which
     holds the elements' residual when this is called; on a sloped plane
     its normal component), and the tangent carries its derivative, the x
-    row of the tangent (the normal's rows) times mu clip(d) (the band holds
-    it: the x and z rows' columns lie within the y and z rows' band).
-    ``out`` (ndof,) receives the force on the pipe; ``s`` (nn,) holds the
-    node arc lengths [m] (see :func:`anchor_at`); ``nodal``: ``g``'s rows
-    are in the nodal frames (:func:`normal_force`).
+    row of the tangent (the normal's rows) times mu clip(d) e (the band
+    holds it: the x and z rows' columns lie within the y and z rows' band).
+    ``out`` (ndof,) receives the force on the pipe, in the global frame;
+    ``s`` (nn,) holds the node arc lengths [m] (see :func:`anchor_at`);
+    ``nodal``: ``g``'s rows are in the nodal frames (:func:`normal_force`).
     """
     if model.factors[L.F_FRICTION] == 0.0:  # off on gravity's path
         return
@@ -254,6 +334,8 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s, nodal):
     ndn = 2 * nd + 1
     tangent = ab.shape[0] > 1
     n = g.shape[0]
+    n_x, n_z = plane_normal(props)
+    t_x, t_z = plane_tangent(props)
     for node in range(bed_active.shape[0]):
         w = normal_force(nd, g, props, bed_active, fric, node, nodal)
         if w <= 0.0:
@@ -263,37 +345,35 @@ def friction_forces(nd, u, g, ab, kv, model, bed_active, fric, out, s, nodal):
             slot, mu, col, _dcol = _friction_dofs(nd, props, comp)
             if slot < 0 or mu <= 0.0:
                 continue
-            dof = node * ndn + slot
+            dof = xrow + slot
+            tilt = slot == nd - 1 and t_x != 0.0  # the axial spring on a sloped plane
             f_max = mu * w
-            d = (u[dof] - anchor_at(fric, col, s, node)) / d_slip
+            d = (slip_coordinate(nd, u, xrow, slot, t_x, t_z)
+                 - anchor_at(fric, col, s, node)) / d_slip
             clipped = min(max(d, -1.0), 1.0)
             force = -f_max * clipped
             if tangent:
+                # dW/du read before a tilted spring writes its x and z rows
+                rate = bed_active[node] != 0
+                if rate and tilt:
+                    _add_normal_rate(ab, kv, n, nd, xrow, slot, t_x, t_z, mu * clipped, n_z, n_x)
                 if abs(d) < 1.0:
-                    ab[kv, dof] += f_max / d_slip
+                    _add_outer(ab, kv, nd, xrow, xrow, slot, t_x, t_z, f_max / d_slip)
                     # a neighbour off the seabed keeps its anchor on itself
                     # (:func:`friction_track`), so an anchor interpolated
                     # towards it (touchdown's node, moved past its anchor
                     # point) moves with that neighbour's own unknown
                     other, t = _anchor_partner(fric, s, node)
                     if other >= 0 and bed_active[other] == 0 and fric[other, L.FR_W] <= 0.0:
-                        odof = other * ndn + slot
-                        ab[kv + dof - odof, odof] -= f_max / d_slip * t
-                if bed_active[node] != 0:
-                    # dW/du: the x row of the tangent (and, on a sloped
-                    # plane, its z row), whose columns are the unknowns of
-                    # the node and its two neighbours (within the y and z
-                    # rows' band too)
-                    f = mu * clipped
-                    n_x, n_z = plane_normal(props)
-                    zrow = xrow + nd - 1
-                    for j in range(max(0, xrow - ndn), min(n, xrow + 2 * ndn)):
-                        dw_j = ab[kv + xrow - j, j]
-                        if n_z != 0.0:
-                            dw_j = n_x * dw_j + n_z * ab[kv + zrow - j, j]
-                        ab[kv + dof - j, j] += f * dw_j
-            g[dof] -= force
+                        _add_outer(ab, kv, nd, xrow, other * ndn, slot, t_x, t_z,
+                                   -(f_max / d_slip * t))
+                if rate and not tilt:
+                    _add_normal_rate(ab, kv, n, nd, xrow, slot, t_x, t_z, mu * clipped, n_z, n_x)
+            _add_along(g, nd, xrow, slot, t_x, t_z, -force)
             out[dof] = force
+            if tilt:
+                out[xrow] = t_x * force
+                out[dof] = t_z * force
 
 
 @jit(entry=True, _nrt=False)
@@ -327,7 +407,8 @@ def friction_track(nd, u, react, props, bed, bed_active, fric, s):
             fric[node, L.FR_W] = 0.0
             fric[node, L.FR_DIR] = 0.0
             fric[node, L.FR_DIRZ] = 0.0
-            fric[node, L.FR_Z] = u[base + nd - 1]
+            t_x, t_z = plane_tangent(props)
+            fric[node, L.FR_Z] = slip_coordinate(nd, u, base, nd - 1, t_x, t_z)
             fric[node, L.FR_S] = s[node]
             if nd == 3:
                 fric[node, L.FR_Y] = u[base + 1]
@@ -355,6 +436,7 @@ def friction_step(nd, u, du, s, model, bed_active, fric, stop, alpha):
     props = model.props
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
+    t_x, t_z = plane_tangent(props)
     stop_node = -1
     stop_flag = 0.0
     for node in range(bed_active.shape[0]):
@@ -364,15 +446,16 @@ def friction_step(nd, u, du, s, model, bed_active, fric, stop, alpha):
             slot, mu, col, _dcol = _friction_dofs(nd, props, comp)
             if slot < 0 or mu <= 0.0:
                 continue
-            dof = node * ndn + slot
-            rel = u[dof] - anchor_at(fric, col, s, node)
+            base = node * ndn
+            rel = slip_coordinate(nd, u, base, slot, t_x, t_z) - anchor_at(fric, col, s, node)
             if abs(rel) < d_slip:
                 continue
             edge = -d_slip if rel > 0.0 else d_slip
             if stop[node] == comp + 1:
                 edge = 0.0
-            if (rel + alpha * du[dof] - edge) * (rel - edge) < 0.0:
-                alpha = (edge - rel) / du[dof]
+            step = slip_coordinate(nd, du, base, slot, t_x, t_z)
+            if (rel + alpha * step - edge) * (rel - edge) < 0.0:
+                alpha = (edge - rel) / step
                 stop_node = node
                 stop_flag = 0.0 if edge == 0.0 else comp + 1.0
     stop[:] = 0.0
@@ -392,6 +475,7 @@ def friction_commit(nd, u, model, bed_active, fric, s):
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
     nn = bed_active.shape[0]
+    t_x, t_z = plane_tangent(props)
     moved = np.empty((nn, 2))
     for node in range(nn):
         moved[node, 0] = anchor_at(fric, L.FR_Y, s, node)
@@ -408,7 +492,7 @@ def friction_commit(nd, u, model, bed_active, fric, s):
             fric[node, dcol] = 0.0
             if fric[node, L.FR_W] <= 0.0 or mu <= 0.0 or not friction_on:
                 continue
-            pos = u[node * ndn + slot]
+            pos = slip_coordinate(nd, u, node * ndn, slot, t_x, t_z)
             d = pos - fric[node, col]
             if abs(d) >= d_slip * (1.0 - SLIP_ROUNDOFF):
                 sgn = 1.0 if d > 0.0 else -1.0

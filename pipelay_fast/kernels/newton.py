@@ -122,6 +122,7 @@ from .supports import in_curve_coords
 from .system import (
     _evaluate,
     _from_nodal_frames,
+    _rotate_all,
     _roundoff_ratio,
     _solves_tb,
     _to_nodal_residual,
@@ -315,6 +316,24 @@ def _free_residual(nd, u, sup, w, out):
     _from_nodal_frames(nd, out, u, sup)
 
 
+@phase
+def _friction_answer(nd, u, mesh, model, sup, w, react):
+    """The answer's friction: the springs' normal forces (``w.g`` in the nodal
+    frames), their forces turned into the nodal frames (a sloped seabed's
+    axial force has x and z parts) and joined to the reactions ``react``;
+    then the slipping springs' anchors follow (:func:`.contact.friction_commit`)."""
+    w.fr_out[:] = 0.0
+    node_arcs(mesh.s_el, w.s_nd)
+    bed = sup.active[ROW_BED]
+    for node in range(sup.phi_r.shape[0]):
+        sup.fric[node, L.FR_W] = normal_force(nd, w.g, model.props, bed, sup.fric, node, True)
+    friction_forces(nd, u, w.g, w.no_ab, 0, model, bed, sup.fric, w.fr_out, w.s_nd, True)
+    _rotate_all(nd, w.no_ab, 4 * nd + 1, 4 * nd + 1, w.fr_out, sup.phi_r, sup.phi_rp, False)
+    for i in range(u.shape[0]):
+        react[i] += w.fr_out[i]
+    friction_commit(nd, u, model, bed, sup.fric, w.s_nd)
+
+
 def _newton_kernel(nd):
     """The Newton kernel for dimension ``nd``: :func:`newton_2d` and
     :func:`newton_3d` are its two compilations, ``nd`` a constant in each (a
@@ -416,19 +435,7 @@ def _newton_kernel(nd):
                     break
                 res_change = res_max
         if status == L.OK:
-            # the springs' normal forces of the answer (w.g in the nodal frames), their
-            # forces joined to the reactions; slipping springs' anchors follow
-            w.fr_out[:] = 0.0
-            node_arcs(mesh.s_el, w.s_nd)
-            bed = sup.active[ROW_BED]
-            for node in range(sup.phi_r.shape[0]):
-                sup.fric[node, L.FR_W] = normal_force(nd, w.g, model.props, bed, sup.fric,
-                                                      node, True)
-            friction_forces(nd, u, w.g, w.no_ab, 0, model, bed, sup.fric, w.fr_out,
-                            w.s_nd, True)
-            for i in range(u.shape[0]):
-                react[i] += w.fr_out[i]
-            friction_commit(nd, u, model, bed, sup.fric, w.s_nd)
+            _friction_answer(nd, u, mesh, model, sup, w, react)
         _curve_reactions(nd, u, sup, react)
         info[I_STATUS] = status
         info[I_ITER] = it
