@@ -1,12 +1,10 @@
 """Contact laws as kernels: the stinger's geometry, the tip, the lateral
-hold, seabed friction.
-
-Normal contacts act through the condensation (:mod:`.condensation`): a
-contact node's unknowns are prescribed in its nodal frame and its reaction
-is read back from the constrained rows. Which nodes are in contact follows
-from the contact boundaries, unknowns of Newton (:mod:`.constraints`: the
-seabed from the lower end to touchdown, the stinger from lift-off to the
-top). This module carries:
+hold, seabed friction. Normal contacts act through the condensation
+(:mod:`.condensation`): a contact node's unknowns are prescribed in its
+nodal frame, its reaction read back from the constrained rows; the contact
+boundaries, unknowns of Newton, say which nodes are in contact
+(:mod:`.constraints`: the seabed from the lower end to touchdown, the
+stinger from lift-off to the top). This module carries:
 
 * :func:`tip_geometry`: the stinger's tip as a point against the element
   spanning it (the material point whose z is the tip's);
