@@ -13,8 +13,10 @@ import pytest
 from scipy.optimize import brentq
 
 import pipelay_fast as pf
+from pipelay_fast.engine.bed_guess import profiled_span
 from pipelay_fast.engine.guess import first_guess, free_span, slay_liftoff, weights
 from pipelay_fast.engine.tuning import TIP_PAST_REACH
+from pipelay_fast.input.profile import bed_heights, bed_knots
 from tests.helpers import EXAMPLES
 from tests.reference.catenary import natural_catenary_two_weights
 
@@ -149,3 +151,48 @@ def test_beam_span_solves_the_beam_column(lam_over_span):
         assert b.span == pytest.approx(beam_span, rel=1e-2)
     elif lam_over_span < 0.1:
         assert b.span == pytest.approx(lam + math.sqrt(2.0 * h * x_top / w), rel=1e-2)
+
+
+@pytest.mark.parametrize("rise", [-2.0, 1.5])
+def test_profiled_span_on_a_level_profile_is_the_shallower_catenary(j125, rise):
+    """A profile level at ``rise`` m above the reference level is a seabed
+    that much shallower: the J-lay catenary from the top tension touches
+    down at that height, and its span is the reference catenary's over the
+    water depth and top height less ``rise``."""
+    depth = j125.environment.water_depth
+    x_top, z_top = j125.lay.top
+    case = j125.with_changes({"seabed.stiffness": 1e6,
+                              "seabed.profile": [[-500.0, depth - rise], [900.0, depth - rise]]})
+    cat, x_td = profiled_span(case, free_span(case))
+    w1, w2 = weights(case)
+    ref = natural_catenary_two_weights(w1, w2, depth - rise, x_top - rise,
+                                       T_top=case.lay.top_tension)
+    assert x_td == pytest.approx(rise, abs=1e-12)
+    assert cat.span == pytest.approx(ref["horizontal_span"], rel=1e-9)
+
+
+@pytest.mark.parametrize("tilt", [-1.0, 1.0])
+def test_profiled_span_touches_down_on_a_ramp(j125, tilt):
+    """On a profile rising (or falling) 12 m over 600 m across the flat
+    seabed's touchdown, the catenary touches down where the profile's
+    height is its own (the reference catenary over the water depth and top
+    height less it), to within the profile's slope there times the
+    flexural length sqrt(EI/H), the guess's own error; the flat catenary's
+    touchdown misses by more."""
+    depth = j125.environment.water_depth
+    x_top, z_top = j125.lay.top
+    flat = free_span(j125)
+    z_f = z_top - flat.span
+    rows = [[z_f - 200.0, depth + 4.0 * tilt], [z_f + 100.0, depth],
+            [z_f + 400.0, depth - 8.0 * tilt]]
+    case = j125.with_changes({"seabed.stiffness": 1e6, "seabed.profile": rows})
+    cat, x_td = profiled_span(case, flat)
+    w1, w2 = weights(case)
+    ref = natural_catenary_two_weights(w1, w2, depth - x_td, x_top - x_td,
+                                       T_top=case.lay.top_tension)
+    knots = bed_knots(rows, depth)
+    x_b, slope = bed_heights(knots, np.array([z_top - ref["horizontal_span"]]))
+    enough = abs(slope[0]) * math.sqrt(case.pipe.bending_stiffness / ref["H"])
+    assert abs(x_b[0] - x_td) <= enough
+    x_flat = bed_heights(knots, np.array([z_f]))[0][0]
+    assert abs(x_flat) > enough

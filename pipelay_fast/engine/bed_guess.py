@@ -17,14 +17,23 @@ on a uniform grid of spacing d along z, with w the pipe's height,
 w'' the second differences at interior points, w' the first on each
 interval, a = 1 where w < x_b (else 0): the contact set by fixed point
 (active set) from all in contact.
+
+Where the seabed under touchdown is not at the reference level (a slope, a
+profile), the suspended span's catenary touches down at the seabed's
+height there, which depends on where it touches down: a fixed point
+(:func:`on_seabed`; :func:`profiled_span` for a J-lay over a profile).
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.linalg import solve_banded
 
-from ..input.profile import bed_heights
+from ..input.case import Case
+from ..input.profile import bed_heights, bed_knots
+from .catenary import Catenary, from_top_tension
 
 MAX_SWEEPS = 50  # active-set sweeps (it settles in a few on the tests' profiles)
 
@@ -74,3 +83,53 @@ def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei
             break
         active = now
     return np.interp(z_at, z, w), np.arctan(np.interp(z_at, z, np.gradient(w, d)))
+
+
+def on_seabed(start: float, first, under, enough: float):
+    """(x, payload): touchdown's height x [m] on a sloped seabed or a
+    profile, where
+    ``under(x)`` = (the seabed's height [m] under the touchdown of the
+    catenary that touches down at height x, that catenary's payload) meets
+    x. Secant steps on r(x) = under(x)[0] - x from ``start`` (``first`` its
+    ``under``) while |r| shrinks, until it is below ``enough`` [m] (r is
+    nearly linear: a few steps). The guess's own error sets ``enough``:
+    touchdown is a flexural length sqrt(EI/h) off along the seabed
+    (:mod:`.guess`), its height that times the seabed's slope there."""
+    xa = start
+    ya, pa = first
+    ra = ya - xa
+    xb = ya
+    yb, pb = under(xb)
+    rb = yb - xb
+    while enough <= abs(rb) < abs(ra):
+        xc = xb - rb * (xb - xa) / (rb - ra)
+        yc, pc = under(xc)
+        xa, ra, pa = xb, rb, pb
+        xb, rb, pb = xc, yc - xc, pc
+    return (xb, pb) if abs(rb) <= abs(ra) else (xa, pa)
+
+
+def profiled_span(case: Case, flat: Catenary):
+    """(the J-lay catenary from ``lay.top_tension`` touching down level at
+    the seabed profile's height there, that height x [m]), from the level
+    seabed's ``flat``: touchdown's z depends on the span's height above it,
+    so its height is the profile's under the catenary that starts there
+    (:func:`on_seabed`), to within the profile's slope there times the
+    flexural length sqrt(EI/h) (the guess's error along the seabed)."""
+    lay = case.lay
+    x_top, z_top = lay.top
+    depth = case.environment.water_depth
+    knots = bed_knots(case.seabed.profile, depth)
+
+    def height(z):
+        x, slope = bed_heights(knots, np.array([z]))
+        return float(x[0]), float(slope[0])
+
+    def under(x_td):
+        cat = from_top_tension(lay.top_tension, flat.w1, flat.w2, depth - x_td, x_top - x_td)
+        return height(z_top - cat.span)[0], cat
+
+    start, slope = height(z_top - flat.span)
+    enough = abs(slope) * math.sqrt(case.pipe.bending_stiffness / flat.h)
+    x_td, cat = on_seabed(start, under(start), under, enough)
+    return cat, x_td

@@ -25,6 +25,7 @@ from scipy.optimize import brentq
 from ..input.case import Case
 from . import tuning as T
 from .beam import BeamSpan
+from .bed_guess import on_seabed, profiled_span
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
 from .supports import seabed_height
@@ -52,8 +53,9 @@ class Guess:
         (the guess then leaves from the tip; the pipe bears on it,
         :func:`pipelay_fast.engine.boundaries.bear_on_tip`). None otherwise.
     x_tdp : float
-        Height of touchdown [m] on a sloped seabed whose catenary ``cat``
-        touches down on it (:func:`sloped_span`; heights from there), else 0.
+        Height of touchdown [m] on a sloped seabed or a profile whose
+        catenary ``cat`` touches down on it (:func:`sloped_span`,
+        :func:`.bed_guess.profiled_span`; heights from there), else 0.
     """
 
     cat: Catenary
@@ -121,7 +123,7 @@ def sloped_span(case: Case, flat: Catenary):
     """(the J-lay catenary from ``lay.top_tension`` touching down tangent to
     the sloped seabed, touchdown's height x [m]), from the flat seabed's
     ``flat``: touchdown's height is the seabed's under the catenary that
-    starts there (:func:`on_seabed`)."""
+    starts there (:func:`.bed_guess.on_seabed`)."""
     lay = case.lay
     x_top, z_top = lay.top
     depth = case.environment.water_depth
@@ -142,29 +144,6 @@ def _height_error(case: Case, h: float) -> float:
     touchdown a flexural length sqrt(EI/h) off (``h`` [N] the catenary's
     tension) along the seabed, times tan(slope)."""
     return abs(math.tan(case.seabed.slope)) * math.sqrt(case.pipe.bending_stiffness / h)
-
-
-def on_seabed(start: float, first, under, enough: float):
-    """(x, payload): touchdown's height x [m] on a sloped seabed, where
-    ``under(x)`` = (the seabed's height [m] under the touchdown of the
-    catenary that touches down at height x, that catenary's payload) meets
-    x. Secant steps on r(x) = under(x)[0] - x from ``start`` (``first`` its
-    ``under``) while |r| shrinks, until it is below ``enough`` [m] (r is
-    nearly linear: a few steps). The guess's own error sets ``enough``:
-    touchdown is a flexural length sqrt(EI/h) off along the seabed
-    (:mod:`.guess`), its height that times tan(slope)."""
-    xa = start
-    ya, pa = first
-    ra = ya - xa
-    xb = ya
-    yb, pb = under(xb)
-    rb = yb - xb
-    while enough <= abs(rb) < abs(ra):
-        xc = xb - rb * (xb - xa) / (rb - ra)
-        yc, pc = under(xc)
-        xa, ra, pa = xb, rb, pb
-        xb, rb, pb = xc, yc - xc, pc
-    return (xb, pb) if abs(rb) <= abs(ra) else (xa, pa)
 
 
 def _tension_root(gap, weight, slack, taut):
@@ -282,7 +261,7 @@ def _slay_span(case: Case, bottom_tension=None):
     (:func:`slay_liftoff`) and touchdown's height [m] of an S-lay guess. On a
     sloped seabed (the top tension given) the catenary touches down tangent
     to it: touchdown's height is the seabed's under the catenary that starts
-    there (:func:`on_seabed`)."""
+    there (:func:`.bed_guess.on_seabed`)."""
     w1, w2 = weights(case)
     st = case.lay.stinger
     depth = case.environment.water_depth
@@ -361,6 +340,8 @@ def first_guess(case: Case, laid_of) -> Guess:
         cat, x_tdp = free_span(case), 0.0
         if case.seabed.slope != 0.0 and lay.top_tension is not None:
             cat, x_tdp = sloped_span(case, cat)
+        elif case.seabed.profile is not None and lay.top_tension is not None:
+            cat, x_tdp = profiled_span(case, cat)
         elif _bending_dominated(case, cat):
             cat = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top,
                            case.pipe.bending_stiffness)
@@ -422,7 +403,7 @@ def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
     at ``z_tdp`` [m]) onto a sloped seabed: the laid pipe on the slope's
     line; the suspended span of a catenary touching down on the slope
     (:func:`sloped_span`) raised to touchdown's height, and the seabed's
-    height there off it (the miss :func:`on_seabed` leaves) sheared in as
+    height there off it (the miss :func:`.bed_guess.on_seabed` leaves) sheared in as
     below, so that the span meets the laid pipe; a flat seabed's
     sheared (its heights moved by the seabed's height under them, in full at
     touchdown and not at the span's upper end; Newton corrects the rest).
@@ -434,7 +415,7 @@ def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
     x_end = float(g.cat.at(g.cat.length)[0])
     share = np.clip(1.0 - x / x_end, 0.0, 1.0)
     if g.cat.tan0 != 0.0:  # the catenary touches down on the slope: its heights from there,
-        # and the seabed's height at touchdown off its own (:func:`on_seabed`'s r)
+        # and the seabed's height at touchdown off its own (:func:`.bed_guess.on_seabed`'s r)
         # sheared in, in full at touchdown and not at the span's upper end
         miss = float(seabed_height(case, z_tdp)) - g.x_tdp
         tan_t = np.tan(th) * (1.0 - miss / x_end)

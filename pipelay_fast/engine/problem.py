@@ -82,9 +82,11 @@ def _guess(case: Case, laid: float | None = None):
 
 def _on_profile(case: Case, g, s, x, z, th):
     """The guess's shape (``x``, ``z``, ``th`` at ``s``, :func:`.guess.shape`)
-    moved onto the seabed profile: the suspended span lifted by x_b at the
-    guess's touchdown, less in proportion to its arc length up to the fixed
-    top; from the lower end to a flexural length sqrt(EI/H) past touchdown
+    moved onto the seabed profile: the suspended span lifted by the height
+    its catenary touches down at (``g.x_tdp``, :func:`.guess.profiled_span`;
+    0 when it touches down at the reference level), and by the rest of x_b
+    at the guess's touchdown in proportion to the arc length left up to the
+    fixed top; from the lower end to a flexural length sqrt(EI/H) past touchdown
     (the boundary layer over which the pipe leaves the seabed; at most half
     way to the top), the tensioned beam on the foundation
     (:func:`.bed_guess.laid_on_foundation`, the guess's tension H) that ends
@@ -94,7 +96,7 @@ def _on_profile(case: Case, g, s, x, z, th):
         return x, th
     knots = bed_knots(case.seabed.profile, case.environment.water_depth)
     x_td = float(bed_heights(knots, np.array([np.interp(g.laid, s, z)]))[0][0])
-    x = x + x_td * np.clip((g.total - s) / (g.total - g.laid), 0.0, 1.0)
+    x = x + g.x_tdp + (x_td - g.x_tdp) * np.clip((g.total - s) / (g.total - g.laid), 0.0, 1.0)
     lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)
     s1 = min(g.laid + lam, 0.5 * (g.laid + g.total))
     near = s <= s1
