@@ -16,6 +16,19 @@ EXAMPLES = Path(pf.__file__).resolve().parent / "examples"
 REQUIRE_PEERS = "PIPELAY_FAST_REQUIRE_PEERS"
 
 
+def load(name: str, **changes) -> pf.Case:
+    """The bundled example ``name``, with ``changes`` (dotted keys) if any."""
+    case = pf.load_case(EXAMPLES / f"{name}.toml")
+    return case.with_changes(changes) if changes else case
+
+
+def refused(base, changes) -> str:
+    """The ValueError message of ``base.with_changes(changes)``."""
+    with pytest.raises(ValueError) as info:
+        base.with_changes(changes)
+    return str(info.value)
+
+
 def require_peer(load):
     """What ``load()`` returns (a peer engine's module); when it raises ImportError
     (the engine is not installed or cannot load), skip the test, or the test

@@ -18,7 +18,7 @@ from pipelay_fast.study.dataset import read_summary
 from pipelay_fast.study.runner import run_sweep
 from pipelay_fast.study.sweep import Sweep, target_bounds
 from pipelay_fast.study.sweep_file import load_sweep
-from tests.helpers import EXAMPLES
+from tests.helpers import EXAMPLES, refused
 
 SWEEPS = Path(__file__).resolve().parents[1] / "sweeps"
 
@@ -115,12 +115,6 @@ def test_water_depth_moves_the_seabed_and_not_the_vessel(depth):
 
 
 # --------------------------------------------------------------------------- bad input
-
-
-def refused(case, changes):
-    with pytest.raises(ValueError) as info:
-        case.with_changes(changes)
-    return str(info.value)
 
 
 def test_an_unknown_frame_is_refused():

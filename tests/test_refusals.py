@@ -21,7 +21,7 @@ import pytest
 import pipelay_fast as pf
 from pipelay_fast.engine.mesh import graded_nodes
 from pipelay_fast.input.limits import check_case
-from tests.helpers import EXAMPLES
+from tests.helpers import EXAMPLES, refused
 
 SWEEPS = Path(__file__).resolve().parents[1] / "sweeps"
 RHO_G = 1025.0 * 9.81  # N/m3, the examples' sea
@@ -40,13 +40,6 @@ def axial_stiffness(case):
 
 def elements_in(message):
     return int(re.search(r"would have (\d+) elements", message).group(1))
-
-
-def refused(base, changes):
-    """The ValueError message of ``base.with_changes(changes)``."""
-    with pytest.raises(ValueError) as info:
-        base.with_changes(changes)
-    return str(info.value)
 
 
 # --------------------------------------------------------------------------- strain up front

@@ -14,12 +14,7 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.input.surface import check_water
-from tests.helpers import EXAMPLES
-
-
-def load(name, **changes):
-    case = pf.load_case(EXAMPLES / f"{name}.toml")
-    return case.with_changes(changes) if changes else case
+from tests.helpers import load
 
 
 def refused(name, **changes) -> str:

@@ -22,7 +22,7 @@ from pipelay_fast.input.lay import Stinger
 from pipelay_fast.input.trim import TrimmedStinger, trimmed
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.supports import support_angle, support_gap, support_height
-from tests.helpers import EXAMPLES
+from tests.helpers import load
 
 PIVOT = (70.0, 330.0)  # (x, z) [m]: ahead of S67's tip, behind its upper end
 VESSEL = Stinger(a=-0.0012, lower=(41.5, 265.0), upper=(72.0, 400.0))  # S67's
@@ -39,11 +39,6 @@ def turn(points, deg: float, pivot=PIVOT) -> np.ndarray:
     """``points`` (n, 2) of (x, z) [m] turned by ``deg`` about ``pivot``."""
     p = np.asarray(pivot, dtype=float)
     return (np.asarray(points, dtype=float) - p) @ rotation(deg).T + p
-
-
-def load(name: str, **changes) -> pf.Case:
-    case = pf.load_case(EXAMPLES / f"{name}.toml")
-    return case.with_changes(changes) if changes else case
 
 
 # ----------------------------------------------------------------- geometry
