@@ -639,15 +639,31 @@ def test_with_changes_derived_defaults_follow_their_source(s67):
     assert bare.pipe.coating_outer_diameter == bare.pipe.hydrodynamic_diameter == 0.66
 
 
-@pytest.mark.parametrize("name", ["s67", "s67_rollers", "j125", "s67_3d"])
+def _waterline_s67():
+    from tests.test_frame import S67_WATERLINE, waterline
+
+    return waterline("s67", S67_WATERLINE)
+
+
+WITH_NUMBER_CASES = {
+    "s67": lambda: load_case("s67"), "s67_rollers": lambda: load_case("s67_rollers"),
+    "j125": lambda: load_case("j125"), "s67_3d": lambda: load_case("s67_3d"),
+    "s67 waterline": _waterline_s67,
+    "s67 trimmed": lambda: load_case("s67").with_changes({"lay.trim_deg": 0.5,
+                                                          "lay.trim_pivot": [60.0, 400.0]}),
+}
+
+
+@pytest.mark.parametrize("name", WITH_NUMBER_CASES)
 def test_with_number_is_with_changes(name):
     """Every numeric key the case gives, moved by a relative 1e-4 (or by
     1e-4 from 0, and to minus its value): the same case as with_changes
-    builds from its tables, or the same refusal."""
+    builds from its tables, or the same refusal; in the waterline frame and
+    with a trim too (the lay as given is carried, not the converted one)."""
     from pipelay_fast.input.keys import number_units
     from pipelay_fast.input.validate import get_path
 
-    case = load_case(name)
+    case = WITH_NUMBER_CASES[name]()
     tables = case.to_dict()
     moved = 0
     for key in number_units():

@@ -357,7 +357,9 @@ class Case:
         table = self.given_lay if head == "lay" else getattr(self, head, None)
         if head not in {*_TABLES, *_OPTIONAL_TABLES} or table is None or not path:
             return self.with_changes({key: value})
-        return dataclasses.replace(self, **{head: _replaced(table, path, value)})
+        # the lay as given (its frame and trim), which the new case converts again
+        return dataclasses.replace(self, **{"lay": self.given_lay,
+                                            head: _replaced(table, path, value)})
 
 
 def _replaced(table, path: list[str], value):
