@@ -278,13 +278,13 @@ def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
     d_slip = props[L.FRICTION_SLIP]
     ndn = 2 * nd + 1
     t_x, t_z = plane_tangent(props)
+    n_x, n_z = plane_normal(props)
     for node in range(bed_active.shape[0]):
         w = normal_force(nd, g, props, bed_active, fric, node, False)
         if w <= 0.0:
             continue
         dw = 0.0
         if bed_active[node] != 0:
-            n_x, n_z = plane_normal(props)
             dw = n_x * col[node * ndn] + n_z * col[node * ndn + nd - 1]
         for comp in range(2):
             slot, mu, ccol, _dcol = _friction_dofs(nd, props, comp)
@@ -295,7 +295,7 @@ def friction_length_derivative(nd, u, g, model, bed_active, fric, s, s_b, col):
                  - anchor_at(fric, ccol, s, node)) / d_slip
             clipped = min(max(d, -1.0), 1.0)
             # g -= force e, force = -mu w clip(d): dg = mu (dw clip(d) + w dd) e,
-            # e the spring's direction (:func:`_add_rows`)
+            # e the spring's direction (:func:`_add_along`)
             _add_along(col, nd, base, slot, t_x, t_z, mu * dw * clipped)
             if abs(d) < 1.0 and s_b[node] != 0.0:
                 _add_along(col, nd, base, slot, t_x, t_z,
@@ -388,6 +388,9 @@ def friction_track(nd, u, react, props, bed, bed_active, fric, s):
     ndn = 2 * nd + 1
     nn = bed_active.shape[0]
     k_bed = props[L.SEABED_K]
+    m = props[L.SEABED_TAN]  # a sloped plane: the normal penetration's
+    root = math.sqrt(1.0 + m * m)
+    t_x, t_z = plane_tangent(props)
     for node in range(nn):
         base = node * ndn
         if bed_active[node] != 0 and react[base] > 0.0:
@@ -397,15 +400,13 @@ def friction_track(nd, u, react, props, bed, bed_active, fric, s):
             x_b, _dx_b = seabed_surface(props, bed, u[base + nd - 1])
             if u[base] < x_b:
                 share = 0.5 * (s[min(node + 1, nn - 1)] - s[max(node - 1, 0)])
-                m = props[L.SEABED_TAN]  # a sloped plane: the normal penetration's
-                w = k_bed * (x_b - u[base]) * share / math.sqrt(1.0 + m * m)
+                w = k_bed * (x_b - u[base]) * share / root
         if w > 0.0:
             fric[node, L.FR_W] = w
         else:
             fric[node, L.FR_W] = 0.0
             fric[node, L.FR_DIR] = 0.0
             fric[node, L.FR_DIRZ] = 0.0
-            t_x, t_z = plane_tangent(props)
             fric[node, L.FR_Z] = slip_coordinate(nd, u, base, nd - 1, t_x, t_z)
             fric[node, L.FR_S] = s[node]
             if nd == 3:

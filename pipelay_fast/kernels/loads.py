@@ -55,8 +55,10 @@ def foundation(props, bed, k_bed, x, z):
     [N/m per m] times the normal penetration (x_b - x) / sqrt(1 + m^2):
     q = k_bed (x_b - x) / (1 + m^2) (1, -m); m = 0 (the flat seabed, a
     profile): vertically, k_bed (x_b - x) e_x."""
+    if k_bed <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     x_b, dx_b = seabed_surface(props, bed, z)
-    if k_bed <= 0.0 or x > x_b:
+    if x > x_b:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     m = props[L.SEABED_TAN]
     if m == 0.0:
