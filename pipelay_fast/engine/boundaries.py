@@ -29,6 +29,7 @@ from ..kernels.contact import tip_geometry
 from ..kernels.layout import B_LO, B_PT
 from . import tuning as T
 from .mesh import graded_nodes
+from .state import interpolate_state
 from .supports import line_span, surface_heights
 
 if TYPE_CHECKING:
@@ -115,9 +116,10 @@ def touchdown_position(pb: Problem) -> float:
     time: its clearance x - x_b(z) above the seabed's surface (the flat
     seabed, the slope's plane or the profile,
     :func:`.supports.surface_heights`) changes sign in the element after
-    the last node below the seabed, found along the element's cubic Hermite x(s), z(s) (not its
-    chord, which would move touchdown with the mesh's nodes by a share of
-    their move); the lower end's when no node is below it."""
+    the last node below the seabed, found along the element's cubic Hermite
+    x(s), z(s) (:func:`.state.interpolate_state`; not its chord, which would
+    move touchdown with the mesh's nodes by a share of their move); the
+    lower end's when no node is below it."""
     if pb.td_node >= 0:
         return float(pb.s[pb.td_node])
     nd, ndn, u, s = pb.nd, pb.ndn, pb.u, pb.s
@@ -129,17 +131,12 @@ def touchdown_position(pb: Problem) -> float:
     if k + 1 >= s.size:
         return float(s[k])
     le = float(s[k + 1] - s[k])
-    a, b = k * ndn, (k + 1) * ndn
-    # Hermite coefficients of x and z on the element, xi = (s - s_k) / le
-    x = (u[a], le * u[a + nd], u[b], le * u[b + nd])
-    z = (u[a + nd - 1], le * u[a + 2 * nd - 1], u[b + nd - 1], le * u[b + 2 * nd - 1])
+    pair = s[k:k + 2]
+    state = u[k * ndn:(k + 2) * ndn]
 
     def clearance(xi):
-        n = (1.0 - 3.0 * xi**2 + 2.0 * xi**3, xi - 2.0 * xi**2 + xi**3,
-             3.0 * xi**2 - 2.0 * xi**3, xi**3 - xi**2)
-        z_i = sum(c * f for c, f in zip(z, n, strict=True))
-        return (sum(c * f for c, f in zip(x, n, strict=True))
-                - float(surface_heights(pb.props, pb.bed, np.array([z_i]))[0][0]))
+        at = interpolate_state(pair, state, nd, np.array([s[k] + le * xi]))
+        return at[0] - float(surface_heights(pb.props, pb.bed, at[nd - 1:nd])[0][0])
 
     return float(s[k] + le * brentq(clearance, 0.0, 1.0, xtol=T.REL_ROUNDOFF))
 

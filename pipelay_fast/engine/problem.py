@@ -34,7 +34,7 @@ from .guess import first_guess, guide_case, shape
 from .mesh import graded_nodes, grading_rates
 from .model import build_props, dimension_of, pin_jump, section_array, sections_of
 from .state import EndConditions, Problem, interpolate_state, make_problem
-from .supports import line_height, seabed_height, seabed_row
+from .supports import line_height, seabed_row, surface_heights
 
 
 def _mesh_sizes(case: Case, lam: float):
@@ -406,10 +406,12 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     if first.any():  # along the seabed (its plane, or its profile) from the old lower end
         angle = seabed_row(case.seabed)[1]
         z_first = pb.u[nd - 1] - (extra - s[first]) * math.cos(angle)
-        u[0::ndn][first] = seabed_height(case, z_first) + bed_heights(pb.bed, z_first)[0]
+        x_b, dx_b = surface_heights(pb.props, pb.bed, z_first)
+        c = 1.0 / np.hypot(1.0, dx_b)  # tangent to the surface: (dx_b, 1) / |.|
+        u[0::ndn][first] = x_b
         u[nd - 1::ndn][first] = z_first
-        u[nd::ndn][first] = math.sin(angle)
-        u[2 * nd - 1::ndn][first] = math.cos(angle)
+        u[nd::ndn][first] = dx_b * c
+        u[2 * nd - 1::ndn][first] = c
         u[2 * nd::ndn][first] = pb.u[2 * nd]
         if nd == 3:
             u[1::ndn][first] = pb.u[1]
