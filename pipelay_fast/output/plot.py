@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..input.surface import heights
 from .design import bend_regions, fibre_strain, utilisation_along
-from .spans import seabed_heights
 
 __all__ = ["DPI", "PANEL_SIZE", "elevation_offset", "figure", "marks", "plot_result", "save"]
 
@@ -163,7 +163,7 @@ def _elevation_panel(ax, result, at: dict):
     s = cols["s"]
     offset, label = elevation_offset(case)
     pipe = cols["x"] - offset
-    bed = seabed_heights(case, cols["z"]) - offset
+    bed = heights(case.seabed, case.environment.water_depth, cols["z"]) - offset
     ax.plot(s, pipe, color="C0", label="pipe")
     ax.plot(s, bed, color="saddlebrown", lw=1.0, label="seabed")
     spans = result.spans

@@ -18,10 +18,11 @@ from ..engine.model import pin_jump
 from ..engine.state import Solution
 from ..input.case import Case
 from ..input.frame import vessel_note
+from ..input.surface import heights
 from ..kernels import layout as L
 from ..kernels.geometry import centreline_fields
 from .design import DESIGN_UNITS, bend_regions, design_columns, interior_peak
-from .spans import SPAN_UNITS, TOUCHDOWN_UNITS, seabed_heights, span_table, touchdown_columns
+from .spans import SPAN_UNITS, TOUCHDOWN_UNITS, span_table, touchdown_columns
 
 PROFILE_UNITS = {
     "s": "m", "x": "m", "y": "m", "z": "m", "angle_deg": "deg",
@@ -329,7 +330,7 @@ def build_profile(case: Case, sol: Solution) -> dict:
         seabed[0] = react[0]
         contact[0] = "seabed"
     else:  # the foundation's force, lumped at the nodes below the seabed
-        gap = u[0::ndn] - seabed_heights(case, u[nd - 1::ndn])
+        gap = u[0::ndn] - heights(case.seabed, case.environment.water_depth, u[nd - 1::ndn])
         act = gap < 0.0
         # (on a sloped plane its normal force, the normal penetration's)
         seabed = foundation_force(s, gap, case.seabed.stiffness) * np.cos(case.seabed.slope)

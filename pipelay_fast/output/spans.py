@@ -18,8 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine.state import interpolate_state
-from ..engine.supports import seabed_height
-from ..input.profile import bed_heights, bed_knots
+from ..input.surface import heights
 
 SPAN_UNITS = {
     "span": "-",
@@ -96,7 +95,7 @@ def laid_spans(s, u, nd: int, heights, s_td: float) -> dict:
     """The free spans (:func:`find_spans`) of the pipe with unknowns ``u`` on
     nodes ``s`` [m] in dimension ``nd`` behind its touchdown at arc length
     ``s_td`` [m], over the seabed whose height x_b [m] at z [m] (an array)
-    is ``heights(z)`` (:func:`seabed_heights`): its clearance x - x_b(z)
+    is ``heights(z)`` (:func:`pipelay_fast.input.surface.heights`): its clearance x - x_b(z)
     at SUBDIVISIONS points per element of the cubic
     Hermite interpolant of its nodal positions and tangents."""
     s = np.asarray(s, dtype=float)
@@ -117,16 +116,6 @@ TOUCHDOWN_UNITS = {"tdp_x": "m", "seabed_depth_at_tdp": "m", "n_spans": "-",
 """The summary's touchdown and span columns (:func:`touchdown_columns`)."""
 
 
-def seabed_heights(case, z):
-    """The seabed's height x [m] above the reference level at ``z`` [m]: the
-    profile's (:func:`pipelay_fast.input.profile.bed_heights`), else the
-    (sloped) plane's."""
-    if case.seabed.profile is not None:
-        knots = bed_knots(case.seabed.profile, case.environment.water_depth)
-        return bed_heights(knots, z)[0]
-    return seabed_height(case, z)
-
-
 def span_table(case, sol) -> dict:
     """The free spans behind touchdown (:func:`laid_spans`) of the solution
     ``sol`` of ``case``: the columns of ``SPAN_UNITS``; none on a rigid
@@ -134,7 +123,8 @@ def span_table(case, sol) -> dict:
     touchdown)."""
     if case.seabed.is_rigid:
         return find_spans(np.zeros(0), np.zeros(0), np.zeros(0))
-    return laid_spans(sol.s, sol.u, sol.nd, lambda z: seabed_heights(case, z), sol.s_tdp)
+    depth = case.environment.water_depth
+    return laid_spans(sol.s, sol.u, sol.nd, lambda z: heights(case.seabed, depth, z), sol.s_tdp)
 
 
 def touchdown_columns(case, sol, cols: dict, spans: dict) -> dict:
@@ -144,7 +134,7 @@ def touchdown_columns(case, sol, cols: dict, spans: dict) -> dict:
     water depth under it [m] and :func:`span_summary` of ``spans``."""
     s = cols["s"]
     z_tdp = float(np.interp(sol.s_tdp, s, cols["z"]))
+    depth = case.environment.water_depth
     return {"tdp_x": float(np.interp(sol.s_tdp, s, cols["x"])),
-            "seabed_depth_at_tdp": float(case.environment.water_depth
-                                         - float(seabed_heights(case, np.array([z_tdp]))[0])),
+            "seabed_depth_at_tdp": depth - float(heights(case.seabed, depth, np.array([z_tdp]))[0]),
             **span_summary(spans)}
