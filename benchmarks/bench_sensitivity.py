@@ -115,9 +115,9 @@ def cost(name: str, repeats: int) -> dict:
         t0 = time.perf_counter()
         result = pf.solve(case)
         t1 = time.perf_counter()
-        S.sensitivity_table(case, result.state, result.summary, [], result.functional)
+        S.sensitivity_table(case, result.state, [], result.functional)
         t2 = time.perf_counter()
-        table = S.sensitivity_table(case, result.state, result.summary, keys,
+        table = S.sensitivity_table(case, result.state, keys,
                                     result.functional)
         t3 = time.perf_counter()
         solve.append(t1 - t0)
@@ -126,7 +126,7 @@ def cost(name: str, repeats: int) -> dict:
     spent = {}
     with timed_parts(spent):
         for _ in range(repeats):
-            S.sensitivity_table(case, result.state, result.summary, keys, result.functional)
+            S.sensitivity_table(case, result.state, keys, result.functional)
     t_solve, t_base, t_every = (statistics.median(v) for v in (solve, base, every))
     per_key = (t_every - t_base) / len(keys)
     parts = {part: spent.get(part, 0.0) / len(keys) / sum(solve) for part in PARTS}

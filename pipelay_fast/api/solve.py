@@ -85,8 +85,8 @@ def solve(case: Case, *, warm: Result | None = None,
     if result is None:
         result = _checked_solve(case)
     if sensitivities:
-        result.sensitivities = sensitivity_table(case, result.state, result.summary,
-                                                 list(sensitivities), result.functional)
+        result.sensitivities = sensitivity_table(case, result.state, list(sensitivities),
+                                                 result.functional)
     return result
 
 

@@ -97,9 +97,9 @@ def _key_value(tables: dict, key: str) -> float:
     return float(value)
 
 
-def sensitivity_table(case, state, summary: dict, keys, functional=None) -> pd.DataFrame:
-    """The derivatives of ``summary`` (the summary of ``case`` solved to
-    ``state``, its :class:`pipelay_fast.engine.state.Problem`) with respect
+def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
+    """The derivatives of the summary of ``case`` solved to ``state`` (its
+    :class:`pipelay_fast.engine.state.Problem`) with respect
     to each of ``keys`` (dotted case keys with numeric values).
 
     Returns a DataFrame, one row per :func:`summary_rows` row, one float
