@@ -23,9 +23,10 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..input.case import Case
+from ..input.profile import bed_knots
 from . import tuning as T
 from .beam import BeamSpan
-from .bed_guess import on_seabed, profiled_span
+from .bed_guess import on_seabed, seabed_span
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
 from .supports import seabed_height
@@ -54,8 +55,8 @@ class Guess:
         :func:`pipelay_fast.engine.boundaries.bear_on_tip`). None otherwise.
     x_tdp : float
         Height of touchdown [m] on a sloped seabed or a profile whose
-        catenary ``cat`` touches down on it (:func:`sloped_span`,
-        :func:`.bed_guess.profiled_span`; heights from there), else 0.
+        catenary ``cat`` touches down on it (:func:`.bed_guess.seabed_span`;
+        heights from there), else 0.
     """
 
     cat: Catenary
@@ -117,26 +118,6 @@ def free_span(case: Case) -> Catenary:
             f"and {z_top + x_top:g} m (hanging vertically from the top)"
         )
     return Catenary(h, w1, w2, depth, x_top)
-
-
-def sloped_span(case: Case, flat: Catenary):
-    """(the J-lay catenary from ``lay.top_tension`` touching down tangent to
-    the sloped seabed, touchdown's height x [m]), from the flat seabed's
-    ``flat``: touchdown's height is the seabed's under the catenary that
-    starts there (:func:`.bed_guess.on_seabed`)."""
-    lay = case.lay
-    x_top, z_top = lay.top
-    depth = case.environment.water_depth
-    tan0 = math.tan(case.seabed.slope)
-
-    def under(x_td):
-        cat = from_top_tension(lay.top_tension, flat.w1, flat.w2, depth - x_td, x_top - x_td,
-                               tan0)
-        return float(seabed_height(case, z_top - cat.span)), cat
-
-    start = float(seabed_height(case, z_top - flat.span))
-    x_td, cat = on_seabed(start, under(start), under, _height_error(case, flat.h))
-    return cat, x_td
 
 
 def _height_error(case: Case, h: float) -> float:
@@ -338,10 +319,10 @@ def first_guess(case: Case, laid_of) -> Guess:
     lay = case.lay
     if lay.method == "J":
         cat, x_tdp = free_span(case), 0.0
-        if case.seabed.slope != 0.0 and lay.top_tension is not None:
-            cat, x_tdp = sloped_span(case, cat)
-        elif case.seabed.profile is not None and lay.top_tension is not None:
-            cat, x_tdp = profiled_span(case, cat)
+        bed = case.seabed
+        if (bed.slope != 0.0 or bed.profile is not None) and lay.top_tension is not None:
+            knots = bed_knots(bed.profile, case.environment.water_depth)
+            cat, x_tdp = seabed_span(case, cat, knots)
         elif _bending_dominated(case, cat):
             cat = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top,
                            case.pipe.bending_stiffness)
@@ -402,7 +383,7 @@ def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
     """The guess (x, z [m], theta [rad] at arc lengths ``s`` [m], touchdown
     at ``z_tdp`` [m]) onto a sloped seabed: the laid pipe on the slope's
     line; the suspended span of a catenary touching down on the slope
-    (:func:`sloped_span`) raised to touchdown's height, and the seabed's
+    (:func:`.bed_guess.seabed_span`) raised to touchdown's height, and the seabed's
     height there off it (the miss :func:`.bed_guess.on_seabed` leaves) sheared in as
     below, so that the span meets the laid pipe; a flat seabed's
     sheared (its heights moved by the seabed's height under them, in full at

@@ -83,7 +83,7 @@ def _guess(case: Case, laid: float | None = None):
 def _on_profile(case: Case, g, s, x, z, th):
     """The guess's shape (``x``, ``z``, ``th`` at ``s``, :func:`.guess.shape`)
     moved onto the seabed profile: the suspended span lifted by the height
-    its catenary touches down at (``g.x_tdp``, :func:`.guess.profiled_span`;
+    its catenary touches down at (``g.x_tdp``, :func:`.bed_guess.seabed_span`;
     0 when it touches down at the reference level), and by the rest of x_b
     at the guess's touchdown in proportion to the arc length left up to the
     fixed top; from the lower end to a flexural length sqrt(EI/H) past touchdown
