@@ -25,7 +25,7 @@ from scipy.optimize import brentq
 from ..input.case import Case
 from ..input.profile import bed_knots
 from . import tuning as T
-from .beam import BeamSpan
+from .beam import BeamSpan, bending_dominated
 from .bed_guess import on_seabed, seabed_span
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
@@ -300,15 +300,13 @@ def _slay_bottom_tension(case: Case) -> float:
 def _bending_dominated(case: Case, cat: Catenary) -> bool:
     """Whether a J-lay's guess is the beam-column's (:class:`.beam.BeamSpan`)
     rather than the catenary ``cat``: a pinned top over a flat seabed, with
-    no pipe length given, where the flexural length sqrt(EI/h) is at least
-    the heavy elastica's (EI/w)^(1/3) (the pipe's stiffness, not its
-    tension, sets the span; the same test as the mesh's boundary layer,
-    :func:`.problem.sized_mesh`). On the same height and tension the
+    no pipe length given, where the lay is bending-dominated
+    (:func:`.beam.bending_dominated`). On the same height and tension the
     pinned top's effective tension is the catenary's (M = 0 there)."""
     ei = case.pipe.bending_stiffness
     return (case.lay.top_angle in (None, "pinned") and case.lay.pipe_length is None
             and case.seabed.profile is None
-            and math.sqrt(ei / cat.h) >= (ei / cat.w1) ** (1.0 / 3.0))
+            and bending_dominated(ei, math.sqrt(ei / cat.h), cat.w1))
 
 
 def first_guess(case: Case, laid_of) -> Guess:

@@ -19,7 +19,7 @@ from ..input.profile import bed_heights, bed_knots
 from ..kernels import layout as L
 from ..kernels.layout import B_PT
 from . import tuning as T
-from .beam import BeamSpan
+from .beam import BeamSpan, bending_dominated
 from .bed_guess import laid_on_foundation
 from .boundaries import (
     bear_on_tip,
@@ -134,10 +134,9 @@ def sized_mesh(case: Case, guessed: dict) -> dict:
     none) and the length of pipe modelled [m] (``cold_total``)."""
     lam = guessed["flexural_length"]
     h_max, h_min = _mesh_sizes(case, lam)
-    # a tension-dominated lay (the flexural length shorter than the heavy
-    # elastica's (EI / w)^(1/3)) has boundary layers of that length at its
+    # a tension-dominated lay has boundary layers of length lam at its
     # contact boundaries (:func:`.continuation.boundary_step`); 0: none
-    layer = lam if lam < (case.pipe.bending_stiffness / guessed["weight"]) ** (1.0 / 3.0) else 0.0
+    layer = 0.0 if bending_dominated(case.pipe.bending_stiffness, lam, guessed["weight"]) else lam
     return {"h_min": h_min, "h_max": h_max, "flexural_length": lam, "boundary_layer": layer,
             "cold_total": guessed["cold_total"]}
 
