@@ -7,6 +7,7 @@ from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
 from pipelay_fast.input.profile import bed_knots, check_profile, pchip_slopes
 from pipelay_fast.kernels.bed import bed_height
+from tests.reference.profile import profile_depth
 
 # a trench then a hump along the route [m]
 PROFILE = [[-400.0, 60.0], [-250.0, 61.0], [-200.0, 64.5], [-170.0, 64.0],
@@ -127,6 +128,5 @@ def test_laid_pipe_prepended_on_a_profile_lies_on_it():
     z = new.u[new.nd - 1::ndn]
     first = z < z_old - 1e-9
     assert first.sum() > 10 and z.min() < -300.0
-    rows = np.asarray(table)
-    depth = PchipInterpolator(rows[:, 0], rows[:, 1])(np.clip(z[first], -600.0, 600.0))
+    depth = profile_depth(table, z[first])
     np.testing.assert_allclose(new.u[0::ndn][first], 125.0 - depth, rtol=0.0, atol=1e-9)

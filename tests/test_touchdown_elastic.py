@@ -7,7 +7,7 @@ import copy
 
 import numpy as np
 import pytest
-from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
+from scipy.interpolate import CubicHermiteSpline
 from scipy.optimize import brentq
 
 import pipelay_fast as pf
@@ -15,6 +15,7 @@ from pipelay_fast.engine.boundaries import stinger_foci, touchdown_position
 from pipelay_fast.engine.problem import remesh
 from pipelay_fast.engine.solver import _solve_gravity
 from pipelay_fast.input.limits import IterationBudget
+from tests.reference.profile import profile_depth
 from tests.test_profile_solve import DEPTH, PROFILE, _j125
 
 
@@ -35,11 +36,9 @@ def test_touchdown_is_where_the_hermite_clearance_crosses_the_profile(on_profile
     nd, ndn, u, s = pb.nd, pb.ndn, pb.u, pb.s
     x = CubicHermiteSpline(s, u[0::ndn], u[nd::ndn])
     z = CubicHermiteSpline(s, u[nd - 1::ndn], u[2 * nd - 1::ndn])
-    zt = np.array([r[0] for r in PROFILE])
-    bed = PchipInterpolator(zt, DEPTH - np.array([r[1] for r in PROFILE]))
 
     def gap(si):
-        return x(si) - bed(np.clip(z(si), zt[0], zt[-1]))
+        return x(si) - (DEPTH - profile_depth(PROFILE, z(si)))
 
     k = int(np.flatnonzero(gap(s) < 0.0)[-1])
     ref = brentq(gap, s[k], s[k + 1], xtol=1e-13)
