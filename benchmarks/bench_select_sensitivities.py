@@ -19,19 +19,21 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 import time
 import tomllib
 from pathlib import Path
 
 from bench_jlay import machine_info
-from scipy.optimize import brentq
 
-import pipelay_fast as pf
 from pipelay_fast.study.runner import run_sweep
 from pipelay_fast.study.select import select
 from pipelay_fast.study.sweep_file import load_sweep
 
 REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))  # the repository root, for tests.reference
+from tests.reference import solves  # noqa: E402
+
 XTOL = 1e-10  # 1/m, the direct roots' tolerance
 LIMITS = {"min_tip_clearance": 0.2}
 COLUMNS = ("scene", "dimension", "a_equal_peaks", "a_feasible_min", "a_feasible_max",
@@ -40,14 +42,9 @@ COLUMNS = ("scene", "dimension", "a_equal_peaks", "a_feasible_min", "a_feasible_
 
 def direct_root(case, f, lo: float, hi: float) -> tuple[float, int]:
     """(the root of ``f`` (a function of a summary) in ``a`` between ``lo``
-    and ``hi`` by cold solves of ``case``, the solves)."""
-    count = [0]
-
-    def g(a):
-        count[0] += 1
-        return f(pf.solve(case.with_changes({"lay.stinger.a": a})).summary)
-
-    return brentq(g, lo, hi, xtol=XTOL), count[0]
+    and ``hi`` by cold solves of ``case``, the solves;
+    tests/reference/solves.py)."""
+    return solves.direct_root(case, "lay.stinger.a", f, lo, hi, XTOL)
 
 
 def main() -> None:

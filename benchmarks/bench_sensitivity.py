@@ -32,6 +32,7 @@ import argparse
 import json
 import math
 import statistics
+import sys
 import time
 from contextlib import contextmanager
 from pathlib import Path
@@ -46,6 +47,9 @@ from pipelay_fast.input.validate import get_path
 from pipelay_fast.output import sensitivity as S
 
 REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))  # the repository root, for tests.reference
+from tests.reference.solves import richardson  # noqa: E402
+
 KEYS = ("lay.stinger.a", "lay.top_tension", "environment.water_depth",
         "environment.current.speed", "lay.stinger.height_shift")
 CASES = ("s67", "s125", "j125_2d", "s67_rollers", "s67_3d", "s125_3d", "j125_3d")
@@ -140,19 +144,12 @@ def cost(name: str, repeats: int) -> dict:
             "nan_reasons": sorted({r.split(": ", 1)[1][:90] for r in table["reason"] if r})}
 
 
-def _central(case, key, p, h) -> dict:
-    up = pf.solve(case.with_changes({key: p + h})).summary
-    down = pf.solve(case.with_changes({key: p - h})).summary
-    return {name: (up[name] - down[name]) / (2.0 * h) for name in up
-            if name in S.summary_rows() and isinstance(up[name], float)}
-
-
 def reference(case, key) -> dict:
-    """Richardson-extrapolated central differences of full solves, per column."""
+    """Richardson-extrapolated central differences of full solves, per column
+    (tests/reference/solves.py)."""
     p = float(get_path(case.to_dict(), key))
     h = OWN_STEP.get(key, REFERENCE_STEP * (abs(p) or 1.0))  # (absolute where p = 0)
-    fine, coarse = _central(case, key, p, h), _central(case, key, p, 2.0 * h)
-    return {name: (4.0 * fine[name] - coarse[name]) / 3.0 for name in fine}
+    return richardson(case, key, p, h, S.summary_rows())
 
 
 def compare(case, summary, table, key, ref) -> dict:

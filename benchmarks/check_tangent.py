@@ -468,26 +468,14 @@ def _weighted_residual(pb):
 
 
 def regraded(case, pb):
-    """The problem of ``case`` (a neighbour of the case ``pb`` solved) on
-    the mesh a solve of it grades at ``pb``'s boundaries, ``pb``'s state
-    interpolated onto it (as the sensitivities' engine builds it:
-    ``engine/sensitivity.py`` ``regraded_problem`` of the sens branch)."""
-    from dataclasses import replace
+    """The problem of ``case`` (a neighbour of the case ``pb`` solved) as the
+    sensitivities' engine builds it (``engine/sensitivity.py``
+    ``regraded_problem``: the mesh a solve of it grades at ``pb``'s
+    boundaries, ``pb``'s state interpolated onto it), set for Newton from
+    that state (free boundaries, the load path's factors, no tolerance)."""
+    from pipelay_fast.engine.sensitivity import regraded_problem
 
-    from pipelay_fast.engine.boundaries import stinger_foci, touchdown_position
-    from pipelay_fast.engine.guess import guide_case
-    from pipelay_fast.engine.problem import _guess, _mesh_stats, remesh
-
-    stats = dict(pb.stats)
-    guess = _guess(guide_case(case) if case.lay.has_rollers else case)
-    sizes = _mesh_stats(case, guess)
-    total = sizes.pop("cold_total")
-    if "cold_total" not in stats:
-        total = float(pb.s[-1])
-    stats.update(sizes)
-    graded = replace(pb, path=replace(pb.path, stats=stats))
-    new = remesh(case, graded, touchdown_position(pb), stinger_foci(case, pb), grading=True,
-                 total=total)
+    new = regraded_problem(case, pb)
     new.settings.factors = pb.settings.factors.copy()
     new.settings.tolerance = None
     new.settings.in_balance = True

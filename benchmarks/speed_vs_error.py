@@ -189,7 +189,7 @@ class Scene:
         case = self.base
 
         def estimate():
-            g = first_guess(case, lambda cat: 0.0)  # laid length plays no part here
+            g = first_guess(case, lambda cat, z_td: 0.0)  # laid length plays no part here
             end_z = case.lay.top[1] if g.liftoff_z is None else g.liftoff_z
             return end_z - g.cat.span, g.liftoff_z
 

@@ -16,24 +16,13 @@ import pipelay_fast as pf
 from pipelay_fast.engine.friction import slipping_length_bound
 from pipelay_fast.engine.guess import free_span
 from tests.helpers import EXAMPLES
+from tests.reference.drag import drag_vector
 
 
 def lateral_drag(case, prof):
     """Lateral drag [N] on the deformed pipe under the power-law current along
-    +y, V = V0 (x / depth)^p, integrated by the trapezoidal rule over the nodes
-    (Morison, normal part)."""
-    pipe, env = case.pipe, case.environment
-    q0 = 0.5 * env.water_density * pipe.drag_coefficient * pipe.hydrodynamic_diameter
-    r = prof[["x", "y", "z"]].to_numpy()
-    height = np.clip(r[:, 0] / env.water_depth, 0.0, None)
-    v = (env.current.speed * height**env.current.exponent)[:, None]
-    s = prof["s"].to_numpy()
-    t = np.gradient(r, s, axis=0)
-    t /= np.linalg.norm(t, axis=1)[:, None]
-    vn = v * (np.array([0.0, 1.0, 0.0]) - t[:, 1:2] * t)  # normal velocity
-    below = r[:, 0] <= env.water_depth
-    fy = q0 * np.linalg.norm(vn, axis=1) * vn[:, 1] * below
-    return float(np.sum(0.5 * (fy[1:] + fy[:-1]) * np.diff(s)))
+    +y (:func:`tests.reference.drag.drag_vector`'s y part)."""
+    return float(drag_vector(case, prof)[1])
 
 
 @pytest.fixture(scope="module")

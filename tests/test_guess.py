@@ -13,7 +13,7 @@ import pytest
 from scipy.optimize import brentq
 
 import pipelay_fast as pf
-from pipelay_fast.engine.bed_guess import profiled_span
+from pipelay_fast.engine.bed_guess import seabed_span
 from pipelay_fast.engine.guess import first_guess, free_span, slay_liftoff, weights
 from pipelay_fast.engine.tuning import TIP_PAST_REACH
 from pipelay_fast.input.profile import bed_heights, bed_knots
@@ -154,7 +154,7 @@ def test_beam_span_solves_the_beam_column(lam_over_span):
 
 
 @pytest.mark.parametrize("rise", [-2.0, 1.5])
-def test_profiled_span_on_a_level_profile_is_the_shallower_catenary(j125, rise):
+def test_seabed_span_on_a_level_profile_is_the_shallower_catenary(j125, rise):
     """A profile level at ``rise`` m above the reference level is a seabed
     that much shallower: the J-lay catenary from the top tension touches
     down at that height, and its span is the reference catenary's over the
@@ -163,7 +163,7 @@ def test_profiled_span_on_a_level_profile_is_the_shallower_catenary(j125, rise):
     x_top, z_top = j125.lay.top
     case = j125.with_changes({"seabed.stiffness": 1e6,
                               "seabed.profile": [[-500.0, depth - rise], [900.0, depth - rise]]})
-    cat, x_td = profiled_span(case, free_span(case))
+    cat, x_td = seabed_span(case, free_span(case), bed_knots(case.seabed.profile, depth))
     w1, w2 = weights(case)
     ref = natural_catenary_two_weights(w1, w2, depth - rise, x_top - rise,
                                        T_top=case.lay.top_tension)
@@ -172,7 +172,7 @@ def test_profiled_span_on_a_level_profile_is_the_shallower_catenary(j125, rise):
 
 
 @pytest.mark.parametrize("tilt", [-1.0, 1.0])
-def test_profiled_span_touches_down_on_a_ramp(j125, tilt):
+def test_seabed_span_touches_down_on_a_ramp(j125, tilt):
     """On a profile rising (or falling) 12 m over 600 m across the flat
     seabed's touchdown, the catenary touches down where the profile's
     height is its own (the reference catenary over the water depth and top
@@ -186,7 +186,7 @@ def test_profiled_span_touches_down_on_a_ramp(j125, tilt):
     rows = [[z_f - 200.0, depth + 4.0 * tilt], [z_f + 100.0, depth],
             [z_f + 400.0, depth - 8.0 * tilt]]
     case = j125.with_changes({"seabed.stiffness": 1e6, "seabed.profile": rows})
-    cat, x_td = profiled_span(case, flat)
+    cat, x_td = seabed_span(case, flat, bed_knots(rows, depth))
     w1, w2 = weights(case)
     ref = natural_catenary_two_weights(w1, w2, depth - x_td, x_top - x_td,
                                        T_top=case.lay.top_tension)

@@ -10,9 +10,9 @@ import math
 
 import numpy as np
 import pytest
-from scipy.interpolate import PchipInterpolator
 
 import pipelay_fast as pf
+from tests.reference.profile import profile_depth
 from tests.test_frame import S67_WATERLINE, waterline
 from tests.test_profile_solve import DEPTH, PROFILE
 
@@ -23,15 +23,6 @@ def _line(ax, label):
     """The panel's one line labelled ``label``."""
     (line,) = [ln for ln in ax.lines if ln.get_label() == label]
     return np.asarray(line.get_xdata(), dtype=float), np.asarray(line.get_ydata(), dtype=float)
-
-
-def _depth_at(rows, z):
-    """The water depth [m] at ``z`` of a profile table whose end rows are level
-    (scipy's PCHIP then has zero end slopes, as the engine's), held at its
-    ends."""
-    table = np.asarray(rows, dtype=float)
-    pchip = PchipInterpolator(table[:, 0], table[:, 1])
-    return pchip(np.clip(z, table[0, 0], table[-1, 0]))
 
 
 def _spans_drawn(ax, result):
@@ -70,7 +61,7 @@ def test_waterline_frame_draws_the_profile_spans_and_water_line_about_still_wate
     np.testing.assert_allclose(pipe, cols["x"] - depth, rtol=0.0, atol=1e-9)
     s_bed, bed = _line(ax, "seabed")
     np.testing.assert_array_equal(s_bed, cols["s"])
-    np.testing.assert_allclose(bed, -_depth_at(rows, cols["z"]), rtol=0.0, atol=1e-9)
+    np.testing.assert_allclose(bed, -profile_depth(rows, cols["z"]), rtol=0.0, atol=1e-9)
     _, water = _line(ax, "water line")
     assert (water == 0.0).all()
     _spans_drawn(ax, result)
@@ -91,7 +82,7 @@ def test_seabed_frame_draws_the_profile_and_water_line_above_the_reference_seabe
     _, pipe = _line(ax, "pipe")
     np.testing.assert_array_equal(pipe, cols["x"])
     _, bed = _line(ax, "seabed")
-    np.testing.assert_allclose(bed, DEPTH - _depth_at(PROFILE, cols["z"]), rtol=0.0, atol=1e-9)
+    np.testing.assert_allclose(bed, DEPTH - profile_depth(PROFILE, cols["z"]), rtol=0.0, atol=1e-9)
     _, water = _line(ax, "water line")
     assert (water == DEPTH).all()
     assert _spans_drawn(ax, result) == len(result.spans)

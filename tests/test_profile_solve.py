@@ -6,10 +6,10 @@ admissibility with a current, and the refusals."""
 import numpy as np
 import pytest
 from scipy.integrate import solve_bvp
-from scipy.interpolate import PchipInterpolator
 
 import pipelay_fast as pf
 from pipelay_fast.input.case import load_case
+from tests.reference.profile import profile_depth
 from tests.test_friction import lateral_drag
 from tests.test_hard_cases import weight_of
 
@@ -32,11 +32,8 @@ def foundation_reference(profile, ei, ws, k, h, z_a, length):
     [N] (the laid pipe carries no horizontal load), the load q_X = -w + k
     (x_b(Z) - X) where X <= x_b(Z) (the vertical foundation), x_b the PCHIP
     of the table held at its ends. Returns (s, Z, gap = X - x_b(Z)) dense."""
-    zt = np.array([r[0] for r in profile])
-    pc = PchipInterpolator(zt, DEPTH - np.array([r[1] for r in profile]))
-
     def xb(z):
-        return pc(np.clip(z, zt[0], zt[-1]))
+        return DEPTH - profile_depth(profile, z)
 
     def f(s, y):
         z, x, th, kap, nx = y

@@ -29,6 +29,7 @@ from pipelay_fast.study.runner import run_sweep
 from pipelay_fast.study.select import select
 from pipelay_fast.study.sensitivity import hermite_newton, hermite_root
 from pipelay_fast.study.sweep_file import load_sweep
+from tests.reference import solves
 
 ROOT = Path(__file__).resolve().parents[1]
 GRID = [-0.0018, -0.0017, -0.0013, -0.0012]  # 1/m
@@ -54,9 +55,9 @@ def swept(tmp_path_factory):
 
 
 def direct_root(case, f, lo, hi) -> float:
-    """The root of ``f`` (of a summary) in a between ``lo`` and ``hi`` by cold solves."""
-    return brentq(lambda a: f(pf.solve(case.with_changes({KEY: a})).summary), lo, hi,
-                  xtol=1e-10)
+    """The root of ``f`` (of a summary) in a between ``lo`` and ``hi`` by cold
+    solves (:func:`tests.reference.solves.direct_root`)."""
+    return solves.direct_root(case, KEY, f, lo, hi, 1e-10)[0]
 
 
 def gap(summary) -> float:

@@ -22,6 +22,7 @@ import pipelay_fast as pf
 from pipelay_fast.input.examples import example_path
 from pipelay_fast.input.validate import get_path
 from pipelay_fast.output import sensitivity as S
+from tests.reference.solves import richardson
 
 RTOL = 1e-5  # issue 43, target 1
 REFERENCE_STEP = 1e-3  # relative
@@ -48,20 +49,11 @@ def _case(name: str, **changes):
         {"solver.tolerance": REFERENCE_TOL, **changes})
 
 
-def _central(case, key: str, p: float, h: float) -> dict:
-    up = pf.solve(case.with_changes({key: p + h})).summary
-    down = pf.solve(case.with_changes({key: p - h})).summary
-    return {name: (up[name] - down[name]) / (2.0 * h) for name in SMOOTH
-            if isinstance(up[name], float) and math.isfinite(up[name])}
-
-
 def _reference(case, key: str) -> dict:
     """Central finite differences of full solves, Richardson-extrapolated,
-    per summary column."""
+    per summary column (:func:`tests.reference.solves.richardson`)."""
     p = float(get_path(case.to_dict(), key))
-    h = REFERENCE_STEP * abs(p)
-    fine, coarse = _central(case, key, p, h), _central(case, key, p, 2.0 * h)
-    return {name: (4.0 * fine[name] - coarse[name]) / 3.0 for name in fine}
+    return richardson(case, key, p, REFERENCE_STEP * abs(p), SMOOTH)
 
 
 def _compare(case, keys, at_least: int):

@@ -22,28 +22,10 @@ import pipelay_fast as pf
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels.types import load_factors
 from tests.helpers import friction_system
+from tests.reference.drag import drag_vector
 from tests.test_hard_cases import weight_of
 
 SLOPES = (-5.0, 5.0)
-
-
-def drag_vector(case, prof) -> np.ndarray:
-    """Drag (x, y, z) [N] on the deformed pipe (Morison, normal part, the
-    power-law current along its heading in the y-z plane), integrated by
-    the trapezoidal rule over the nodes."""
-    pipe, env = case.pipe, case.environment
-    q0 = 0.5 * env.water_density * pipe.drag_coefficient * pipe.hydrodynamic_diameter
-    r = prof[["x", "y", "z"]].to_numpy()
-    heading = math.radians(env.current.heading)
-    e = np.array([0.0, math.sin(heading), math.cos(heading)])
-    height = np.clip(r[:, 0] / env.water_depth, 0.0, None)
-    v = (env.current.speed * height**env.current.exponent)[:, None] * e
-    s = prof["s"].to_numpy()
-    t = np.gradient(r, s, axis=0)
-    t /= np.linalg.norm(t, axis=1)[:, None]
-    vn = v - np.sum(v * t, axis=1)[:, None] * t
-    f = q0 * np.linalg.norm(vn, axis=1)[:, None] * vn * (r[:, :1] <= env.water_depth)
-    return np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(s)[:, None], axis=0)
 
 
 def _solved(slope: float, heading: float, **more):

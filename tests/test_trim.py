@@ -264,12 +264,19 @@ def test_trim_is_a_sweep_axis():
 
 def test_a_trim_keeps_the_stingers_curvature_pin_jump_and_strain_check():
     """The pinned top's tension jump (EI kappa_U)^2 / (2 EI) and the bending
-    strain check read the curvature, which a turn leaves as it is."""
+    strain check read the curvature, which a turn leaves as it is: the jump
+    of the trimmed stinger is the closed form's of the vessel's parabola,
+    kappa_U = 2a / (1 + x'(z_U)^2)^(3/2), x'(z_U) the chord's slope plus
+    a (z_U - z_L)."""
     from pipelay_fast.engine.model import pin_jump
     trim = {"lay.trim_deg": 2.0, "lay.trim_pivot": list(PIVOT)}
     pinned = load("s67", **{"lay.top_angle": "pinned"})
-    jump = pin_jump(pinned)
-    assert jump > 0.0
+    (x_l, z_l), (x_u, z_u) = VESSEL.lower, VESSEL.upper
+    slope_u = (x_u - x_l) / (z_u - z_l) + VESSEL.a * (z_u - z_l)
+    kappa_u = 2.0 * VESSEL.a / (1.0 + slope_u**2) ** 1.5
+    ei = pinned.pipe.bending_stiffness
+    jump = (ei * kappa_u) ** 2 / (2.0 * ei)
+    assert pin_jump(pinned) == pytest.approx(jump, rel=1e-12)
     assert pin_jump(pinned.with_changes(trim)) == pytest.approx(jump, rel=1e-12)
     res = pf.solve(pinned.with_changes(trim))
     assert res.summary["status"] == "ok"

@@ -98,7 +98,8 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     columns = build_profile(case, sol)
     rollers = build_rollers(case, sol)
     functional = _functional_case(case)
-    summary = build_summary(case, sol, columns, rollers, functional)
+    spans = span_table(case, sol)
+    summary = build_summary(case, sol, columns, rollers, functional, spans=spans)
     bad = [key for key, val in summary.items() if isinstance(val, float) and math.isinf(val)]
     bad += [key for key, col in columns.items()
             if col.dtype.kind == "f" and not np.isfinite(col).all()]
@@ -109,7 +110,7 @@ def _checked_solve(case: Case, warm: Problem | None = None) -> Result:
     if beyond is not None:
         raise SolveError(f"case {case.name!r}: {beyond}")
     return Result(case, summary, columns, state=pb, roller_columns=rollers,
-                  functional=functional, span_columns=span_table(case, sol))
+                  functional=functional, span_columns=spans)
 
 
 def _functional_case(case: Case) -> dict | None:

@@ -29,6 +29,17 @@ from scipy.optimize import brentq
 _TABLE = 2001
 
 
+def bending_dominated(ei: float, lam: float, w: float) -> bool:
+    """Whether a lay of bending stiffness ``ei`` [N m^2], flexural length
+    ``lam`` = sqrt(EI/h) [m] at touchdown and effective weight ``w`` [N/m]
+    there is bending-dominated: ``lam`` at least the heavy elastica's
+    (EI/w)^(1/3), so that the pipe's stiffness, not its tension, sets the
+    span (a J-lay's guess is then :class:`BeamSpan`); else tension-dominated,
+    with boundary layers of length ``lam`` at its contact boundaries
+    (:func:`.problem.sized_mesh`)."""
+    return lam >= (ei / w) ** (1.0 / 3.0)
+
+
 class BeamSpan:
     """The small-slope beam-column from touchdown (s = 0, x = z = 0) to a
     pinned top at height ``x_top`` [m], in the horizontal tension ``h`` [N]

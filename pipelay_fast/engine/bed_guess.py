@@ -21,7 +21,7 @@ interval, a = 1 where w < x_b (else 0): the contact set by fixed point
 Where the seabed under touchdown is not at the reference level (a slope, a
 profile), the suspended span's catenary touches down at the seabed's
 height there, which depends on where it touches down: a fixed point
-(:func:`on_seabed`; :func:`profiled_span` for a J-lay over a profile).
+(:func:`on_seabed`; :func:`seabed_span` for a J-lay).
 """
 
 from __future__ import annotations
@@ -32,8 +32,9 @@ import numpy as np
 from scipy.linalg import solve_banded
 
 from ..input.case import Case
-from ..input.profile import bed_heights, bed_knots
+from ..input.profile import bed_heights
 from .catenary import Catenary, from_top_tension
+from .supports import seabed_height
 
 MAX_SWEEPS = 50  # active-set sweeps (it settles in a few on the tests' profiles)
 
@@ -109,27 +110,38 @@ def on_seabed(start: float, first, under, enough: float):
     return (xb, pb) if abs(rb) <= abs(ra) else (xa, pa)
 
 
-def profiled_span(case: Case, flat: Catenary):
-    """(the J-lay catenary from ``lay.top_tension`` touching down level at
-    the seabed profile's height there, that height x [m]), from the level
-    seabed's ``flat``: touchdown's z depends on the span's height above it,
-    so its height is the profile's under the catenary that starts there
-    (:func:`on_seabed`), to within the profile's slope there times the
-    flexural length sqrt(EI/h) (the guess's error along the seabed)."""
+def seabed_span(case: Case, flat: Catenary, knots: np.ndarray):
+    """(the J-lay catenary from ``lay.top_tension`` touching down on the
+    seabed's surface, touchdown's height x [m] there), from the level
+    seabed's ``flat``: touchdown's z depends on the span's height above the
+    reference level, so its height is the surface's under the catenary that
+    starts there (:func:`on_seabed`), to within the surface's slope there
+    times the flexural length sqrt(EI/h) (the guess's error along the
+    seabed). The surface is data: on a slope the plane
+    (:func:`.supports.seabed_height`), the catenary touching down tangent
+    to it; over a profile the profile's ``knots``
+    (:func:`..input.profile.bed_knots`), the catenary touching down level."""
     lay = case.lay
     x_top, z_top = lay.top
     depth = case.environment.water_depth
-    knots = bed_knots(case.seabed.profile, depth)
+    if case.seabed.profile is not None:
+        tan0 = 0.0
 
-    def height(z):
-        x, slope = bed_heights(knots, np.array([z]))
-        return float(x[0]), float(slope[0])
+        def surface(z):
+            x, slope = bed_heights(knots, np.array([z]))
+            return float(x[0]), float(slope[0])
+    else:
+        tan0 = math.tan(case.seabed.slope)
+
+        def surface(z):
+            return float(seabed_height(case, z)), tan0
 
     def under(x_td):
-        cat = from_top_tension(lay.top_tension, flat.w1, flat.w2, depth - x_td, x_top - x_td)
-        return height(z_top - cat.span)[0], cat
+        cat = from_top_tension(lay.top_tension, flat.w1, flat.w2, depth - x_td, x_top - x_td,
+                               tan0)
+        return surface(z_top - cat.span)[0], cat
 
-    start, slope = height(z_top - flat.span)
+    start, slope = surface(z_top - flat.span)
     enough = abs(slope) * math.sqrt(case.pipe.bending_stiffness / flat.h)
     x_td, cat = on_seabed(start, under(start), under, enough)
     return cat, x_td

@@ -17,15 +17,16 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq
 
 from ..input.case import Case
+from ..input.profile import bed_heights, bed_knots
 from . import tuning as T
-from .beam import BeamSpan
-from .bed_guess import on_seabed, profiled_span
+from .beam import BeamSpan, bending_dominated
+from .bed_guess import laid_on_foundation, on_seabed, seabed_span
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
 from .supports import seabed_height
@@ -54,8 +55,11 @@ class Guess:
         :func:`pipelay_fast.engine.boundaries.bear_on_tip`). None otherwise.
     x_tdp : float
         Height of touchdown [m] on a sloped seabed or a profile whose
-        catenary ``cat`` touches down on it (:func:`sloped_span`,
-        :func:`.bed_guess.profiled_span`; heights from there), else 0.
+        catenary ``cat`` touches down on it (:func:`.bed_guess.seabed_span`;
+        heights from there), else 0.
+    knots : ndarray
+        The seabed profile's knots (:func:`..input.profile.bed_knots`; (0, 3)
+        without a profile), built once for the guess and the problem.
     """
 
     cat: Catenary
@@ -65,6 +69,7 @@ class Guess:
     liftoff_z: float | None = None
     tip_past: float | None = None
     x_tdp: float = 0.0
+    knots: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
 
 def weights(case: Case):
@@ -117,26 +122,6 @@ def free_span(case: Case) -> Catenary:
             f"and {z_top + x_top:g} m (hanging vertically from the top)"
         )
     return Catenary(h, w1, w2, depth, x_top)
-
-
-def sloped_span(case: Case, flat: Catenary):
-    """(the J-lay catenary from ``lay.top_tension`` touching down tangent to
-    the sloped seabed, touchdown's height x [m]), from the flat seabed's
-    ``flat``: touchdown's height is the seabed's under the catenary that
-    starts there (:func:`.bed_guess.on_seabed`)."""
-    lay = case.lay
-    x_top, z_top = lay.top
-    depth = case.environment.water_depth
-    tan0 = math.tan(case.seabed.slope)
-
-    def under(x_td):
-        cat = from_top_tension(lay.top_tension, flat.w1, flat.w2, depth - x_td, x_top - x_td,
-                               tan0)
-        return float(seabed_height(case, z_top - cat.span)), cat
-
-    start = float(seabed_height(case, z_top - flat.span))
-    x_td, cat = on_seabed(start, under(start), under, _height_error(case, flat.h))
-    return cat, x_td
 
 
 def _height_error(case: Case, h: float) -> float:
@@ -319,29 +304,27 @@ def _slay_bottom_tension(case: Case) -> float:
 def _bending_dominated(case: Case, cat: Catenary) -> bool:
     """Whether a J-lay's guess is the beam-column's (:class:`.beam.BeamSpan`)
     rather than the catenary ``cat``: a pinned top over a flat seabed, with
-    no pipe length given, where the flexural length sqrt(EI/h) is at least
-    the heavy elastica's (EI/w)^(1/3) (the pipe's stiffness, not its
-    tension, sets the span; the same test as the mesh's boundary layer,
-    :func:`.problem.sized_mesh`). On the same height and tension the
+    no pipe length given, where the lay is bending-dominated
+    (:func:`.beam.bending_dominated`). On the same height and tension the
     pinned top's effective tension is the catenary's (M = 0 there)."""
     ei = case.pipe.bending_stiffness
     return (case.lay.top_angle in (None, "pinned") and case.lay.pipe_length is None
             and case.seabed.profile is None
-            and math.sqrt(ei / cat.h) >= (ei / cat.w1) ** (1.0 / 3.0))
+            and bending_dominated(ei, math.sqrt(ei / cat.h), cat.w1))
 
 
 def first_guess(case: Case, laid_of) -> Guess:
-    """The first shape; ``laid_of(cat)`` gives the laid length [m] behind the
-    suspended span's natural catenary ``cat`` (not called when
-    ``lay.pipe_length`` sets it). ValueError as :func:`free_span` and
-    :func:`slay_liftoff`."""
+    """The first shape; ``laid_of(cat, z_td)`` gives the laid length [m]
+    behind the suspended span's natural catenary ``cat`` touching down at
+    ``z_td`` [m] (not called when ``lay.pipe_length`` sets it). ValueError
+    as :func:`free_span` and :func:`slay_liftoff`."""
     lay = case.lay
+    knots = bed_knots(case.seabed.profile, case.environment.water_depth)
     if lay.method == "J":
         cat, x_tdp = free_span(case), 0.0
-        if case.seabed.slope != 0.0 and lay.top_tension is not None:
-            cat, x_tdp = sloped_span(case, cat)
-        elif case.seabed.profile is not None and lay.top_tension is not None:
-            cat, x_tdp = profiled_span(case, cat)
+        bed = case.seabed
+        if (bed.slope != 0.0 or bed.profile is not None) and lay.top_tension is not None:
+            cat, x_tdp = seabed_span(case, cat, knots)
         elif _bending_dominated(case, cat):
             cat = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top,
                            case.pipe.bending_stiffness)
@@ -349,21 +332,23 @@ def first_guess(case: Case, laid_of) -> Guess:
         if lay.pipe_length is not None:
             laid = lay.pipe_length - susp
         else:
-            laid = laid_of(cat)
-        return Guess(cat, laid, None, laid + susp, x_tdp=x_tdp)
+            laid = laid_of(cat, lay.top[1] - cat.span)
+        return Guess(cat, laid, None, laid + susp, x_tdp=x_tdp, knots=knots)
     if lay.pipe_length is not None:
         z_lo, cat, arc, past, x_tdp = _slay_span(case, _slay_bottom_tension(case))
         laid = lay.pipe_length - cat.length - arc
     else:
         z_lo, cat, arc, past, x_tdp = _slay_span(case)
-        laid = laid_of(cat)
+        laid = laid_of(cat, z_lo - cat.span)
     s_lo = laid + cat.length
-    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, tip_past=past, x_tdp=x_tdp)
+    return Guess(cat, laid, s_lo, s_lo + arc, liftoff_z=z_lo, tip_past=past, x_tdp=x_tdp,
+                 knots=knots)
 
 
 def shape(case: Case, g: Guess, s):
     """x, z [m], theta [rad], Te [N], curvature [1/m] of the guess ``g`` at
-    arc lengths ``s`` [m] from the lower end (arrays like ``s``)."""
+    arc lengths ``s`` [m] from the lower end (arrays like ``s``); over a
+    seabed profile, x and theta moved onto it (:func:`_on_profile`)."""
     lay = case.lay
     cat = g.cat
     z_top = lay.top[1]
@@ -395,14 +380,40 @@ def shape(case: Case, g: Guess, s):
         depth = case.environment.water_depth
         te[on_st] = cat.h + _rise(cat.w1, cat.w2, depth, x[on_st])
         kappa[on_st] = st.curvature(zz)
+    if case.seabed.profile is not None:
+        x, th = _on_profile(case, g, s, x, z, th)
     return x, z, th, te, kappa
+
+
+def _on_profile(case: Case, g: Guess, s, x, z, th):
+    """The guess's shape (``x``, ``z``, ``th`` at ``s``) moved onto the
+    seabed profile (its knots ``g.knots``): the suspended span lifted by the
+    height its catenary touches down at (``g.x_tdp``,
+    :func:`.bed_guess.seabed_span`), and by the rest of x_b at the guess's
+    touchdown in proportion to the arc length left up to the fixed top;
+    from the lower end to a flexural length sqrt(EI/H) past touchdown (the
+    boundary layer over which the pipe leaves the seabed; at most half way
+    to the top), the tensioned beam on the foundation
+    (:func:`.bed_guess.laid_on_foundation`, the guess's tension H) that ends
+    there on that lifted span, with its height and slope."""
+    knots = g.knots
+    x_td = float(bed_heights(knots, np.array([np.interp(g.laid, s, z)]))[0][0])
+    x = x + g.x_tdp + (x_td - g.x_tdp) * np.clip((g.total - s) / (g.total - g.laid), 0.0, 1.0)
+    lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)
+    s1 = min(g.laid + lam, 0.5 * (g.laid + g.total))
+    near = s <= s1
+    beam_x, beam_th = laid_on_foundation(
+        knots, float(z[0]), float(np.interp(s1, s, z)), float(np.interp(s1, s, x)),
+        math.tan(float(np.interp(s1, s, th))), case.pipe.bending_stiffness, g.cat.h,
+        float(case.effective_weight(0.0)), case.seabed.stiffness, z)
+    return np.where(near, beam_x, x), np.where(near, beam_th, th)
 
 
 def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
     """The guess (x, z [m], theta [rad] at arc lengths ``s`` [m], touchdown
     at ``z_tdp`` [m]) onto a sloped seabed: the laid pipe on the slope's
     line; the suspended span of a catenary touching down on the slope
-    (:func:`sloped_span`) raised to touchdown's height, and the seabed's
+    (:func:`.bed_guess.seabed_span`) raised to touchdown's height, and the seabed's
     height there off it (the miss :func:`.bed_guess.on_seabed` leaves) sheared in as
     below, so that the span meets the laid pipe; a flat seabed's
     sheared (its heights moved by the seabed's height under them, in full at

@@ -15,12 +15,11 @@ import numpy as np
 
 from ..input.case import Case
 from ..input.limits import check_mesh_size
-from ..input.profile import bed_heights, bed_knots
+from ..input.profile import bed_knots
 from ..kernels import layout as L
 from ..kernels.layout import B_PT
 from . import tuning as T
-from .beam import BeamSpan
-from .bed_guess import laid_on_foundation
+from .beam import BeamSpan, bending_dominated
 from .boundaries import (
     bear_on_tip,
     follow_boundaries,
@@ -64,47 +63,17 @@ def _guess(case: Case, laid: float | None = None):
     first row, so that the spans it makes are in the model."""
     h_max = case.solver.element_length
     given = laid if laid is not None else case.solver.laid_length
-
-    def laid_of(cat):
-        lam = math.sqrt(case.pipe.bending_stiffness / cat.h)
-        return given or (2.0 * T.LAID_LENGTHS * lam + T.LAID_ELEMENTS * h_max
-                         + friction_laid_length(case, cat))
-
-    g = first_guess(case, laid_of)
     profile = case.seabed.profile
-    if profile is None or given or case.lay.pipe_length is not None:
-        return g
-    lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)
-    z_td = float(shape(case, g, np.array([g.laid]))[1][0])
-    need = z_td - profile[0][0] + T.LAID_LENGTHS * lam
-    return g if need <= g.laid else first_guess(case, lambda cat: need)
 
+    def laid_of(cat, z_td):
+        lam = math.sqrt(case.pipe.bending_stiffness / cat.h)
+        default = given or (2.0 * T.LAID_LENGTHS * lam + T.LAID_ELEMENTS * h_max
+                            + friction_laid_length(case, cat))
+        if profile is None or given:
+            return default
+        return max(default, z_td - profile[0][0] + T.LAID_LENGTHS * lam)
 
-def _on_profile(case: Case, g, s, x, z, th):
-    """The guess's shape (``x``, ``z``, ``th`` at ``s``, :func:`.guess.shape`)
-    moved onto the seabed profile: the suspended span lifted by the height
-    its catenary touches down at (``g.x_tdp``, :func:`.guess.profiled_span`;
-    0 when it touches down at the reference level), and by the rest of x_b
-    at the guess's touchdown in proportion to the arc length left up to the
-    fixed top; from the lower end to a flexural length sqrt(EI/H) past touchdown
-    (the boundary layer over which the pipe leaves the seabed; at most half
-    way to the top), the tensioned beam on the foundation
-    (:func:`.bed_guess.laid_on_foundation`, the guess's tension H) that ends
-    there on that lifted span, with its height and slope. Unchanged without
-    a profile."""
-    if case.seabed.profile is None:
-        return x, th
-    knots = bed_knots(case.seabed.profile, case.environment.water_depth)
-    x_td = float(bed_heights(knots, np.array([np.interp(g.laid, s, z)]))[0][0])
-    x = x + g.x_tdp + (x_td - g.x_tdp) * np.clip((g.total - s) / (g.total - g.laid), 0.0, 1.0)
-    lam = math.sqrt(case.pipe.bending_stiffness / g.cat.h)
-    s1 = min(g.laid + lam, 0.5 * (g.laid + g.total))
-    near = s <= s1
-    beam_x, beam_th = laid_on_foundation(
-        knots, float(z[0]), float(np.interp(s1, s, z)), float(np.interp(s1, s, x)),
-        math.tan(float(np.interp(s1, s, th))), case.pipe.bending_stiffness, g.cat.h,
-        float(case.effective_weight(0.0)), case.seabed.stiffness, z)
-    return np.where(near, beam_x, x), np.where(near, beam_th, th)
+    return first_guess(case, laid_of)
 
 
 def _mesh_stats(case: Case, g) -> dict:
@@ -134,10 +103,9 @@ def sized_mesh(case: Case, guessed: dict) -> dict:
     none) and the length of pipe modelled [m] (``cold_total``)."""
     lam = guessed["flexural_length"]
     h_max, h_min = _mesh_sizes(case, lam)
-    # a tension-dominated lay (the flexural length shorter than the heavy
-    # elastica's (EI / w)^(1/3)) has boundary layers of that length at its
+    # a tension-dominated lay has boundary layers of length lam at its
     # contact boundaries (:func:`.continuation.boundary_step`); 0: none
-    layer = lam if lam < (case.pipe.bending_stiffness / guessed["weight"]) ** (1.0 / 3.0) else 0.0
+    layer = 0.0 if bending_dominated(case.pipe.bending_stiffness, lam, guessed["weight"]) else lam
     return {"h_min": h_min, "h_max": h_max, "flexural_length": lam, "boundary_layer": layer,
             "cold_total": guessed["cold_total"]}
 
@@ -168,14 +136,13 @@ def build_problem(case: Case, laid: float | None = None) -> Problem:
                      check=lambda n: check_mesh_size(case, n, g.total, g.laid,
                                                      _laid_source(case, g.cat, lam, laid)))
     x, z, th, te, kappa = shape(case, g, s)
-    x, th = _on_profile(case, g, s, x, z, th)
     u = np.zeros(s.size * ndn)
     u[0::ndn] = x
     u[nd - 1::ndn] = z
     u[nd::ndn] = np.sin(th)
     u[2 * nd - 1::ndn] = np.cos(th)
     u[2 * nd::ndn] = te - case.pipe.bending_stiffness * kappa**2
-    pb = _problem(case, nd, s, u, g.cat.h, _reference_force(case, g), stats)
+    pb = _problem(case, nd, s, u, g.cat.h, _reference_force(case, g), stats, g.knots)
     follow_boundaries(case, pb, s_focus)
     # the catenary leaves below the tip: the pipe bears on it, with the gap
     # span the guess's lift-off past the tip gives (:func:`.guess.slay_liftoff`)
@@ -218,7 +185,7 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     s = graded_nodes(total, [s_t, total], h_max, h_min, grading=case.solver.grading,
                      check=lambda n: check_mesh_size(case, n, total, s_t, source), nodes=s_r)
     u = interpolate_state(guide.s, guide.u, nd, s)
-    pb = _problem(case, nd, s, u, guide.tb[0], guide.settings.fref, stats)
+    pb = _problem(case, nd, s, u, guide.tb[0], guide.settings.fref, stats, guide.bed)
     pb.ends.fix_val[:ndn] = guide.ends.fix_val[:ndn]
     k_td = int(np.argmin(np.abs(s - s_t)))
     pb.contacts.bed_active[1:k_td + 1] = 1
@@ -286,8 +253,10 @@ def _laid_source(case: Case, cat, lam: float, laid: float | None = None) -> str:
     return text
 
 
-def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
-    """Constraint arrays for nodes ``s`` with state ``u``. The contact sets
+def _problem(case: Case, nd, s, u, tb, fref, stats, knots) -> Problem:
+    """Constraint arrays for nodes ``s`` with state ``u`` over the seabed
+    profile's ``knots`` (:func:`..input.profile.bed_knots`; a cold
+    start's are its first guess's, ``Guess.knots``). The contact sets
     start empty: the mapping of the mesh onto the boundaries sets them
     (:func:`follow_boundaries`, :func:`remesh`), or a warm start copies them."""
     ndn = 2 * nd + 1
@@ -349,7 +318,7 @@ def _problem(case: Case, nd, s, u, tb, fref, stats) -> Problem:
     return make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
                         fref=fref, href=stats["h_max"], points=_points(case, curve), curve=curve,
                         tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats, seabed=bed,
-                        bed=bed_knots(case.seabed.profile, case.environment.water_depth))
+                        bed=knots)
 
 
 def _points(case: Case, curve) -> np.ndarray:
@@ -417,7 +386,8 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
             u[1::ndn][first] = pb.u[1]
             u[nd + 1::ndn][first] = 0.0
     stats = dict(pb.stats)
-    new = _problem(case, nd, s, u, pb.tb[0], pb.settings.fref, stats)
+    new = _problem(case, nd, s, u, pb.tb[0], pb.settings.fref, stats,
+                   bed_knots(case.seabed.profile, case.environment.water_depth))
     # the lower end stays held where the case holds it (with a given pipe
     # length, at z = 0: cut or lengthened there, the pipe's state was held
     # where the neighbour's laid pipe put that material point, 2 m off,

@@ -38,7 +38,7 @@ def warm_problem(case: Case, old: Problem) -> Problem:
     state = dict(zip(STATE + MAP, old.path.before_current or snapshot(old), strict=True))
     g = _guess(guide_case(case) if case.lay.has_rollers else case)
     new = _problem(case, nd, state["s"].copy(), state["u"].copy(), state["tb"][0],
-                   _reference_force(case, g), dict(old.stats))
+                   _reference_force(case, g), dict(old.stats), g.knots)
     new.path.warm = True
     # the mesh sizes and length of pipe of the cold start (its guess's): the
     # mesh is graded anew with them, so that the warm answer is the cold

@@ -127,10 +127,9 @@ class Stinger:
     def seabed_z(self) -> float:
         """z [m] where the curve continued below the tip meets x = 0: the
         root of a z^2 + b z + c where 2 a z + b = +sqrt(disc), without
-        cancellation (x >= 0 at the tip: a real root below it)."""
-        a, b, c = self.a, self.b, self.c
-        root = math.sqrt(b * b - 4.0 * a * c)
-        return -2.0 * c / (b + root) if b > 0.0 else (root - b) / (2.0 * a)
+        cancellation (:func:`.parabola.root`; x >= 0 at the tip: a real root
+        below it)."""
+        return float(parabola.root(-self.a, -self.b, -self.c))
 
     @property
     def vessel(self) -> Stinger:

@@ -69,10 +69,10 @@ def _points(case):
     points = []
     if lay.has_rollers:
         named = given.stinger.rollers is not None
-        shown = given.roller_positions()
+        shown, placed = given.roller_positions(), lay.roller_positions()
         for i in range(lay.roller_count - 1, -1, -1):
             key = f"lay.stinger.rollers[{i}]" if named else f"lay.stinger (generated rollers)[{i}]"
-            points.append((key, shown[i].tolist(), lay.roller_positions()[i], False))
+            points.append((key, shown[i].tolist(), placed[i], False))
     elif lay.curve is not None:
         points.append(("lay.stinger.lower", list(given.stinger.lower), lay.curve.lower, False))
     if lay.curve is not None:
@@ -88,8 +88,9 @@ def check_vessel(case) -> None:
     module docstring), naming the key and its value as given."""
     given, depth = case.given_lay, case.environment.water_depth
     shift = depth if given.frame == "waterline" else 0.0  # seabed frame -> given frame
-    for key, value, (x, z), strict in _points(case):
-        x_b = float(heights(case.seabed, depth, z))
+    points = _points(case)
+    surface = heights(case.seabed, depth, [float(point[1]) for _key, _value, point, _s in points])
+    for (key, value, (x, z), strict), x_b in zip(points, surface.tolist(), strict=True):
         if not (x < x_b or (strict and x <= x_b)):
             continue
         turned = ""

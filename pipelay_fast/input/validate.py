@@ -148,6 +148,15 @@ def get_path(tree, path):
     return tree
 
 
+def number_at(tree, path) -> float | None:
+    """The value at a dotted path of nested dicts as a float, None where it
+    is not a number there (absent, a bool, text, a table)."""
+    value = get_path(tree, path)
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return None
+    return float(value)
+
+
 def put_path(tree, path, value):
     """Set a dotted path of nested dicts, creating tables; None removes the key."""
     *parents, last = path.split(".")

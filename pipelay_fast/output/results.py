@@ -378,7 +378,8 @@ def _bottom_tension(case: Case, sol: Solution, s, te, s_tdp: float) -> float:
     return sol.bottom_tension if sol.bottom_tension is not None else float(te[0])
 
 def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = None,
-                  functional: dict | None = None, identify: bool = True) -> dict:
+                  functional: dict | None = None, identify: bool = True,
+                  spans: dict | None = None) -> dict:
     """The summary row (the columns of ``SUMMARY_UNITS``) of one solved case
     from its solution ``sol`` (the solver's counts and time, touchdown and
     lift-off), its profile columns ``cols``, the roller columns ``rollers``
@@ -386,7 +387,8 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
     the code check (:func:`pipelay_fast.output.design.lcc_sections`).
     ``identify``: False leaves ``case_id`` "" (a summary that is no
     dataset's row, as the sensitivities' neighbours: the id hashes the
-    case's tables, a third of a millisecond).
+    case's tables, a third of a millisecond). ``spans``: the laid pipe's
+    span table (:func:`.spans.span_table`; None: found here).
 
     Overbend and sagbend are
     :func:`pipelay_fast.output.design.bend_regions`' (by the sign of the
@@ -456,7 +458,7 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
         "top_tension": float(te[-1]),
         "bottom_tension": _bottom_tension(case, sol, s, te, s_tdp),
         "tdp_z": z_tdp,
-        **touchdown_columns(case, sol, cols, span_table(case, sol)),
+        **touchdown_columns(case, sol, cols, span_table(case, sol) if spans is None else spans),
         "liftoff_z": liftoff_z,
         "liftoff_angle_deg": liftoff_angle,
         "top_angle_deg": float(cols["angle_deg"][-1]),

@@ -23,7 +23,6 @@ seabed friction (3D).
 from __future__ import annotations
 
 import math
-import numbers
 
 import numpy as np
 import pandas as pd
@@ -31,7 +30,7 @@ import pandas as pd
 from ..engine.model import dimension_of
 from ..engine.problem import guess_sizes
 from ..engine.sensitivity import mirrored_sizes, neighbour_solutions
-from ..input.validate import get_path
+from ..input.validate import get_path, number_at
 from .design import bend_regions
 from .results import SUMMARY_UNITS, build_profile, build_rollers, build_summary
 
@@ -90,11 +89,11 @@ def _side(case, sol, functional):
 
 def _key_value(tables: dict, key: str) -> float:
     """The value of ``key`` in a case's ``tables`` (its ``to_dict()``)."""
-    value = get_path(tables, key)
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+    value = number_at(tables, key)
+    if value is None:
         raise ValueError(f"sensitivities: {key!r} is not a numeric key the case gives "
-                         f"(its value: {value!r})")
-    return float(value)
+                         f"(its value: {get_path(tables, key)!r})")
+    return value
 
 
 def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:

@@ -264,9 +264,9 @@ def _equal_peaks(group: pd.DataFrame, variable: str, evaluate: Evaluator | None,
     if found is None:
         notes.append("equal peaks: nearest grid point")
         return row
-    root, how = found
+    root, how, by_sensitivities = found
     row[f"{variable}_equal_peaks"] = float(root)
-    if "sensitivities" in how:
+    if by_sensitivities:
         notes.append(f"equal peaks by {how}")
     if evaluate is not None:
         row["equal_peaks_von_mises"] = evaluate(root)["max_von_mises"]

@@ -15,6 +15,7 @@ Both stop within XTOL_FRACTION of the grid step.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -25,7 +26,7 @@ from .runner import CASE_ERRORS, solve_case
 from .sensitivity import column_name, hermite_newton, hermite_root
 from .sweep import AXES, DESIGN_AXES, Scene
 
-__all__ = ["XTOL_FRACTION", "Evaluator", "grid_root", "refined_ends", "slopes"]
+__all__ = ["XTOL_FRACTION", "Evaluator", "Root", "grid_root", "refined_ends", "slopes"]
 
 XTOL_FRACTION = 1e-4  # search tolerance as a share of the grid spacing of a
 
@@ -72,11 +73,21 @@ def slopes(group: pd.DataFrame, variable: str, column: str) -> np.ndarray | None
     return group[name].to_numpy(dtype=float) if name in group else None
 
 
-def grid_root(f, x, values, derivatives, j: int, evaluate: Evaluator | None
-              ) -> tuple[float, str] | None:
-    """(the root of ``f`` (a function of a summary) between the grid points
-    ``x[j]``, ``x[j + 1]``, where its ``values`` differ in sign; how it was
-    found), or None where neither solves nor derivatives can refine it.
+class Root(NamedTuple):
+    """A root between two grid points (:func:`grid_root`): its value, how it
+    was found (text for a note) and whether from the sensitivities (the
+    Hermite interpolant of the grid points' derivatives) rather than from
+    solves alone (brentq)."""
+
+    value: float
+    how: str
+    by_sensitivities: bool
+
+
+def grid_root(f, x, values, derivatives, j: int, evaluate: Evaluator | None) -> Root | None:
+    """The root of ``f`` (a function of a summary) between the grid points
+    ``x[j]``, ``x[j + 1]``, where its ``values`` differ in sign
+    (:class:`Root`), or None where neither solves nor derivatives can refine it.
 
     With both grid points' ``derivatives`` finite (None: none): the
     Hermite interpolant's root, confirmed and corrected by solves
@@ -89,18 +100,20 @@ def grid_root(f, x, values, derivatives, j: int, evaluate: Evaluator | None
     if smooth:
         bracket = {lo: (values[j], derivatives[j]), hi: (values[j + 1], derivatives[j + 1])}
         if evaluate is None:
-            return hermite_root(lo, hi, *values[j:j + 2], *derivatives[j:j + 2])[0], \
-                "the sensitivities' Hermite interpolation, not confirmed by a solve"
+            return Root(hermite_root(lo, hi, *values[j:j + 2], *derivatives[j:j + 2])[0],
+                        "the sensitivities' Hermite interpolation, not confirmed by a solve",
+                        True)
         before = evaluate.solves
         root = hermite_newton(lambda v: f(evaluate(v)), bracket, xtol)[0]
-        return root, f"Newton on the sensitivities, {evaluate.solves - before} solve(s)"
+        return Root(root, f"Newton on the sensitivities, {evaluate.solves - before} solve(s)",
+                    True)
     if evaluate is None:
         return None
     before = evaluate.solves
     grid = {lo: values[j], hi: values[j + 1]}  # (not solved again)
     root = brentq(lambda v: grid[v] if v in grid else f(evaluate(v)), lo, hi, xtol=xtol)
     evaluate(root)
-    return root, f"brentq on solves, {evaluate.solves - before} solve(s)"
+    return Root(root, f"brentq on solves, {evaluate.solves - before} solve(s)", False)
 
 
 def refined_ends(r: Range, a, margins: dict, derivatives: dict, evaluate: Evaluator | None,
@@ -125,7 +138,7 @@ def refined_ends(r: Range, a, margins: dict, derivatives: dict, evaluate: Evalua
             continue
         if found is None:
             continue
-        root, how = found
+        root, how, by_sensitivities = found
         if evaluate is not None:
             summary = evaluate(root)
             broken = [limit_text(m) for m in margins
@@ -135,7 +148,7 @@ def refined_ends(r: Range, a, margins: dict, derivatives: dict, evaluate: Evalua
                              f"{root:.6g}")
                 continue
             solved[root] = summary
-        if how.startswith("the sensitivities") or how.startswith("Newton"):
+        if by_sensitivities:
             notes.append(f"feasible {side} end by {how}")
         r = r._replace(**{side: root})
     return r, solved

@@ -21,13 +21,12 @@ from __future__ import annotations
 
 import itertools
 import math
-import numbers
 from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
 from ..input.keys import number_units
-from ..input.validate import fail, get_path
+from ..input.validate import fail, number_at
 from ..output.sensitivity import summary_rows
 
 __all__ = ["REASONS", "check_sensitivities", "column_name", "given_keys", "hermite_newton",
@@ -56,9 +55,7 @@ def check_sensitivities(path: str, value, cases: Sequence) -> tuple[str, ...]:
 def given_keys(case, keys: Sequence[str]) -> tuple[str, ...]:
     """The keys of ``keys`` that ``case`` gives as a number."""
     tables = case.to_dict()
-    values = {key: get_path(tables, key) for key in keys}
-    return tuple(key for key, value in values.items()
-                 if isinstance(value, numbers.Real) and not isinstance(value, bool))
+    return tuple(key for key in keys if number_at(tables, key) is not None)
 
 
 def column_name(row: str, key: str) -> str:
