@@ -75,15 +75,29 @@ RIGID_JLAY = {
         "pipe.coating_outer_diameter": 1.14474, "pipe.hydrodynamic_diameter": 1.14474,
         "pipe.coating_density": 1965.3, "environment.water_depth": 50.286,
         "lay.top": [55.775, 235.238], "lay.top_tension": 452860.0},
+    # large deflections (the small-slope beam-column is 30 % off the span):
+    # the top at 82 deg pinned, and at 85 deg on the firing line, where the
+    # bottom tension is 12 times the catenary's (1:2d-90 and 1:2d-269)
+    "steep, pinned": {
+        "pipe.outer_diameter": 0.20031, "pipe.inner_diameter": 0.18748,
+        "pipe.coating_outer_diameter": 0.35996, "pipe.hydrodynamic_diameter": 0.35996,
+        "pipe.coating_density": 2300.9, "environment.water_depth": 661.70,
+        "lay.top": [676.58, 231.48], "lay.top_tension": 624782.0},
+    "steep, firing line": {
+        "pipe.outer_diameter": 1.12168, "pipe.inner_diameter": 1.02232,
+        "pipe.coating_outer_diameter": 1.12168, "pipe.hydrodynamic_diameter": 1.12168,
+        "pipe.coating_density": 0.0, "environment.water_depth": 1902.58,
+        "lay.top": [1910.26, 712.49], "lay.top_angle": 85.308, "lay.top_tension": 6337470.0},
 }
 
 
 @pytest.mark.parametrize("name", RIGID_JLAY)
 def test_near_rigid_jlay_matches_elastica(name):
     """A near-rigid J-lay pipe (class 5, E = 1e15 Pa, extensible) with the
-    top pinned: the engine solves it, and its top and bottom tensions and its
-    largest moment agree with the independent planar elastica within 0.5 %."""
-    changes = {**RIGID_JLAY[name], "pipe.youngs_modulus": 1e15, "lay.top_angle": None,
+    top pinned or on the firing line: the engine solves it, and its top and
+    bottom tensions and its largest moment agree with the independent planar
+    elastica within 0.5 %."""
+    changes = {"lay.top_angle": None, **RIGID_JLAY[name], "pipe.youngs_modulus": 1e15,
                "environment.current.speed": 0.0, "solver.dimension": "2d", "checks": None}
     case = pf.load_case(EXAMPLES / "j125_2d.toml").with_changes(changes)
     lay = case.lay

@@ -24,7 +24,7 @@ from scipy.optimize import brentq
 
 from ..input.case import Case
 from . import tuning as T
-from .beam import BeamSpan
+from .beam import BeamSpan, ElasticaSpan
 from .bed_guess import on_seabed, profiled_span
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
@@ -317,17 +317,34 @@ def _slay_bottom_tension(case: Case) -> float:
 
 
 def _bending_dominated(case: Case, cat: Catenary) -> bool:
-    """Whether a J-lay's guess is the beam-column's (:class:`.beam.BeamSpan`)
-    rather than the catenary ``cat``: a pinned top over a flat seabed, with
-    no pipe length given, where the flexural length sqrt(EI/h) is at least
-    the heavy elastica's (EI/w)^(1/3) (the pipe's stiffness, not its
-    tension, sets the span; the same test as the mesh's boundary layer,
-    :func:`.problem.sized_mesh`). On the same height and tension the
-    pinned top's effective tension is the catenary's (M = 0 there)."""
+    """Whether a J-lay's guess is the elastica's (:func:`_elastica`) rather
+    than the catenary ``cat``: a flat seabed, no pipe length given, and the
+    flexural length sqrt(EI/h) at least the heavy elastica's (EI/w)^(1/3)
+    (the pipe's stiffness, not its tension, sets the span; the same test as
+    the mesh's boundary layer, :func:`.problem.sized_mesh`)."""
     ei = case.pipe.bending_stiffness
-    return (case.lay.top_angle in (None, "pinned") and case.lay.pipe_length is None
-            and case.seabed.profile is None
+    return (case.lay.pipe_length is None and case.seabed.profile is None
             and math.sqrt(ei / cat.h) >= (ei / cat.w1) ** (1.0 / 3.0))
+
+
+def _elastica(case: Case, cat: Catenary):
+    """A bending-dominated J-lay's free span (:func:`_bending_dominated`):
+    the planar heavy elastica (:class:`.beam.ElasticaSpan`) started from the
+    small-slope beam-column (:class:`.beam.BeamSpan`) on the catenary
+    ``cat``'s tension; when the elastica is not found, that beam-column
+    (pinned top) or ``cat``. On the same height and tension a pinned top's
+    effective tension is the catenary's (M = 0 there), so h is ``cat``'s
+    unless a top angle and the top tension are given."""
+    lay = case.lay
+    beam = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top, case.pipe.bending_stiffness)
+    pinned = lay.top_angle in (None, "pinned")
+    angle = None if pinned else math.radians(lay.top_angle)
+    free_h = not pinned and lay.bottom_tension is None
+    span = ElasticaSpan(beam, angle, None if free_h else cat.h,
+                        lay.top_tension if free_h else None)
+    if span.ok:
+        return span
+    return beam if pinned else cat
 
 
 def first_guess(case: Case, laid_of) -> Guess:
@@ -343,8 +360,7 @@ def first_guess(case: Case, laid_of) -> Guess:
         elif case.seabed.profile is not None and lay.top_tension is not None:
             cat, x_tdp = profiled_span(case, cat)
         elif _bending_dominated(case, cat):
-            cat = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top,
-                           case.pipe.bending_stiffness)
+            cat = _elastica(case, cat)
         susp = cat.length
         if lay.pipe_length is not None:
             laid = lay.pipe_length - susp
@@ -375,7 +391,7 @@ def shape(case: Case, g: Guess, s):
     x = np.where(on_bed, 0.0, x)
     th = np.where(on_bed, 0.0, th)
     te = np.where(on_bed, cat.h, te)
-    if isinstance(cat, BeamSpan):
+    if isinstance(cat, (BeamSpan, ElasticaSpan)):
         kappa = np.where(on_bed, 0.0, cat.curvature(np.clip(s - g.laid, 0.0, cat.length)))
     else:
         kappa = np.where(on_bed, 0.0,

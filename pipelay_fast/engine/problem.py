@@ -19,7 +19,7 @@ from ..input.profile import bed_heights, bed_knots
 from ..kernels import layout as L
 from ..kernels.layout import B_PT
 from . import tuning as T
-from .beam import BeamSpan
+from .beam import BeamSpan, ElasticaSpan
 from .bed_guess import laid_on_foundation
 from .boundaries import (
     bear_on_tip,
@@ -161,7 +161,7 @@ def build_problem(case: Case, laid: float | None = None) -> Problem:
     # does (boundary-layer asymptotics): the mesh is finest there and the
     # initial seabed contact ends there (on a shorter laid pipe, a share of
     # it); the beam-column's guess touches down there already.
-    s_focus = (g.laid if isinstance(g.cat, BeamSpan)
+    s_focus = (g.laid if isinstance(g.cat, (BeamSpan, ElasticaSpan))
                else max(g.laid - lam, T.TOUCHDOWN_FOCUS_SHARE * g.laid))
     foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
     s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading,
