@@ -31,8 +31,6 @@ from scipy.optimize import brentq
 
 # points along the span on which the shape is tabulated against arc length
 _TABLE = 2001
-# width of the weight's step at the water surface in the elastica guess, over x_top
-_STEP = 0.01
 
 
 class BeamSpan:
@@ -115,20 +113,22 @@ class ElasticaSpan:
     top) given. Weights ``w1``, ``w2`` [N/m] below and above the surface at
     height ``depth`` [m]; bending stiffness ``ei`` [N m^2]. With V the
     vertical force the pipe above s exerts (V(0) = -R, R the touchdown's
-    reaction), EI theta'' = h sin(theta) - V cos(theta), V' = w(x).
-    Solved by collocation (scipy's solve_bvp) from ``start`` (a
-    :class:`BeamSpan`, the small-slope shape); ``ok`` False when that fails.
+    reaction), EI theta'' = h sin(theta) - V cos(theta), V' = w(x), the
+    weight's step at the surface spread over ``step`` [m] (an element's
+    length: a mesh does not resolve it more finely). Solved by collocation
+    (scipy's solve_bvp) from ``start`` (a :class:`BeamSpan`, the
+    small-slope shape); ``ok`` False when that fails.
     Duck-types :class:`.catenary.Catenary` for :func:`.guess.shape`."""
 
     tan0 = 0.0
 
     def __init__(self, start: BeamSpan, angle: float | None, h: float | None,
-                 top_tension: float | None):
+                 top_tension: float | None, step: float):
         self.w1, self.w2, self.depth, self.x_top, self.ei = (
             start.w1, start.w2, start.depth, start.x_top, start.ei)
         ell, f0 = self.x_top, start.w1 * self.x_top  # scales: length, force
         ei = self.ei / (f0 * ell * ell)
-        ratio, depth = self.w2 / self.w1, self.depth / ell
+        ratio, depth, width = self.w2 / self.w1, self.depth / ell, step / ell
         free_h = h is None
         h_of = (lambda p: p[1]) if free_h else (lambda p, v=h / f0: v)
         tau = np.linspace(0.0, 1.0, 41)
@@ -141,7 +141,7 @@ class ElasticaSpan:
 
         def fun(_t, y, p):
             n = p[0]
-            w = 1.0 + (ratio - 1.0) * 0.5 * (1.0 + np.tanh((y[0] - depth) / _STEP))
+            w = 1.0 + (ratio - 1.0) * 0.5 * (1.0 + np.tanh((y[0] - depth) / width))
             return n * np.vstack([np.sin(y[2]), np.cos(y[2]), y[3],
                                   (h_of(p) * np.sin(y[2]) - y[4] * np.cos(y[2])) / ei, w])
 

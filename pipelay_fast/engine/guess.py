@@ -341,7 +341,7 @@ def _elastica(case: Case, cat: Catenary):
     angle = None if pinned else math.radians(lay.top_angle)
     free_h = not pinned and lay.bottom_tension is None
     span = ElasticaSpan(beam, angle, None if free_h else cat.h,
-                        lay.top_tension if free_h else None)
+                        lay.top_tension if free_h else None, case.solver.element_length)
     if span.ok:
         return span
     return beam if pinned else cat
