@@ -80,7 +80,7 @@ def follow_nodes(case: Case, pb: Problem, nodes):
     if len(nodes) > B_PT and nodes[B_LO] >= 0 and nodes[B_PT] >= 0:
         zones[B_LO][0] = zones[B_PT][1] = math.inf
     order = sorted((k, b) for b, k in enumerate(nodes) if k >= 0)
-    for (k1, b1), (k2, b2) in zip(order, order[1:]):
+    for (k1, b1), (k2, b2) in zip(order, order[1:], strict=False):
         if pb.s[k2] - pb.s[k1] < zones[b1][1] + zones[b2][0]:  # the zones overlap
             zones[b1][1] = zones[b2][0] = math.inf
     pb.mesh.follow(nodes, zones)
