@@ -225,7 +225,7 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     over = np.searchsorted(s, s_r)  # (each a node: graded_nodes keeps them)
     over -= (over > 0) & (np.abs(s[np.maximum(over - 1, 0)] - s_r) < np.abs(s[over] - s_r))
     nodes = (k_td, -1, *over.tolist())
-    follow_nodes(case, pb, nodes)
+    follow_nodes(case, pb, nodes, share_overlaps=not case.solver.grading)
     if case.solver.grading:  # graded at touchdown, the grading moving with it
         _follow_grading(pb, nodes, total, [s_t, total], s_r)
     pb.contacts.points[:, L.PT_BEAR] = (roller_gaps(pb) <= T.ROLLER_ON * h_min).astype(float)
@@ -434,7 +434,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
         new.contacts.st_active[:] = 0
         new.contacts.st_active[at(pb.lo_node):-1] = 1
     nodes = [at(int(k)) for k in pb.bnodes]
-    follow_nodes(case, new, nodes)
+    follow_nodes(case, new, nodes, share_overlaps=not grading)
     if grading:
         _follow_grading(new, nodes, total, foci, over)
     # a bearing point keeps bearing (the node over it moves with the pipe)
