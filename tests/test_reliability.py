@@ -58,6 +58,43 @@ def test_slay_first_load_step_matches_elastica(name):
         assert sm[key] == pytest.approx(ref[key], rel=AGREE)
 
 
+# A bending-dominated S-lay (flexural length 1.5 depths) with its top tension
+# given: touchdown's mesh zone reached to 2.7 m below lift-off, whose answer
+# lies 4.5 m below the guess's (the case 1:2d-375 of
+# benchmarks/bench_random.py --seed 1, rounded).
+SLAY_ZONES = {
+    "pipe.outer_diameter": 0.36657, "pipe.inner_diameter": 0.33988,
+    "pipe.coating_outer_diameter": 0.42041, "pipe.hydrodynamic_diameter": 0.42041,
+    "pipe.coating_density": 1980.3, "environment.water_depth": 22.984,
+    "lay.stinger.a": -0.0055075, "lay.stinger.lower": [4.5969, 333.571],
+    "lay.stinger.upper": [29.506, 400.0], "lay.top_tension": 60762.0}
+
+
+def test_slay_overlapping_zones_matches_elastica():
+    """S-lay, top pinned, its top tension given, where touchdown's and
+    lift-off's mesh zones overlap: the engine solves it, and its bottom
+    tension and peak moments agree with the independent planar elastica
+    within 0.5 %, the regime (lifting off) the same. The engine's pin
+    raises the top's effective tension by EI k_U^2 / 2 over the elastica's
+    (the elastica is given the top tension less that)."""
+    changes = {**SLAY_ZONES, "lay.top_angle": "pinned", "environment.current.speed": 0.0,
+               "solver.dimension": "2d"}
+    case = pf.load_case(EXAMPLES / "s67.toml").with_changes(changes)
+    st = case.lay.stinger
+    (x_l, z_l), (x_u, z_u) = st.lower, st.upper
+    slope = 2.0 * st.a * z_u + (x_u - x_l) / (z_u - z_l) - st.a * (z_u + z_l)
+    k_u = 2.0 * st.a / (1.0 + slope * slope) ** 1.5
+    jump = 0.5 * case.pipe.bending_stiffness * k_u * k_u
+    w_sub, w_dry = weights(case)
+    ref = slay_elastica(case.pipe.bending_stiffness, w_sub, w_dry, case.environment.water_depth,
+                        st.a, st.lower, st.upper, T_top=case.lay.top_tension - jump)
+    assert ref["regime"] == "liftoff"
+    sm = pf.solve(case).summary
+    assert sm["tip_reaction"] == 0.0
+    assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=AGREE)
+    for key in ("sagbend_max_moment", "overbend_max_moment"):
+        assert sm[key] == pytest.approx(ref[key], rel=AGREE)
+
 
 # Class 5, the near-rigid pipe (E = 1e15 Pa): its flexural length sqrt(EI/T)
 # is kilometres, above the heavy elastica's (EI/w)^(1/3), and it touches down
@@ -75,15 +112,29 @@ RIGID_JLAY = {
         "pipe.coating_outer_diameter": 1.14474, "pipe.hydrodynamic_diameter": 1.14474,
         "pipe.coating_density": 1965.3, "environment.water_depth": 50.286,
         "lay.top": [55.775, 235.238], "lay.top_tension": 452860.0},
+    # large deflections (the small-slope beam-column is 30 % off the span):
+    # the top at 82 deg pinned, and at 85 deg on the firing line, where the
+    # bottom tension is 12 times the catenary's (1:2d-90 and 1:2d-269)
+    "steep, pinned": {
+        "pipe.outer_diameter": 0.20031, "pipe.inner_diameter": 0.18748,
+        "pipe.coating_outer_diameter": 0.35996, "pipe.hydrodynamic_diameter": 0.35996,
+        "pipe.coating_density": 2300.9, "environment.water_depth": 661.70,
+        "lay.top": [676.58, 231.48], "lay.top_tension": 624782.0},
+    "steep, firing line": {
+        "pipe.outer_diameter": 1.12168, "pipe.inner_diameter": 1.02232,
+        "pipe.coating_outer_diameter": 1.12168, "pipe.hydrodynamic_diameter": 1.12168,
+        "pipe.coating_density": 0.0, "environment.water_depth": 1902.58,
+        "lay.top": [1910.26, 712.49], "lay.top_angle": 85.308, "lay.top_tension": 6337470.0},
 }
 
 
 @pytest.mark.parametrize("name", RIGID_JLAY)
 def test_near_rigid_jlay_matches_elastica(name):
     """A near-rigid J-lay pipe (class 5, E = 1e15 Pa, extensible) with the
-    top pinned: the engine solves it, and its top and bottom tensions and its
-    largest moment agree with the independent planar elastica within 0.5 %."""
-    changes = {**RIGID_JLAY[name], "pipe.youngs_modulus": 1e15, "lay.top_angle": None,
+    top pinned or on the firing line: the engine solves it, and its top and
+    bottom tensions and its largest moment agree with the independent planar
+    elastica within 0.5 %."""
+    changes = {"lay.top_angle": None, **RIGID_JLAY[name], "pipe.youngs_modulus": 1e15,
                "environment.current.speed": 0.0, "solver.dimension": "2d", "checks": None}
     case = pf.load_case(EXAMPLES / "j125_2d.toml").with_changes(changes)
     lay = case.lay

@@ -1,5 +1,5 @@
-"""The small-slope beam-column: a bending-dominated J-lay's first guess
-(engine layer).
+"""The small-slope beam-column and the planar heavy elastica: a
+bending-dominated J-lay's first guess (engine layer).
 
 A pipe of bending stiffness EI under the constant horizontal tension ``h``
 and the effective weight ``w`` per length leaves a flat seabed tangent to
@@ -16,6 +16,9 @@ beam's w L^4 / (24 EI) where lam >> L. The catenary guess
 (:mod:`.catenary`) touches down a span near sqrt(2 h x_top / w) from the
 top; a bending-dominated pipe (lam above (EI/w)^(1/3)) touches down
 (24 EI x_top / w)^(1/4) from it, kilometres further for a near-rigid pipe.
+Steep tops are beyond small slopes (the span 30 % long at 82 deg), and a
+top held at an angle carries a moment that the catenary's tension omits:
+:class:`ElasticaSpan` solves the large-deflection rod from the beam-column.
 """
 
 from __future__ import annotations
@@ -23,7 +26,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.integrate import solve_bvp
 from scipy.optimize import brentq
+
+from ..input.case import Case
 
 # points along the span on which the shape is tabulated against arc length
 _TABLE = 2001
@@ -109,3 +115,119 @@ class BeamSpan:
     def curvature(self, s):
         """Curvature [1/m] at arc lengths ``s`` [m] from touchdown."""
         return np.interp(np.asarray(s, dtype=np.float64), self._s, self._kappa)
+
+
+class ElasticaSpan:
+    """The planar heavy elastica (inextensible) from touchdown on a flat
+    seabed (s = 0, x = z = theta = 0, no moment) to a top at height
+    ``x_top`` [m]: pinned (``angle`` None, no moment) or held at ``angle``
+    [rad] above the horizontal; ``h`` [N] the horizontal tension, or None
+    with ``top_tension`` [N] (the effective tension along the pipe at the
+    top) given. Weights ``w1``, ``w2`` [N/m] below and above the surface at
+    height ``depth`` [m]; bending stiffness ``ei`` [N m^2]. With V the
+    vertical force the pipe above s exerts (V(0) = -R, R the touchdown's
+    reaction), EI theta'' = h sin(theta) - V cos(theta), V' = w(x), the
+    weight's step at the surface spread over ``step`` [m] (an element's
+    length: a mesh does not resolve it more finely). Solved by collocation
+    (scipy's solve_bvp) from ``start`` (a :class:`BeamSpan`, the
+    small-slope shape); ``ok`` False when that fails.
+    Duck-types :class:`.catenary.Catenary` for :func:`.guess.shape`."""
+
+    tan0 = 0.0
+
+    def __init__(self, start: BeamSpan, angle: float | None, h: float | None,
+                 top_tension: float | None, step: float):
+        self.w1, self.w2, self.depth, self.x_top, self.ei = (
+            start.w1, start.w2, start.depth, start.x_top, start.ei)
+        ell, f0 = self.x_top, start.w1 * self.x_top  # scales: length, force
+        ei = self.ei / (f0 * ell * ell)
+        ratio, depth, width = self.w2 / self.w1, self.depth / ell, step / ell
+        free_h = h is None
+        h_of = (lambda p: p[1]) if free_h else (lambda p, v=h / f0: v)
+        tau = np.linspace(0.0, 1.0, 41)
+        s0 = tau * start.length
+        x0, z0, th0, _ = start.at(s0)
+        k0 = start.curvature(s0) * ell
+        v0 = start.h / f0 * np.tan(th0)
+        y0 = np.vstack([x0 / ell, z0 / ell, th0, k0, v0])
+        p0 = [start.length / ell] + ([start.h / f0] if free_h else [])
+
+        def fun(_t, y, p):
+            n = p[0]
+            w = 1.0 + (ratio - 1.0) * 0.5 * (1.0 + np.tanh((y[0] - depth) / width))
+            return n * np.vstack([np.sin(y[2]), np.cos(y[2]), y[3],
+                                  (h_of(p) * np.sin(y[2]) - y[4] * np.cos(y[2])) / ei, w])
+
+        def bc(ya, yb, p):
+            top = [yb[0] - 1.0, yb[3] if angle is None else yb[2] - angle]
+            if free_h:
+                te = h_of(p) * math.cos(yb[2]) + yb[4] * math.sin(yb[2])
+                top.append(te - top_tension / f0)
+            return np.array([ya[0], ya[1], ya[2], ya[3], *top])
+
+        sol = solve_bvp(fun, bc, tau, y0, p=p0, tol=1e-4, max_nodes=5000)
+        self.ok = bool(sol.success)
+        p = sol.p
+        self.h = float(h_of(p) * f0)
+        self.length = float(p[0] * ell)
+        tab = np.linspace(0.0, 1.0, _TABLE)
+        y = sol.sol(tab)
+        self._s = tab * self.length
+        self._x, self._z, self._th = y[0] * ell, y[1] * ell, y[2]
+        self._kappa = y[3] / ell
+        self._v = y[4] * f0
+
+    @property
+    def span(self) -> float:
+        """Horizontal distance from touchdown to the top [m]."""
+        return float(self._z[-1])
+
+    @property
+    def top_tension(self) -> float:
+        """Effective tension along the pipe at the top [N]."""
+        return float(self.at(self.length)[3])
+
+    def at(self, s):
+        """Shape at arc lengths ``s`` [m] from touchdown: x, z [m], theta [rad],
+        Te [N] (the force along the pipe, h cos(theta) + V sin(theta))."""
+        s = np.asarray(s, dtype=np.float64)
+        x = np.interp(s, self._s, self._x)
+        z = np.interp(s, self._s, self._z)
+        th = np.interp(s, self._s, self._th)
+        v = np.interp(s, self._s, self._v)
+        return x, z, th, self.h * np.cos(th) + v * np.sin(th)
+
+    def curvature(self, s):
+        """Curvature [1/m] at arc lengths ``s`` [m] from touchdown."""
+        return np.interp(np.asarray(s, dtype=np.float64), self._s, self._kappa)
+
+
+def bending_guessed(case: Case, cat) -> bool:
+    """Whether a J-lay's guess is the elastica's (:func:`bending_span`)
+    rather than the catenary ``cat`` (:class:`.catenary.Catenary`): a flat
+    seabed, no pipe length given, and the lay bending-dominated
+    (:func:`bending_dominated`, the same test as the mesh's boundary layer,
+    :func:`.problem.sized_mesh`)."""
+    ei = case.pipe.bending_stiffness
+    return (case.lay.pipe_length is None and case.seabed.profile is None
+            and bending_dominated(ei, math.sqrt(ei / cat.h), cat.w1))
+
+
+def bending_span(case: Case, cat):
+    """A bending-dominated J-lay's free span (:func:`bending_guessed`):
+    the planar heavy elastica (:class:`ElasticaSpan`) started from the
+    small-slope beam-column (:class:`BeamSpan`) on the catenary
+    ``cat``'s tension; when the elastica is not found, that beam-column
+    (pinned top) or ``cat``. On the same height and tension a pinned top's
+    effective tension is the catenary's (M = 0 there), so h is ``cat``'s
+    unless a top angle and the top tension are given."""
+    lay = case.lay
+    beam = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top, case.pipe.bending_stiffness)
+    pinned = lay.top_angle in (None, "pinned")
+    angle = None if pinned else math.radians(lay.top_angle)
+    free_h = not pinned and lay.bottom_tension is None
+    span = ElasticaSpan(beam, angle, None if free_h else cat.h,
+                        lay.top_tension if free_h else None, case.solver.element_length)
+    if span.ok:
+        return span
+    return beam if pinned else cat

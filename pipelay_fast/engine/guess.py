@@ -25,7 +25,7 @@ from scipy.optimize import brentq
 from ..input.case import Case
 from ..input.profile import bed_heights, bed_knots
 from . import tuning as T
-from .beam import BeamSpan, bending_dominated
+from .beam import BeamSpan, ElasticaSpan, bending_guessed, bending_span
 from .bed_guess import laid_on_foundation, on_seabed, seabed_span
 from .catenary import Catenary, from_top_tension
 from .model import pin_jump
@@ -301,18 +301,6 @@ def _slay_bottom_tension(case: Case) -> float:
     return h
 
 
-def _bending_dominated(case: Case, cat: Catenary) -> bool:
-    """Whether a J-lay's guess is the beam-column's (:class:`.beam.BeamSpan`)
-    rather than the catenary ``cat``: a pinned top over a flat seabed, with
-    no pipe length given, where the lay is bending-dominated
-    (:func:`.beam.bending_dominated`). On the same height and tension the
-    pinned top's effective tension is the catenary's (M = 0 there)."""
-    ei = case.pipe.bending_stiffness
-    return (case.lay.top_angle in (None, "pinned") and case.lay.pipe_length is None
-            and case.seabed.profile is None
-            and bending_dominated(ei, math.sqrt(ei / cat.h), cat.w1))
-
-
 def first_guess(case: Case, laid_of) -> Guess:
     """The first shape; ``laid_of(cat, z_td)`` gives the laid length [m]
     behind the suspended span's natural catenary ``cat`` touching down at
@@ -325,9 +313,8 @@ def first_guess(case: Case, laid_of) -> Guess:
         bed = case.seabed
         if (bed.slope != 0.0 or bed.profile is not None) and lay.top_tension is not None:
             cat, x_tdp = seabed_span(case, cat, knots)
-        elif _bending_dominated(case, cat):
-            cat = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top,
-                           case.pipe.bending_stiffness)
+        elif bending_guessed(case, cat):
+            cat = bending_span(case, cat)
         susp = cat.length
         if lay.pipe_length is not None:
             laid = lay.pipe_length - susp
@@ -360,7 +347,7 @@ def shape(case: Case, g: Guess, s):
     x = np.where(on_bed, 0.0, x)
     th = np.where(on_bed, 0.0, th)
     te = np.where(on_bed, cat.h, te)
-    if isinstance(cat, BeamSpan):
+    if isinstance(cat, (BeamSpan, ElasticaSpan)):
         kappa = np.where(on_bed, 0.0, cat.curvature(np.clip(s - g.laid, 0.0, cat.length)))
     else:
         kappa = np.where(on_bed, 0.0,

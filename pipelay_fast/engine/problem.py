@@ -19,7 +19,7 @@ from ..input.profile import bed_knots
 from ..kernels import layout as L
 from ..kernels.layout import B_PT
 from . import tuning as T
-from .beam import BeamSpan, bending_dominated
+from .beam import BeamSpan, ElasticaSpan, bending_dominated
 from .boundaries import (
     bear_on_tip,
     follow_boundaries,
@@ -129,7 +129,7 @@ def build_problem(case: Case, laid: float | None = None) -> Problem:
     # does (boundary-layer asymptotics): the mesh is finest there and the
     # initial seabed contact ends there (on a shorter laid pipe, a share of
     # it); the beam-column's guess touches down there already.
-    s_focus = (g.laid if isinstance(g.cat, BeamSpan)
+    s_focus = (g.laid if isinstance(g.cat, (BeamSpan, ElasticaSpan))
                else max(g.laid - lam, T.TOUCHDOWN_FOCUS_SHARE * g.laid))
     foci = [s_focus, g.total] + ([g.s_liftoff] if g.s_liftoff is not None else [])
     s = graded_nodes(g.total, foci, h_max, h_min, grading=case.solver.grading,
@@ -192,7 +192,7 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     over = np.searchsorted(s, s_r)  # (each a node: graded_nodes keeps them)
     over -= (over > 0) & (np.abs(s[np.maximum(over - 1, 0)] - s_r) < np.abs(s[over] - s_r))
     nodes = (k_td, -1, *over.tolist())
-    follow_nodes(case, pb, nodes)
+    follow_nodes(case, pb, nodes, share_overlaps=not case.solver.grading)
     if case.solver.grading:  # graded at touchdown, the grading moving with it
         _follow_grading(pb, nodes, total, [s_t, total], s_r)
     pb.contacts.points[:, L.PT_BEAR] = (roller_gaps(pb) <= T.ROLLER_ON * h_min).astype(float)
@@ -404,7 +404,7 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
         new.contacts.st_active[:] = 0
         new.contacts.st_active[at(pb.lo_node):-1] = 1
     nodes = [at(int(k)) for k in pb.bnodes]
-    follow_nodes(case, new, nodes)
+    follow_nodes(case, new, nodes, share_overlaps=not grading)
     if grading:
         _follow_grading(new, nodes, total, foci, over)
     # a bearing point keeps bearing (the node over it moves with the pipe)
