@@ -8,11 +8,13 @@ the input layer's limits :mod:`pipelay_fast.input.limits`'.
 
 from __future__ import annotations
 
+from ..kernels.tuning import ROUNDOFF
+
 # --- round-off -----------------------------------------------------------------
 # Relative difference [-] below which two arc lengths, mesh lengths or element
-# counts are the same: sums of up to ~1e5 terms in float64 (1e5 * 2.2e-16 =
-# 2e-11), with a margin of 50.
-REL_ROUNDOFF = 1e-9
+# counts are the same: the kernels' round-off (its derivation there), one for
+# the solver.
+REL_ROUNDOFF = ROUNDOFF
 
 # --- boundary layers -------------------------------------------------------------
 # A boundary layer of length lam (the flexural length sqrt(EI/T)) decays as
