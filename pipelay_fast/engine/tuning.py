@@ -8,7 +8,7 @@ the input layer's limits :mod:`pipelay_fast.input.limits`'.
 
 from __future__ import annotations
 
-from ..kernels.tuning import ROUNDOFF
+from ..kernels.tuning import MIN_ELEMENT_SHARE, ROUNDOFF
 
 # --- round-off -----------------------------------------------------------------
 # Relative difference [-] below which two arc lengths, mesh lengths or element
@@ -72,8 +72,11 @@ FINEST_COARSENING = 8.0
 # the graded mesh's (the error of a node off its focus by d is O(d^2)).
 ON_FOCUS = 0.02
 # The shortest element [h_min] between lift-off and the tip's point, and the
-# move of re-contact below which bear_on_tip leaves it (:mod:`.boundaries`).
-HOLD_SPLIT = 0.1
+# move of re-contact below which bear_on_tip leaves it (:mod:`.boundaries`):
+# the kernels' shortest share of an element (MIN_ELEMENT_SHARE, the least a
+# Newton step leaves of an element), so that a split the engine makes is one
+# a step could make.
+HOLD_SPLIT = MIN_ELEMENT_SHARE
 # Regrading passes at the boundaries found (:func:`.solver._solve_mesh`): the
 # first mesh, the one graded at its answer, and two more.
 MAX_MESH_PASSES = 4
