@@ -261,6 +261,13 @@ def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td):
 
 
 @phase
+def at_tolerance(merit, tol):
+    """Whether ``merit`` (a sum of squared weighted residuals [-]) is at the
+    tolerance's floor: tol^2, the square of a weighted residual of tol."""
+    return merit <= tol * tol
+
+
+@phase
 def _accepts(m1, merit0, alpha, tol, mesh, hold):
     """Whether the line search takes the trial step of merit ``m1``: Armijo's
     decrease from ``merit0``, or a merit at the tolerance's floor, or:
@@ -274,7 +281,7 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
     magnitude across good steps, and cut, the span crept."""
     has_bnd = _has_boundaries(mesh)
     has_lo = mesh.bnodes[B_LO] >= 0
-    return (m1 <= (1.0 - ARMIJO * alpha) * merit0 or merit0 < tol * tol
+    return (m1 <= (1.0 - ARMIJO * alpha) * merit0 or at_tolerance(merit0, tol)
             or (has_bnd and m1 <= MERIT_RISE * merit0)
             or (has_lo and not hold and np.isfinite(m1)))
 
