@@ -209,7 +209,8 @@ def _polish(trials: _Trials, near: float, lo: float, hi: float, tol: float) -> f
         return near
     (v1, r1), (v2, r2) = sorted(trials.warm.items(), key=lambda item: abs(item[0] - near))[:2]
     slope = (r1.summary[trials.column] - r2.summary[trials.column]) / (v1 - v2)
-    step = -f0 / slope if slope != 0.0 else 1e-6 * (hi - lo)
+    # (a flat slope: the first step such that the last doubling spans the bounds)
+    step = -f0 / slope if slope != 0.0 else (hi - lo) * 2.0 ** (1 - POLISH_DOUBLINGS)
     for _ in range(POLISH_DOUBLINGS):
         other = min(max(near + step, lo), hi)
         f1 = trials.cold_miss(other)
