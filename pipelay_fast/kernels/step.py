@@ -34,7 +34,6 @@ from .tuning import (
     LINE_SEARCH_TRIALS,
     MERIT_RISE,
     MIN_ELEMENT_SHARE,
-    NON_FINITE_FRACTION,
     SHORT_LAID_SHARE,
     SPAN_GROWTH,
 )
@@ -214,8 +213,6 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
                     has_bnd)
         if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
             accepted = True
-            break
-        if not np.isfinite(m1) and alpha < NON_FINITE_FRACTION:
             break
         alpha *= BACKTRACK
     if not accepted:

@@ -41,12 +41,10 @@ RUNAWAY = 1e6
 # Nocedal and Wright, Numerical Optimization, 2006, Sec. 3.1), the step
 # halved (BACKTRACK; the friction cut's forward search grows it by the
 # inverse, :func:`.step._line_search`) up to LINE_SEARCH_TRIALS trials
-# (down to 2^-11 of it), a non-finite trial's search ended below
-# NON_FINITE_FRACTION of the step.
+# (down to 2^-11 of it; a trial of non-finite merit is halved like any other).
 ARMIJO = 1e-4
 BACKTRACK = 0.5
 LINE_SEARCH_TRIALS = 12
-NON_FINITE_FRACTION = 1e-3
 # With the boundaries unknowns, the largest rise of the merit a step may
 # bring (:func:`.step._accepts`): the weighted residual rises across good
 # steps as the element lengths move with the boundaries (measured:
