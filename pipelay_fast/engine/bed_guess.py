@@ -16,7 +16,7 @@ on a uniform grid of spacing d along z, with w the pipe's height,
 
 w'' the second differences at interior points, w' the first on each
 interval, a = 1 where w < x_b (else 0): the contact set by fixed point
-(active set) from all in contact.
+(active set) from all in contact, until the set repeats (settled, or a cycle).
 
 Where the seabed under touchdown is not at the reference level (a slope, a
 profile), the suspended span's catenary touches down at the seabed's
@@ -34,8 +34,6 @@ from scipy.linalg import solve_banded
 from ..input.case import Case
 from ..input.profile import bed_heights, bed_knots
 from .catenary import Catenary, from_top_tension
-
-MAX_SWEEPS = 50  # active-set sweeps (it settles in a few on the tests' profiles)
 
 
 def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei: float,
@@ -74,13 +72,15 @@ def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei
     active = np.ones(n + 1, dtype=bool)
     w = np.empty(n + 1)
     w[m:] = fixed
-    for _ in range(MAX_SWEEPS):
+    seen = set()
+    while True:  # active-set sweeps, until the set repeats (settled, or a cycle)
         ka = k * weight * active
         band[2] = main + ka[:m]
         w[:m] = solve_banded((2, 2), band, ka[:m] * xb[:m] - ws * weight[:m] - coupling)
         now = w < xb
-        if np.array_equal(now, active):
+        if np.array_equal(now, active) or now.tobytes() in seen:
             break
+        seen.add(active.tobytes())
         active = now
     return np.interp(z_at, z, w), np.arctan(np.interp(z_at, z, np.gradient(w, d)))
 
