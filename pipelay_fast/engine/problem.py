@@ -67,7 +67,7 @@ def _guess(case: Case, laid: float | None = None):
 
     def laid_of(cat):
         lam = math.sqrt(case.pipe.bending_stiffness / cat.h)
-        return given or (2.0 * T.LAID_LENGTHS * lam + T.LAID_ELEMENTS * h_max
+        return given or (T.LOAD_STEP_FACTOR * T.LAID_LENGTHS * lam + T.LAID_ELEMENTS * h_max
                          + friction_laid_length(case, cat))
 
     g = first_guess(case, laid_of)

@@ -267,9 +267,9 @@ def laid_short(case: Case, pb: Problem, s_t: float) -> bool:
 
 def more_laid(pb: Problem, s_t: float) -> float:
     """The laid pipe [m] to model behind touchdown at ``s_t`` [m] when there
-    is too little: twice what the mesh has, and at least twice
-    tuning.LAID_LENGTHS flexural lengths."""
-    return 2.0 * max(s_t, T.LAID_LENGTHS * pb.stats["flexural_length"])
+    is too little: tuning.LOAD_STEP_FACTOR (2) times what the mesh has, and
+    at least that times tuning.LAID_LENGTHS flexural lengths."""
+    return T.LOAD_STEP_FACTOR * max(s_t, T.LAID_LENGTHS * pb.stats["flexural_length"])
 
 
 def _with_more_laid(case: Case, pb: Problem) -> Problem:

@@ -8,7 +8,7 @@ the input layer's limits :mod:`pipelay_fast.input.limits`'.
 
 from __future__ import annotations
 
-from ..kernels.tuning import MIN_ELEMENT_SHARE, ROUNDOFF
+from ..kernels.tuning import BACKTRACK, MIN_ELEMENT_SHARE, ROUNDOFF
 
 # --- round-off -----------------------------------------------------------------
 # Relative difference [-] below which two arc lengths, mesh lengths or element
@@ -44,7 +44,7 @@ BOUNDARY_STEP_LAYER = 0.2
 # homotopy's floor, measured on the random cases, bench_contact.py part 6),
 # and so does a path that takes solver.max_load_steps steps.
 LOAD_STEP = 0.25
-LOAD_STEP_FACTOR = 2.0
+LOAD_STEP_FACTOR = 1.0 / BACKTRACK  # (the kernels' halving: one bisection factor)
 SMALLEST_LOAD_STEP = 1e-4
 # A predicted start of a load step (a warm start's neighbour's increment, or
 # the path's secant) may take at most this many times the iterations of the
@@ -93,11 +93,12 @@ ROLLER_ON = 1e-6
 # --- laid pipe (:func:`.solver.laid_short`, :func:`.solver.more_laid`) ----------------
 # The laid pipe a mesh models behind touchdown: at least one flexural length
 # sqrt(EI/T) (the boundary layer over which the pipe leaves the seabed),
-# doubled to at least two when short; a solve adds laid pipe until the mesh
-# would exceed solver.max_elements.
+# grown by LOAD_STEP_FACTOR (doubled) to at least that factor's flexural
+# lengths when short; a solve adds laid pipe until the mesh would exceed
+# solver.max_elements.
 LAID_LENGTHS = 1.0
-# The first mesh's default laid pipe (:func:`.problem._guess`): twice
-# LAID_LENGTHS flexural lengths plus LAID_ELEMENTS elements (room for
+# The first mesh's default laid pipe (:func:`.problem._guess`): LOAD_STEP_FACTOR
+# times LAID_LENGTHS flexural lengths (the grown amount) plus LAID_ELEMENTS elements (room for
 # touchdown's first Newton steps, MAX_BOUNDARY_STEP elements each, when the
 # flexural length is shorter than an element); no measurement.
 LAID_ELEMENTS = 5.0

@@ -59,8 +59,10 @@ MIN_ELEMENT_SHARE = 0.1
 SHORT_LAID_SHARE = 0.5
 # The span from re-contact to a bearing tip at most halves or grows by
 # SPAN_GROWTH times in a step: its square is linear in the load past the
-# change of regime, so the span itself follows a logarithmic step.
-SPAN_GROWTH = 2.0
+# change of regime, so the span itself follows a logarithmic step, whose
+# factor is the bisection's (the inverse of BACKTRACK, as every growth and
+# cut of the solver: the load steps and the laid pipe's doubling too).
+SPAN_GROWTH = 1.0 / BACKTRACK
 
 # --- contacts (:mod:`.contact`) --------------------------------------------------------
 # A node within LATERAL_HYSTERESIS of its elements below the stinger's span
