@@ -55,8 +55,11 @@ MERIT_RISE = 1e8
 MIN_ELEMENT_SHARE = 0.1
 # Touchdown may move at most SHORT_LAID_SHARE of the way to the modelled
 # lower end in one step; more, and Newton stops (SHORT_LAID) for more laid
-# pipe (:func:`pipelay_fast.engine.solver.laid_short`).
-SHORT_LAID_SHARE = 0.5
+# pipe (:func:`pipelay_fast.engine.solver.more_laid`). The share is the
+# bisection's: the laid pipe is then doubled (by 1 / BACKTRACK), so that a
+# stopped step short of the old lower end moves touchdown by no more than
+# that share of the new laid pipe.
+SHORT_LAID_SHARE = BACKTRACK
 # The span from re-contact to a bearing tip at most halves or grows by
 # SPAN_GROWTH times in a step: its square is linear in the load past the
 # change of regime, so the span itself follows a logarithmic step, whose
