@@ -8,7 +8,7 @@ the input layer's limits :mod:`pipelay_fast.input.limits`'.
 
 from __future__ import annotations
 
-from ..kernels.tuning import BACKTRACK, MIN_ELEMENT_SHARE, ROUNDOFF
+from ..kernels.tuning import BACKTRACK, MIN_ELEMENT_SHARE, ROUNDOFF, SHORT_LAID_SHARE
 
 # --- round-off -----------------------------------------------------------------
 # Relative difference [-] below which two arc lengths, mesh lengths or element
@@ -102,11 +102,14 @@ LAID_LENGTHS = 1.0
 # touchdown's first Newton steps, MAX_BOUNDARY_STEP elements each, when the
 # flexural length is shorter than an element); no measurement.
 LAID_ELEMENTS = 5.0
-# On a laid pipe shorter than 4/3 of a flexural length (given by
-# solver.laid_length or lay.pipe_length) the first mesh's touchdown focus,
-# one flexural length before the catenary's, would lie before this share of
-# it; it is put there instead (:func:`.problem.build_problem`); no measurement.
-TOUCHDOWN_FOCUS_SHARE = 0.25
+# On a laid pipe shorter than two flexural lengths (given by
+# solver.laid_length or lay.pipe_length; the default is longer) the first
+# mesh's touchdown focus, one flexural length before the catenary's, would
+# lie nearer the lower end than this share of the laid pipe; it is put there
+# instead (:func:`.problem.build_problem`). The share is the kernels'
+# SHORT_LAID_SHARE: a touchdown nearer the lower end than that is one a
+# Newton step would stop at for more laid pipe.
+TOUCHDOWN_FOCUS_SHARE = SHORT_LAID_SHARE
 # The largest share of the laid pipe's lateral force the held lower end may
 # carry before the laid pipe is doubled: measured, the shares left with the
 # sticking zone of DECAY_LENGTHS on the 3D grid, bench_contact.py part 1.
