@@ -47,8 +47,9 @@ def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei
     lf = (4.0 * ei / k) ** 0.25
     # (no cap: the pipe's elements on a profile are at most one lf long,
     # :func:`.problem._mesh_sizes`, so n is at most 4 per mesh element, a
-    # banded solve cheaper than one Newton iteration)
-    n = int(max(16, np.ceil((z1 - z0) / (0.25 * lf))))
+    # banded solve cheaper than one Newton iteration; at least the stencil's
+    # 3 intervals: two fixed nodes at z1 and a second difference)
+    n = int(max(3, np.ceil((z1 - z0) / (0.25 * lf))))
     z = np.linspace(z0, z1, n + 1)
     d = z[1] - z[0]
     xb = bed_heights(knots, z)[0]
