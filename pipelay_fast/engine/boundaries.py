@@ -87,19 +87,11 @@ def graded_on_boundaries(case: Case, pb: Problem) -> bool:
     the path (cold, warm, a target solve's trials) that led there. A mesh
     regraded at boundaries Newton then moves by d follows them as its grading
     does (:meth:`.Problem.follow_rates`), within O(d^2) of this one."""
-    return grading_offset(case, pb) <= T.ON_FOCUS * pb.stats["h_min"]
-
-
-def grading_offset(case: Case, pb: Problem) -> float:
-    """The largest distance [m] of a node from the mesh graded at the
-    boundaries found (:func:`graded_on_boundaries`); inf when that mesh has
-    another element count."""
     total = float(pb.s[-1])
     graded = graded_nodes(total, [touchdown_position(pb), total, *stinger_foci(case, pb)],
                           pb.stats["h_max"], pb.stats["h_min"], nodes=over_rollers(pb))
-    if graded.size != pb.s.size:
-        return math.inf
-    return float(np.abs(graded - pb.s).max())
+    return (graded.size == pb.s.size
+            and float(np.abs(graded - pb.s).max()) <= T.ON_FOCUS * pb.stats["h_min"])
 
 
 def lateral_hold_start(case: Case, pb: Problem):

@@ -24,7 +24,6 @@ solve:
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -38,7 +37,7 @@ from ..kernels.contact import friction_track
 from . import tuning as T
 from .boundaries import (
     check_final_regime,
-    grading_offset,
+    graded_on_boundaries,
     last_roller_in_contact,
     lateral_hold_start,
     liftoff_position,
@@ -107,9 +106,7 @@ def _lower_end_holds(pb: Problem, react) -> bool:
 def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
                 laid: float | None = None):
     """Solve under gravity, grading the mesh anew at the boundaries found until
-    it is graded at them (:func:`.boundaries.graded_on_boundaries`) and while
-    each regrade brings it nearer its grading (:func:`.boundaries.grading_offset`
-    falls: a cycle or a stall ends it), then follow the
+    it is graded at them (:func:`graded_on_boundaries`), then follow the
     current's path (the mesh follows the boundaries it moves). ``budget``:
     the solve's Newton iterations left; ``laid``: the first mesh's laid
     pipe [m] (None: the case's; a cold start only).
@@ -137,7 +134,6 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
     pb, react, stats = _solve_gravity(case, pb, budget)
     stats["iterations"] += guide_iterations
     passes = 1
-    offset = math.inf  # the last regraded mesh's grading_offset [m]
     while True:
         s_t = touchdown_position(pb)
         foci = stinger_foci(case, pb)
@@ -153,11 +149,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         # laid pipe had to be added
         total = pb.stats.get("cold_total")
         cold_length = total is None or abs(total - pb.s[-1]) <= T.REL_ROUNDOFF * total
-        # regraded while that brings the mesh nearer its grading (a mesh that
-        # does not is graded where its boundaries were: no nearer to them)
-        now = grading_offset(case, pb)
-        if (one_mesh or (not short and now >= offset)
-                or (now <= T.ON_FOCUS * pb.stats["h_min"] and not short and cold_length)):
+        if (one_mesh or passes >= T.MAX_MESH_PASSES
+                or (graded_on_boundaries(case, pb) and not short and cold_length)):
             if pb.settings.tolerance is not None:  # on to the tolerance, this mesh
                 pb.settings.tolerance = None
                 pb.settings.in_balance = True  # the loose pass's solution, refined
@@ -166,7 +159,6 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
                 s_t = touchdown_position(pb)
                 foci = stinger_foci(case, pb)
             break
-        offset = math.inf if short else now  # (laid pipe added: a new mesh)
         pb = remesh(case, pb, s_t, foci, grading=True, total=total,
                     laid=more_laid(pb, s_t) if short else None)
         if total is not None and abs(pb.s[-1] - total) > T.REL_ROUNDOFF * total:
