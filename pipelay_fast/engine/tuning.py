@@ -77,9 +77,6 @@ ON_FOCUS = 0.02
 # Newton step leaves of an element), so that a split the engine makes is one
 # a step could make.
 HOLD_SPLIT = MIN_ELEMENT_SHARE
-# Regrading passes at the boundaries found (:func:`.solver._solve_mesh`): the
-# first mesh, the one graded at its answer, and two more.
-MAX_MESH_PASSES = 4
 # Newton's tolerance [-] on the first mesh, which only finds where the
 # boundaries are (regrading moves them by its own discretisation): measured,
 # cold iterations and answers on the quick grid, bench_contact.py parts 1 to 3.
