@@ -22,6 +22,7 @@ from scipy.optimize import brentq
 from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.validate import did_you_mean, get_path
+from ..kernels.tuning import BACKTRACK
 from ..output.results import SUMMARY_UNITS, Result
 from .solve import solve
 
@@ -209,7 +210,8 @@ def _polish(trials: _Trials, near: float, lo: float, hi: float, tol: float) -> f
         return near
     (v1, r1), (v2, r2) = sorted(trials.warm.items(), key=lambda item: abs(item[0] - near))[:2]
     slope = (r1.summary[trials.column] - r2.summary[trials.column]) / (v1 - v2)
-    step = -f0 / slope if slope != 0.0 else 1e-6 * (hi - lo)
+    # (a flat slope: the first step such that the last doubling spans the bounds)
+    step = -f0 / slope if slope != 0.0 else (hi - lo) * BACKTRACK ** (POLISH_DOUBLINGS - 1)
     for _ in range(POLISH_DOUBLINGS):
         other = min(max(near + step, lo), hi)
         f1 = trials.cold_miss(other)
@@ -217,7 +219,7 @@ def _polish(trials: _Trials, near: float, lo: float, hi: float, tol: float) -> f
             return other
         if f0 * f1 < 0.0:
             return _root(trials.cold_miss, min(near, other), max(near, other), tol)
-        step *= 2.0
+        step /= BACKTRACK  # (doubled: the solver's bisection factor)
     raise TargetError(f"target {trials.column}: no root of the cold solves found next to "
                       f"{trials.vary} = {near!r} (the column jumps there: a change of regime?)")
 

@@ -16,7 +16,7 @@ on a uniform grid of spacing d along z, with w the pipe's height,
 
 w'' the second differences at interior points, w' the first on each
 interval, a = 1 where w < x_b (else 0): the contact set by fixed point
-(active set) from all in contact.
+(active set) from all in contact, until the set repeats (settled, or a cycle).
 
 Where the seabed under touchdown is not at the reference level (a slope, a
 profile), the suspended span's catenary touches down at the seabed's
@@ -36,8 +36,6 @@ from ..input.profile import bed_heights
 from .catenary import Catenary, from_top_tension
 from .supports import seabed_height
 
-MAX_SWEEPS = 50  # active-set sweeps (it settles in a few on the tests' profiles)
-
 
 def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei: float,
                        h: float, ws: float, k: float, z_at) -> tuple[np.ndarray, np.ndarray]:
@@ -48,7 +46,11 @@ def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei
     ``ws`` [N/m] on the foundation of stiffness ``k`` [N/m per m] over the
     profile with ``knots``."""
     lf = (4.0 * ei / k) ** 0.25
-    n = int(min(4000, max(16, np.ceil((z1 - z0) / (0.25 * lf)))))
+    # (no cap: the pipe's elements on a profile are at most one lf long,
+    # :func:`.problem._mesh_sizes`, so n is at most 4 per mesh element, a
+    # banded solve cheaper than one Newton iteration; at least the stencil's
+    # 3 intervals: two fixed nodes at z1 and a second difference)
+    n = int(max(3, np.ceil((z1 - z0) / (0.25 * lf))))
     z = np.linspace(z0, z1, n + 1)
     d = z[1] - z[0]
     xb = bed_heights(knots, z)[0]
@@ -75,13 +77,15 @@ def laid_on_foundation(knots, z0: float, z1: float, x1: float, slope1: float, ei
     active = np.ones(n + 1, dtype=bool)
     w = np.empty(n + 1)
     w[m:] = fixed
-    for _ in range(MAX_SWEEPS):
+    seen = set()
+    while True:  # active-set sweeps, until the set repeats (settled, or a cycle)
         ka = k * weight * active
         band[2] = main + ka[:m]
         w[:m] = solve_banded((2, 2), band, ka[:m] * xb[:m] - ws * weight[:m] - coupling)
         now = w < xb
-        if np.array_equal(now, active):
+        if np.array_equal(now, active) or now.tobytes() in seen:
             break
+        seen.add(active.tobytes())
         active = now
     return np.interp(z_at, z, w), np.arctan(np.interp(z_at, z, np.gradient(w, d)))
 

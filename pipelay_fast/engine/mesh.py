@@ -20,11 +20,6 @@ from ..kernels.grading import graded_tables, grading_rates_of, place_nodes, plai
 from . import tuning as T
 
 
-def _uniform_count(length, h_max):
-    """Elements of a uniform mesh of about ``h_max`` [m] on ``length`` [m], at least 2."""
-    return max(2, int(np.ceil(length / h_max)))
-
-
 def graded_nodes(length, foci, h_max, h_min, growth=T.GROWTH, grading=True, check=None,
                  nodes=()):
     """Node positions s in [0, length] [m], graded towards each focus point.
@@ -56,9 +51,8 @@ def graded_nodes(length, foci, h_max, h_min, growth=T.GROWTH, grading=True, chec
     """
     if not grading:  # uniform between the plain nodes
         a, b, _t, _phi, _counts = _tables(length, (), nodes, h_max, h_max, growth)
-        counts = ([_uniform_count(length, h_max)] if a.size == 1 else
-                  [max(1, int(np.ceil((hi - lo) / h_max - T.REL_ROUNDOFF)))
-                   for lo, hi in zip(a, b, strict=True)])
+        counts = [max(1, int(np.ceil((hi - lo) / h_max - T.REL_ROUNDOFF)))
+                  for lo, hi in zip(a, b, strict=True)]
         if check is not None:
             check(sum(counts))
         return np.concatenate([[0.0], *[np.linspace(lo, hi, n + 1)[1:]

@@ -67,7 +67,7 @@ def _guess(case: Case, laid: float | None = None):
 
     def laid_of(cat, z_td):
         lam = math.sqrt(case.pipe.bending_stiffness / cat.h)
-        default = given or (2.0 * T.LAID_LENGTHS * lam + T.LAID_ELEMENTS * h_max
+        default = given or (T.LOAD_STEP_FACTOR * T.LAID_LENGTHS * lam + T.LAID_ELEMENTS * h_max
                             + friction_laid_length(case, cat))
         if profile is None or given:
             return default

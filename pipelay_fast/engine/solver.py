@@ -106,7 +106,8 @@ def _lower_end_holds(pb: Problem, react) -> bool:
 def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
                 laid: float | None = None):
     """Solve under gravity, grading the mesh anew at the boundaries found until
-    it is graded at them (:func:`graded_on_boundaries`), then follow the
+    it is graded at them (:func:`graded_on_boundaries`) or would be graded
+    again at boundaries it was graded at before (a cycle), then follow the
     current's path (the mesh follows the boundaries it moves). ``budget``:
     the solve's Newton iterations left; ``laid``: the first mesh's laid
     pipe [m] (None: the case's; a cold start only).
@@ -134,6 +135,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
     pb, react, stats = _solve_gravity(case, pb, budget)
     stats["iterations"] += guide_iterations
     passes = 1
+    made = []  # the boundaries [m] each regrade of this pipe's length was graded at
     while True:
         s_t = touchdown_position(pb)
         foci = stinger_foci(case, pb)
@@ -149,7 +151,15 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         # laid pipe had to be added
         total = pb.stats.get("cold_total")
         cold_length = total is None or abs(total - pb.s[-1]) <= T.REL_ROUNDOFF * total
-        if (one_mesh or passes >= T.MAX_MESH_PASSES
+        # ... and not when it would be graded at boundaries it was graded at
+        # before (a cycle: the regrades do not settle)
+        at = [s_t, *foci]
+        again = not short and cold_length and any(
+            len(before) == len(at)
+            and max(abs(a - b) for a, b in zip(before, at, strict=True))
+            <= T.ON_FOCUS * pb.stats["h_min"]
+            for before in made)
+        if (one_mesh or again
                 or (graded_on_boundaries(case, pb) and not short and cold_length)):
             if pb.settings.tolerance is not None:  # on to the tolerance, this mesh
                 pb.settings.tolerance = None
@@ -159,6 +169,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
                 s_t = touchdown_position(pb)
                 foci = stinger_foci(case, pb)
             break
+        # (laid pipe added, or regraded to the cold start's length: another pipe)
+        made = [*made, at] if cold_length and not short else []
         pb = remesh(case, pb, s_t, foci, grading=True, total=total,
                     laid=more_laid(pb, s_t) if short else None)
         if total is not None and abs(pb.s[-1] - total) > T.REL_ROUNDOFF * total:
@@ -267,9 +279,9 @@ def laid_short(case: Case, pb: Problem, s_t: float) -> bool:
 
 def more_laid(pb: Problem, s_t: float) -> float:
     """The laid pipe [m] to model behind touchdown at ``s_t`` [m] when there
-    is too little: twice what the mesh has, and at least twice
-    tuning.LAID_LENGTHS flexural lengths."""
-    return 2.0 * max(s_t, T.LAID_LENGTHS * pb.stats["flexural_length"])
+    is too little: tuning.LOAD_STEP_FACTOR (2) times what the mesh has, and
+    at least that times tuning.LAID_LENGTHS flexural lengths."""
+    return T.LOAD_STEP_FACTOR * max(s_t, T.LAID_LENGTHS * pb.stats["flexural_length"])
 
 
 def _with_more_laid(case: Case, pb: Problem) -> Problem:

@@ -8,11 +8,13 @@ the input layer's limits :mod:`pipelay_fast.input.limits`'.
 
 from __future__ import annotations
 
+from ..kernels.tuning import BACKTRACK, MIN_ELEMENT_SHARE, ROUNDOFF, SHORT_LAID_SHARE
+
 # --- round-off -----------------------------------------------------------------
 # Relative difference [-] below which two arc lengths, mesh lengths or element
-# counts are the same: sums of up to ~1e5 terms in float64 (1e5 * 2.2e-16 =
-# 2e-11), with a margin of 50.
-REL_ROUNDOFF = 1e-9
+# counts are the same: the kernels' round-off (its derivation there), one for
+# the solver.
+REL_ROUNDOFF = ROUNDOFF
 
 # --- boundary layers -------------------------------------------------------------
 # A boundary layer of length lam (the flexural length sqrt(EI/T)) decays as
@@ -42,7 +44,7 @@ BOUNDARY_STEP_LAYER = 0.2
 # homotopy's floor, measured on the random cases, bench_contact.py part 6),
 # and so does a path that takes solver.max_load_steps steps.
 LOAD_STEP = 0.25
-LOAD_STEP_FACTOR = 2.0
+LOAD_STEP_FACTOR = 1.0 / BACKTRACK  # (the kernels' halving: one bisection factor)
 SMALLEST_LOAD_STEP = 1e-4
 # A predicted start of a load step (a warm start's neighbour's increment, or
 # the path's secant) may take at most this many times the iterations of the
@@ -70,11 +72,11 @@ FINEST_COARSENING = 8.0
 # the graded mesh's (the error of a node off its focus by d is O(d^2)).
 ON_FOCUS = 0.02
 # The shortest element [h_min] between lift-off and the tip's point, and the
-# move of re-contact below which bear_on_tip leaves it (:mod:`.boundaries`).
-HOLD_SPLIT = 0.1
-# Regrading passes at the boundaries found (:func:`.solver._solve_mesh`): the
-# first mesh, the one graded at its answer, and two more.
-MAX_MESH_PASSES = 4
+# move of re-contact below which bear_on_tip leaves it (:mod:`.boundaries`):
+# the kernels' shortest share of an element (MIN_ELEMENT_SHARE, the least a
+# Newton step leaves of an element), so that a split the engine makes is one
+# a step could make.
+HOLD_SPLIT = MIN_ELEMENT_SHARE
 # Newton's tolerance [-] on the first mesh, which only finds where the
 # boundaries are (regrading moves them by its own discretisation): measured,
 # cold iterations and answers on the quick grid, bench_contact.py parts 1 to 3.
@@ -88,19 +90,23 @@ ROLLER_ON = 1e-6
 # --- laid pipe (:func:`.solver.laid_short`, :func:`.solver.more_laid`) ----------------
 # The laid pipe a mesh models behind touchdown: at least one flexural length
 # sqrt(EI/T) (the boundary layer over which the pipe leaves the seabed),
-# doubled to at least two when short; a solve adds laid pipe until the mesh
-# would exceed solver.max_elements.
+# grown by LOAD_STEP_FACTOR (doubled) to at least that factor's flexural
+# lengths when short; a solve adds laid pipe until the mesh would exceed
+# solver.max_elements.
 LAID_LENGTHS = 1.0
-# The first mesh's default laid pipe (:func:`.problem._guess`): twice
-# LAID_LENGTHS flexural lengths plus LAID_ELEMENTS elements (room for
+# The first mesh's default laid pipe (:func:`.problem._guess`): LOAD_STEP_FACTOR
+# times LAID_LENGTHS flexural lengths (the grown amount) plus LAID_ELEMENTS elements (room for
 # touchdown's first Newton steps, MAX_BOUNDARY_STEP elements each, when the
 # flexural length is shorter than an element); no measurement.
 LAID_ELEMENTS = 5.0
-# On a laid pipe shorter than 4/3 of a flexural length (given by
-# solver.laid_length or lay.pipe_length) the first mesh's touchdown focus,
-# one flexural length before the catenary's, would lie before this share of
-# it; it is put there instead (:func:`.problem.build_problem`); no measurement.
-TOUCHDOWN_FOCUS_SHARE = 0.25
+# On a laid pipe shorter than two flexural lengths (given by
+# solver.laid_length or lay.pipe_length; the default is longer) the first
+# mesh's touchdown focus, one flexural length before the catenary's, would
+# lie nearer the lower end than this share of the laid pipe; it is put there
+# instead (:func:`.problem.build_problem`). The share is the kernels'
+# SHORT_LAID_SHARE: a touchdown nearer the lower end than that is one a
+# Newton step would stop at for more laid pipe.
+TOUCHDOWN_FOCUS_SHARE = SHORT_LAID_SHARE
 # The largest share of the laid pipe's lateral force the held lower end may
 # carry before the laid pipe is doubled: measured, the shares left with the
 # sticking zone of DECAY_LENGTHS on the 3D grid, bench_contact.py part 1.

@@ -42,7 +42,8 @@ import numpy as np
 # Relative difference [-] below which two numbers that a few float operations
 # make from the user's are the same (1e-12 = 4500 ulps of 2.2e-16): a stinger's
 # end against lay.top, a count of roller spacings, a unit current direction's
-# lateral component (planar below it: sin(0) of a heading in degrees is 1.2e-16).
+# lateral component (planar below it: sin(0) of a heading in degrees is 1.2e-16),
+# a root of a cubic in t in [0, 1] (np.roots, :func:`pipelay_fast.study.sensitivity.hermite_root`).
 ROUNDOFF = 1e-12
 # The most a stinger may turn the pipe between its ends [deg]: beyond it the
 # stinger overhangs, its tip pointing back under the pipe from the vessel.

@@ -28,7 +28,7 @@ from ._jit import jit
 from .element_shapes import hermite_crossing
 from .loads import seabed_surface
 from .supports import holds_laterally, support_height, support_span
-from .tuning import LATERAL_HYSTERESIS, SLIP_ROUNDOFF
+from .tuning import LATERAL_HYSTERESIS, ROUNDOFF
 
 
 @jit(_nrt=False)
@@ -493,7 +493,7 @@ def friction_commit(nd, u, model, bed_active, fric, s):
                 continue
             pos = slip_coordinate(nd, u, node * ndn, slot, t_x, t_z)
             d = pos - fric[node, col]
-            if abs(d) >= d_slip * (1.0 - SLIP_ROUNDOFF):
+            if abs(d) >= d_slip * (1.0 - ROUNDOFF):
                 sgn = 1.0 if d > 0.0 else -1.0
                 fric[node, col] = pos - sgn * d_slip
                 fric[node, dcol] = -sgn

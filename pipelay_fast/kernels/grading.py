@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from ._jit import jit, phase
+from .tuning import ROUNDOFF
 
 
 @jit(_nrt=False)
@@ -192,9 +193,9 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
     """The stretches of a graded mesh of ``length`` [m] and their tables
     (:func:`pipelay_fast.mesh.graded_nodes`): anchors at the ends, at the
     foci inside (0, length] and at the ``plain`` nodes inside it, stretches
-    between successive distinct anchors more than 1e-9 m apart; each
+    between successive distinct anchors more than ROUNDOFF m apart; each
     stretch's samples t and element count phi(t) (:func:`span_tables`, the
-    foci inside, or 0 when none is), and its element count ceil(phi - 1e-9)
+    foci inside, or 0 when none is), and its element count ceil(phi - ROUNDOFF)
     (at least 1).
 
     Returns (the stretches' starts a and ends b [m], t, phi (stretches,
@@ -226,7 +227,7 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
     for j in range(1, n):
         if anchors[j] == last:  # (distinct anchors)
             continue
-        if anchors[j] - last > 1e-9:
+        if anchors[j] - last > ROUNDOFF:
             a[ns] = last
             b[ns] = anchors[j]
             ns += 1
@@ -236,7 +237,7 @@ def graded_tables(length, foci, plain, h_max, h_min, growth):
     span_tables(a[:ns], b[:ns], focus, h_max, h_min, growth, t, phi)
     counts = np.empty(ns, dtype=np.int64)
     for j in range(ns):
-        counts[j] = max(1, int(math.ceil(phi[j, SAMPLES - 1] - 1e-9)))
+        counts[j] = max(1, int(math.ceil(phi[j, SAMPLES - 1] - ROUNDOFF)))
     return a[:ns].copy(), b[:ns].copy(), t, phi, counts
 
 

@@ -117,7 +117,7 @@ from .layout import (
     ROW_CURVE,
     SUP_NONE,
 )
-from .step import _hold_boundaries, _line_search, _start_step, _take_step
+from .step import _hold_boundaries, _line_search, _start_step, _take_step, at_tolerance
 from .supports import in_curve_coords
 from .system import (
     _evaluate,
@@ -424,7 +424,7 @@ def _newton_kernel(nd):
             friction_track(nd, u, react, model.props, model.bed, sup.active[ROW_BED], sup.fric,
                            w.s_nd)
             changed = _points_update(nd, u, mesh, sup, react, settings) > 0
-            trial_converged = accepted and not changed and m1 <= settings.tol * settings.tol
+            trial_converged = accepted and not changed and at_tolerance(m1, settings.tol)
             if changed and sup.kind[ROW_CURVE] != SUP_NONE:
                 # the stinger's tip changes branch again with the residual no
                 # lower than at its last change: the branches cycle, there is

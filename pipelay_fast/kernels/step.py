@@ -34,7 +34,6 @@ from .tuning import (
     LINE_SEARCH_TRIALS,
     MERIT_RISE,
     MIN_ELEMENT_SHARE,
-    NON_FINITE_FRACTION,
     SHORT_LAID_SHARE,
     SPAN_GROWTH,
 )
@@ -215,8 +214,6 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
         if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
             accepted = True
             break
-        if not np.isfinite(m1) and alpha < NON_FINITE_FRACTION:
-            break
         alpha *= BACKTRACK
     if not accepted:
         _take_step(nd, alpha0, u, w.u_old, w.du_free, sup, ends.tb, tb_old, dtb, has_bnd,
@@ -261,6 +258,13 @@ def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td):
 
 
 @phase
+def at_tolerance(merit, tol):
+    """Whether ``merit`` (a sum of squared weighted residuals [-]) is at the
+    tolerance's floor: tol^2, the square of a weighted residual of tol."""
+    return merit <= tol * tol
+
+
+@phase
 def _accepts(m1, merit0, alpha, tol, mesh, hold):
     """Whether the line search takes the trial step of merit ``m1``: Armijo's
     decrease from ``merit0``, or a merit at the tolerance's floor, or:
@@ -274,7 +278,7 @@ def _accepts(m1, merit0, alpha, tol, mesh, hold):
     magnitude across good steps, and cut, the span crept."""
     has_bnd = _has_boundaries(mesh)
     has_lo = mesh.bnodes[B_LO] >= 0
-    return (m1 <= (1.0 - ARMIJO * alpha) * merit0 or merit0 < tol * tol
+    return (m1 <= (1.0 - ARMIJO * alpha) * merit0 or at_tolerance(merit0, tol)
             or (has_bnd and m1 <= MERIT_RISE * merit0)
             or (has_lo and not hold and np.isfinite(m1)))
 

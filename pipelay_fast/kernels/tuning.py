@@ -13,11 +13,15 @@ from __future__ import annotations
 EPS = 2.220446049250313e-16
 # (A parameter in [0, 1] found by Newton has no tolerance and no step cap:
 # :mod:`.roots` runs Newton, guarded by bisection, to round-off.)
-# A friction spring whose displacement is within this share of its
-# mobilising displacement slides (:func:`.contact.friction_commit`): the
-# displacement is a difference of positions of order 1e3 m, so a few
-# million ulps of a slip of 1e-2 m.
-SLIP_ROUNDOFF = 1e-9
+# Relative difference [-] below which two of the solver's numbers are the
+# same (kernels and engine, :mod:`pipelay_fast.engine.tuning` uses it too):
+# they are sums of up to ~1e5 terms (arc lengths, element counts of a graded
+# stretch, positions of order 1e3 m), 1e5 * EPS = 2e-11 of their size, with
+# a margin of 50. Where (:func:`.contact.friction_commit`) a friction spring
+# within this share of its mobilising displacement slides; (:func:`.grading.graded_tables`)
+# two anchors closer than this many metres are one, and a stretch's element
+# count phi is rounded up from phi - ROUNDOFF.
+ROUNDOFF = 1e-9
 
 # --- the Newton iteration (:mod:`.newton`) --------------------------------------------
 # A residual within ROUNDOFF_RATIO times its round-off floor is converged
@@ -37,12 +41,10 @@ RUNAWAY = 1e6
 # Nocedal and Wright, Numerical Optimization, 2006, Sec. 3.1), the step
 # halved (BACKTRACK; the friction cut's forward search grows it by the
 # inverse, :func:`.step._line_search`) up to LINE_SEARCH_TRIALS trials
-# (down to 2^-11 of it), a non-finite trial's search ended below
-# NON_FINITE_FRACTION of the step.
+# (down to 2^-11 of it; a trial of non-finite merit is halved like any other).
 ARMIJO = 1e-4
 BACKTRACK = 0.5
 LINE_SEARCH_TRIALS = 12
-NON_FINITE_FRACTION = 1e-3
 # With the boundaries unknowns, the largest rise of the merit a step may
 # bring (:func:`.step._accepts`): the weighted residual rises across good
 # steps as the element lengths move with the boundaries (measured:
@@ -53,12 +55,17 @@ MERIT_RISE = 1e8
 MIN_ELEMENT_SHARE = 0.1
 # Touchdown may move at most SHORT_LAID_SHARE of the way to the modelled
 # lower end in one step; more, and Newton stops (SHORT_LAID) for more laid
-# pipe (:func:`pipelay_fast.engine.solver.laid_short`).
-SHORT_LAID_SHARE = 0.5
+# pipe (:func:`pipelay_fast.engine.solver.more_laid`). The share is the
+# bisection's: the laid pipe is then doubled (by 1 / BACKTRACK), so that a
+# stopped step short of the old lower end moves touchdown by no more than
+# that share of the new laid pipe.
+SHORT_LAID_SHARE = BACKTRACK
 # The span from re-contact to a bearing tip at most halves or grows by
 # SPAN_GROWTH times in a step: its square is linear in the load past the
-# change of regime, so the span itself follows a logarithmic step.
-SPAN_GROWTH = 2.0
+# change of regime, so the span itself follows a logarithmic step, whose
+# factor is the bisection's (the inverse of BACKTRACK, as every growth and
+# cut of the solver: the load steps and the laid pipe's doubling too).
+SPAN_GROWTH = 1.0 / BACKTRACK
 
 # --- contacts (:mod:`.contact`) --------------------------------------------------------
 # A node within LATERAL_HYSTERESIS of its elements below the stinger's span

@@ -26,6 +26,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 
 from ..input.keys import number_units
+from ..input.limits import ROUNDOFF
 from ..input.validate import fail, number_at
 from ..output.sensitivity import summary_rows
 
@@ -113,7 +114,7 @@ def hermite_root(x0: float, x1: float, f0: float, f1: float, d0: float, d1: floa
     p0, p1, m0, m1 = f0, f1, d0 * h, d1 * h  # in t = (x - x0) / h
     coefficients = [2 * p0 + m0 - 2 * p1 + m1, -3 * p0 - 2 * m0 + 3 * p1 - m1, m0, p0]
     roots = [t.real for t in np.roots(coefficients)
-             if abs(t.imag) <= 1e-12 and -1e-12 <= t.real <= 1.0 + 1e-12]
+             if abs(t.imag) <= ROUNDOFF and -ROUNDOFF <= t.real <= 1.0 + ROUNDOFF]
     linear = f0 / (f0 - f1)
     t = min(roots, key=lambda r: abs(r - linear)) if roots else linear
     t = min(max(t, 0.0), 1.0)

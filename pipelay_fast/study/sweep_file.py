@@ -98,6 +98,7 @@ import math
 import numbers
 import os
 import re
+import sys
 from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
@@ -382,7 +383,8 @@ def _values(path, spec) -> tuple[float, ...]:
             count = (stop - start) / step
             num = math.floor(count * (1.0 + ROUNDOFF)) + 1
             values = [start + step * i for i in range(num)]
-        values = [round(v, 15) for v in values]
+        # (to the decimal digits a double holds, 15: 0.1 * 3 is 0.3)
+        values = [round(v, sys.float_info.dig) for v in values]
     elif isinstance(spec, list):
         if not spec:
             fail(path, spec, "must not be empty")
