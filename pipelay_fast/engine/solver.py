@@ -38,6 +38,7 @@ from . import tuning as T
 from .boundaries import (
     check_final_regime,
     graded_on_boundaries,
+    laid_follows_touchdown,
     last_roller_in_contact,
     lateral_hold_start,
     liftoff_position,
@@ -174,10 +175,11 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         passes += 1
     while path:
         # along the current's path the boundaries move far: the mesh follows
-        # them in zones, not with its whole grading (which would stretch the
-        # laid pipe, and its friction springs, all the way to the lower end)
-        if pb.mesh.zone_b is not None:
-            pb.mesh.follow_rates(pb.bnodes, pb.mesh.zone_b)
+        # them in zones, not with its whole grading, but for the laid pipe,
+        # which follows touchdown to the lower end (:func:`laid_follows_touchdown`)
+        rates = pb.mesh.zone_b if pb.mesh.zone_b is not None else pb.mesh.s_b
+        if rates is not None:
+            pb.mesh.follow_rates(pb.bnodes, laid_follows_touchdown(pb, rates))
         pb.path.before_current = snapshot(pb)
         # friction springs anchored where the pipe lies under gravity alone
         anchor_friction(pb.contacts.fric, pb.u, pb.nd, pb.s, pb.props)
