@@ -82,6 +82,7 @@ def solve_problem(case: Case, warm: Problem | None = None):
     meshes = 0
     while True:  # ended by the budget, or by solver.max_elements as the laid pipe doubles
         pb, react, stats, s_t, s_l = _solve_mesh(case, warm, budget, laid)
+        s_g = stats.pop("gravity_touchdown", s_t)
         warm = None
         meshes += stats["meshes"]
         if not _lower_end_holds(pb, react) or case.lay.pipe_length is not None:
@@ -90,7 +91,11 @@ def solve_problem(case: Case, warm: Problem | None = None):
             stats["seconds"] = time.perf_counter() - t0
             check_final_regime(case, pb)
             return pb, _solution(pb, react, stats, s_t, s_l)
-        laid = more_laid(pb, s_t)
+        # doubled from the laid pipe the mesh has: its touchdown under gravity,
+        # or under the current when that lies further from the lower end (the
+        # current moves touchdown along the pipe, by far more than the laid
+        # pipe at times)
+        laid = more_laid(pb, max(s_t, s_g))
 
 
 def _lower_end_holds(pb: Problem, react) -> bool:
@@ -181,6 +186,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         if rates is not None:
             pb.mesh.follow_rates(pb.bnodes, laid_follows_touchdown(pb, rates))
         pb.path.before_current = snapshot(pb)
+        stats["gravity_touchdown"] = touchdown_position(pb)
         # friction springs anchored where the pipe lies under gravity alone
         anchor_friction(pb.contacts.fric, pb.u, pb.nd, pb.s, pb.props)
         friction_track(pb.nd, pb.u, react, pb.props, pb.bed, pb.contacts.bed_active,
@@ -204,7 +210,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         pb = _with_more_laid(case, pb)
         pb.on_gravity_path()
         pb, react, more = _solve_gravity(case, pb, budget)
-        stats = {key: stats[key] + more[key] for key in stats}
+        stats = {key: stats[key] + more[key] for key in stats if key in more}
         passes += 1
     stats.setdefault("current_steps", 0)  # no current's path: planar, or no friction
     stats.setdefault("current_step_max", 0)
