@@ -79,23 +79,33 @@ def follow_nodes(case: Case, pb: Problem, nodes):
     pb.mesh.follow(nodes, zones)
 
 
-def laid_follows_touchdown(pb: Problem, rates) -> np.ndarray:
+def touchdown_spans(pb: Problem, rates) -> np.ndarray:
     """The map's rates ``rates`` (nb, nn) [-] (:meth:`.MeshMap.follow_rates`)
-    with the laid pipe, from the lower end to touchdown, one span that
-    follows touchdown: node i below it at s_i s_T' / s_T as touchdown moves
-    from s_T to s_T'. The current's path moves touchdown along the pipe by
-    many flexural lengths (the suspended span takes up or pays out laid
-    pipe as the drag bows it); a zone's lower edge, a node that stays put,
-    would stop it there, the elements between squeezed to a tenth
-    (measured: a 1455 m J-lay under 1.66 m/s stopped at current factor 0.34
-    with touchdown 67 m below its gravity answer, at its zone's edge; laid
-    pipe added behind the edge moved the edge with it). As one span, the
-    laid pipe's nodes keep their shares of it, and touchdown runs until
-    the laid pipe is short (SHORT_LAID, more laid pipe)."""
+    with touchdown's row spanning from the lower end to the next boundary
+    above it (or the top): node i at s_i + r_i (s_T' - s_T) as touchdown moves
+    from s_T to s_T', r_i = s_i / s_T below it and (s_u - s_i) / (s_u - s_T)
+    above it, s_u that boundary's (the top's) arc length. The current's path
+    moves touchdown along the pipe by many flexural lengths (the drag bows
+    the suspended span, which takes up or pays out laid pipe); a zone's
+    edge, a node that stays put, would stop it there, the elements between
+    squeezed to a tenth of their length (measured: a 1455 m J-lay under
+    1.66 m/s stopped at current factor 0.34 with touchdown 67 m below its
+    gravity answer, at its zone's lower edge; a 2488 m one under 1.67 m/s
+    with touchdown 35 m above it, its zone's upper edge, its elements
+    squeezed to 3 cm, where the axial rows' round-off, 1 N, lay above the
+    tolerance). Over the two spans the mesh near touchdown moves with it,
+    and touchdown runs on until the laid pipe is short (SHORT_LAID, more
+    laid pipe)."""
     rates = np.array(rates, dtype=float)
     k = pb.td_node
-    if k > 0:
-        rates[L.B_TD, :k] = pb.s[:k] / pb.s[k]
+    if k <= 0:
+        return rates
+    s = pb.s
+    above = [int(j) for j in pb.bnodes if j > k]
+    up = min(above, default=s.size - 1)
+    rates[L.B_TD, :] = 0.0
+    rates[L.B_TD, :k + 1] = s[:k + 1] / s[k]
+    rates[L.B_TD, k:up] = (s[up] - s[k:up]) / (s[up] - s[k])
     return rates
 
 

@@ -38,13 +38,13 @@ from . import tuning as T
 from .boundaries import (
     check_final_regime,
     graded_on_boundaries,
-    laid_follows_touchdown,
     last_roller_in_contact,
     lateral_hold_start,
     liftoff_position,
     roller_gaps,
     stinger_foci,
     touchdown_position,
+    touchdown_spans,
 )
 from .continuation import ShortLaid, apply_current, newton_with_fallback
 from .friction import anchor_friction, friction_path
@@ -180,11 +180,11 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         passes += 1
     while path:
         # along the current's path the boundaries move far: the mesh follows
-        # them in zones, not with its whole grading, but for the laid pipe,
-        # which follows touchdown to the lower end (:func:`laid_follows_touchdown`)
+        # them in zones, not with its whole grading, but for touchdown,
+        # which the mesh follows over the spans beside it (:func:`touchdown_spans`)
         rates = pb.mesh.zone_b if pb.mesh.zone_b is not None else pb.mesh.s_b
         if rates is not None:
-            pb.mesh.follow_rates(pb.bnodes, laid_follows_touchdown(pb, rates))
+            pb.mesh.follow_rates(pb.bnodes, touchdown_spans(pb, rates))
         pb.path.before_current = snapshot(pb)
         stats["gravity_touchdown"] = touchdown_position(pb)
         # friction springs anchored where the pipe lies under gravity alone
