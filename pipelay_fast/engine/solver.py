@@ -193,7 +193,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
                        pb.contacts.fric, pb.s)
         pb.settings.factors[L.F_FRICTION] = 1.0
         try:
-            react, more = apply_current(case, pb, budget)
+            react, more = apply_current(case, pb, budget, laid_holds=(
+                None if case.lay.pipe_length is not None else _lower_end_holds))
             short = False
         except ShortLaid:  # touchdown ran toward the lower end under the current
             short = True
