@@ -29,8 +29,10 @@ from .state import Problem, restore, snapshot
 
 
 class ShortLaid(Exception):
-    """Newton stopped with SHORT_LAID: touchdown runs toward the modelled lower
-    end, and the mesh needs more laid pipe (:func:`.solver._solve_gravity`)."""
+    """The mesh needs more laid pipe: Newton stopped with SHORT_LAID (touchdown
+    runs toward the modelled lower end, :func:`.solver._solve_gravity`), or a
+    step of the current's path left the lower end holding the laid pipe
+    (:func:`apply_current`)."""
 
 
 

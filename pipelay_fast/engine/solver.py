@@ -196,7 +196,8 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
             react, more = apply_current(case, pb, budget, laid_holds=(
                 None if case.lay.pipe_length is not None else _lower_end_holds))
             short = False
-        except ShortLaid:  # touchdown ran toward the lower end under the current
+        except ShortLaid:  # touchdown ran toward the lower end under the current,
+            # or a step left the lower end holding the laid pipe
             short = True
         if not short:
             # the mesh follows the boundaries the current moves
