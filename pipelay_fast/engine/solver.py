@@ -291,7 +291,9 @@ def _with_more_laid(case: Case, pb: Problem) -> Problem:
                          f"lay.pipe_length = {case.lay.pipe_length!r} m (the pipe is too "
                          "short to reach the seabed and lie on it)")
     pb.stats.pop("cold_total", None)  # a warm start's too: laid pipe added, as the cold start would
-    return remesh(case, pb, s_t, stinger_foci(case, pb), laid=more_laid(pb, s_t))
+    new = remesh(case, pb, s_t, stinger_foci(case, pb), laid=more_laid(pb, s_t))
+    check_water(case, new.u[new.nd - 1::new.ndn])  # the laid pipe added below the water too
+    return new
 
 
 def _solution(pb: Problem, react, stats: dict, s_t: float, s_l: float | None) -> Solution:
