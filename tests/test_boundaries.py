@@ -295,7 +295,7 @@ def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, examp
     included (forced once here: the lower end said to hold too much of the
     lateral force)."""
     from pipelay_fast.engine import continuation, solver
-    from pipelay_fast.kernels.layout import I_ITER
+    from pipelay_fast.kernels.layout import F_CURRENT, I_ITER
 
     problems, iterations = [], []
     run = continuation.run_newton
@@ -312,6 +312,10 @@ def test_meshes_and_iterations_are_counted_as_newton_ran_them(monkeypatch, examp
     calls = []
 
     def once(pb, react):
+        # the path's steps ask too (their current factor below 1): the
+        # check after the path is the one forced, the passes then doubled
+        if pb.settings.factors[F_CURRENT] < 1.0:
+            return holds(pb, react)
         calls.append(pb)
         return True if doubled and len(calls) == 1 else holds(pb, react)
 

@@ -1,14 +1,18 @@
 """Classes of refusal of issue 42, each a case of its class solved and checked
-against the planar elastica of ``tests/reference`` (2D). The straight stinger
-(class 4, a = 0) is a case of tests/test_boundaries.py's tip regime test."""
+against the planar elastica of ``tests/reference`` (2D) or by the
+admissibility of its answer (3D). The straight stinger (class 4, a = 0) is a
+case of tests/test_boundaries.py's tip regime test."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import pipelay_fast as pf
 from tests.helpers import EXAMPLES, elastica_for, weights
 from tests.reference.slay import slay_elastica
+from tests.test_hard_cases import weight_of
+from tests.test_slope_friction import drag_vector
 
 # Class 1, S-lay that failed at the homotopy's first load step: a switch to
 # bearing on the tip from a state lifting off that passes below the tip (the
@@ -146,3 +150,44 @@ def test_near_rigid_jlay_matches_elastica(name):
     assert sm["top_tension"] == pytest.approx(ref["top_tension"], rel=AGREE)
     assert sm["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=AGREE)
     assert float(result.profile["moment"].max()) == pytest.approx(ref["max_moment"], rel=AGREE)
+
+
+# Class 3, deep J-lay under a strong oblique current: along the current's
+# path touchdown runs along the pipe by many flexural lengths (the case
+# 1:3d-283 of benchmarks/bench_random.py --seed 1, rounded: 1809 m of water,
+# 2.32 m/s at 21 deg to the lay, a 0.62 m pipe with 113 mm of coating).
+DEEP_OBLIQUE_CURRENT = {
+    "pipe.outer_diameter": 0.62188, "pipe.inner_diameter": 0.58938,
+    "pipe.coating_outer_diameter": 0.84772, "pipe.hydrodynamic_diameter": 0.84772,
+    "pipe.coating_density": 2591.3, "environment.water_depth": 1809.4,
+    "lay.top": [1813.0, 1502.6], "lay.top_angle": None, "lay.top_tension": 7.9138e6,
+    "environment.current.speed": 2.3186, "environment.current.heading": 20.997,
+    "environment.current.profile": "power", "environment.current.exponent": 0.23459,
+    "seabed.lateral_friction": 0.20137, "solver.dimension": "3d", "checks": None}
+# share of the drag the nodes' trapezoidal rule may miss against the engine's
+# elements (tests/test_friction.py: 2e-3 on 1 m elements, 5e-3 on 4 m)
+DRAG_RULE = 1e-2
+
+
+def test_deep_jlay_under_oblique_current_is_admissible():
+    """Class 3: the answer is admissible. The seabed pushes; the vertical
+    reactions and the drag's vertical part carry the effective weight; the
+    lateral reactions balance the lateral drag (both integrated here from
+    the profile, the drag by the trapezoidal rule); friction stays in its
+    cone, |f_y| <= mu N, and reaches it where the laid pipe slides; the top
+    tension is the one given."""
+    case = pf.load_case(EXAMPLES / "j125_3d.toml").with_changes(DEEP_OBLIQUE_CURRENT)
+    r = pf.solve(case)
+    prof = r.profile
+    assert r.summary["top_tension"] == pytest.approx(case.lay.top_tension, rel=1e-6)
+    n = prof["seabed_reaction"].to_numpy()
+    assert n.min() >= 0.0
+    drag = drag_vector(case, prof)
+    weight = weight_of(case, prof)
+    assert prof["reaction_x"].sum() + drag[0] == pytest.approx(
+        weight, abs=1e-5 * weight + DRAG_RULE * abs(drag[0]))
+    assert abs(drag[1]) > 0.05 * weight  # a strong lateral load
+    assert prof["reaction_y"].sum() + drag[1] == pytest.approx(0.0, abs=DRAG_RULE * abs(drag[1]))
+    bed = (prof["contact"] == "seabed").to_numpy() & (prof["s"] > 0.0).to_numpy()
+    ratio = np.abs(prof["reaction_y"].to_numpy()[bed]) / (case.seabed.lateral_friction * n[bed])
+    assert ratio.max() == pytest.approx(1.0, abs=1e-6)

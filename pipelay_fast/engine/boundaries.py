@@ -90,6 +90,36 @@ def follow_nodes(case: Case, pb: Problem, nodes, share_overlaps: bool = True):
     pb.mesh.follow(nodes, zones)
 
 
+def touchdown_spans(pb: Problem, rates) -> np.ndarray:
+    """The map's rates ``rates`` (nb, nn) [-] (:meth:`.MeshMap.follow_rates`)
+    with touchdown's row spanning from the lower end to the next boundary
+    above it (or the top): node i at s_i + r_i (s_T' - s_T) as touchdown moves
+    from s_T to s_T', r_i = s_i / s_T below it and (s_u - s_i) / (s_u - s_T)
+    above it, s_u that boundary's (the top's) arc length. The current's path
+    moves touchdown along the pipe by many flexural lengths (the drag bows
+    the suspended span, which takes up or pays out laid pipe); a zone's
+    edge, a node that stays put, would stop it there, the elements between
+    squeezed to a tenth of their length (measured: a 1455 m J-lay under
+    1.66 m/s stopped at current factor 0.34 with touchdown 67 m below its
+    gravity answer, at its zone's lower edge; a 2488 m one under 1.67 m/s
+    with touchdown 35 m above it, its zone's upper edge, its elements
+    squeezed to 3 cm, where the axial rows' round-off, 1 N, lay above the
+    tolerance). Over the two spans the mesh near touchdown moves with it,
+    and touchdown runs on until the laid pipe is short (SHORT_LAID, more
+    laid pipe)."""
+    rates = np.array(rates, dtype=float)
+    k = pb.td_node
+    if k <= 0:
+        return rates
+    s = pb.s
+    above = [int(j) for j in pb.bnodes if j > k]
+    up = min(above, default=s.size - 1)
+    rates[L.B_TD, :] = 0.0
+    rates[L.B_TD, :k + 1] = s[:k + 1] / s[k]
+    rates[L.B_TD, k:up] = (s[up] - s[k:up]) / (s[up] - s[k])
+    return rates
+
+
 def graded_on_boundaries(case: Case, pb: Problem) -> bool:
     """True when the mesh is the one graded at the boundaries found (touchdown
     and every point of :func:`stinger_foci`), with its element counts: no

@@ -29,8 +29,10 @@ from .state import Problem, restore, snapshot
 
 
 class ShortLaid(Exception):
-    """Newton stopped with SHORT_LAID: touchdown runs toward the modelled lower
-    end, and the mesh needs more laid pipe (:func:`.solver._solve_gravity`)."""
+    """The mesh needs more laid pipe: Newton stopped with SHORT_LAID (touchdown
+    runs toward the modelled lower end, :func:`.solver._solve_gravity`), or a
+    step of the current's path left the lower end holding the laid pipe
+    (:func:`apply_current`)."""
 
 
 
@@ -212,7 +214,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
             level = trial
             step = min(T.LOAD_STEP_FACTOR * step, T.LOAD_STEP)
             if converged is not None:
-                converged(level)
+                converged(level, react)
             continue
         restore(pb, saved)
         step /= T.LOAD_STEP_FACTOR
@@ -278,10 +280,18 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     return react, {"iterations": stats["iterations"] + iters, "load_steps": stats["load_steps"]}
 
 
-def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None):
+def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None,
+                  laid_holds=None):
     """Raise the current factor from 0 to 1 in load steps (friction follows
     this path; :func:`continuation`).
     ``budget``: the solve's Newton iterations left (None: a fresh one).
+    ``laid_holds(pb, react)``: whether a converged step's reactions leave the
+    lower end holding the laid pipe (:func:`.solver._lower_end_holds`); a
+    step short of the full current that does raises ShortLaid, for more
+    laid pipe and the path again (with the lower end held, the path follows
+    another problem, whose equilibrium may end before the full current:
+    a 2097 m J-lay under 1.9 m/s slid its whole laid pipe from factor 0.75
+    and stalled at 0.875).
 
     The converged steps are recorded (``pb.path.current_path``, from the state
     before the current); a warm start begins each step from its neighbour's
@@ -298,8 +308,13 @@ def apply_current(case: Case, pb: Problem, budget: IterationBudget | None = None
         return zero, predict and pb.start_step(factor)
 
     pb.path.current_path = [pb.path_state(0.0)]
+
+    def converged(level, react):
+        pb.path.current_path.append(pb.path_state(level))
+        if level < 1.0 and laid_holds is not None and laid_holds(pb, react):
+            raise ShortLaid
+
     react, stats = continuation(case, pb, budget, load, name="current factor",
-                                converged=lambda level: pb.path.current_path.append(
-                                    pb.path_state(level)))
+                                converged=converged)
     pb.settings.factors[L.F_CURRENT] = 1.0
     return react, stats

@@ -44,6 +44,7 @@ from .boundaries import (
     roller_gaps,
     stinger_foci,
     touchdown_position,
+    touchdown_spans,
 )
 from .continuation import ShortLaid, apply_current, newton_with_fallback
 from .friction import anchor_friction, friction_path
@@ -81,6 +82,7 @@ def solve_problem(case: Case, warm: Problem | None = None):
     meshes = 0
     while True:  # ended by the budget, or by solver.max_elements as the laid pipe doubles
         pb, react, stats, s_t, s_l = _solve_mesh(case, warm, budget, laid)
+        s_g = stats.pop("gravity_touchdown", s_t)
         warm = None
         meshes += stats["meshes"]
         if not _lower_end_holds(pb, react) or case.lay.pipe_length is not None:
@@ -89,7 +91,11 @@ def solve_problem(case: Case, warm: Problem | None = None):
             stats["seconds"] = time.perf_counter() - t0
             check_final_regime(case, pb)
             return pb, _solution(pb, react, stats, s_t, s_l)
-        laid = more_laid(pb, s_t)
+        # doubled from the laid pipe the mesh has: its touchdown under gravity,
+        # or under the current when that lies further from the lower end (the
+        # current moves touchdown along the pipe, by far more than the laid
+        # pipe at times)
+        laid = more_laid(pb, max(s_t, s_g))
 
 
 def _lower_end_holds(pb: Problem, react) -> bool:
@@ -186,20 +192,24 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         passes += 1
     while path:
         # along the current's path the boundaries move far: the mesh follows
-        # them in zones, not with its whole grading (which would stretch the
-        # laid pipe, and its friction springs, all the way to the lower end)
-        if pb.mesh.zone_b is not None:
-            pb.mesh.follow_rates(pb.bnodes, pb.mesh.zone_b)
+        # them in zones, not with its whole grading, but for touchdown,
+        # which the mesh follows over the spans beside it (:func:`touchdown_spans`)
+        rates = pb.mesh.zone_b if pb.mesh.zone_b is not None else pb.mesh.s_b
+        if rates is not None:
+            pb.mesh.follow_rates(pb.bnodes, touchdown_spans(pb, rates))
         pb.path.before_current = snapshot(pb)
+        stats["gravity_touchdown"] = touchdown_position(pb)
         # friction springs anchored where the pipe lies under gravity alone
         anchor_friction(pb.contacts.fric, pb.u, pb.nd, pb.s, pb.props)
         friction_track(pb.nd, pb.u, react, pb.props, pb.bed, pb.contacts.bed_active,
                        pb.contacts.fric, pb.s)
         pb.settings.factors[L.F_FRICTION] = 1.0
         try:
-            react, more = apply_current(case, pb, budget)
+            react, more = apply_current(case, pb, budget, laid_holds=(
+                None if case.lay.pipe_length is not None else _lower_end_holds))
             short = False
-        except ShortLaid:  # touchdown ran toward the lower end under the current
+        except ShortLaid:  # touchdown ran toward the lower end under the current,
+            # or a step left the lower end holding the laid pipe
             short = True
         if not short:
             # the mesh follows the boundaries the current moves
@@ -214,7 +224,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         pb = _with_more_laid(case, pb)
         pb.on_gravity_path()
         pb, react, more = _solve_gravity(case, pb, budget)
-        stats = {key: stats[key] + more[key] for key in stats}
+        stats = {key: stats[key] + more[key] for key in stats if key in more}
         passes += 1
     stats.setdefault("current_steps", 0)  # no current's path: planar, or no friction
     stats.setdefault("current_step_max", 0)
@@ -293,7 +303,9 @@ def _with_more_laid(case: Case, pb: Problem) -> Problem:
                          f"lay.pipe_length = {case.lay.pipe_length!r} m (the pipe is too "
                          "short to reach the seabed and lie on it)")
     pb.stats.pop("cold_total", None)  # a warm start's too: laid pipe added, as the cold start would
-    return remesh(case, pb, s_t, stinger_foci(case, pb), laid=more_laid(pb, s_t))
+    new = remesh(case, pb, s_t, stinger_foci(case, pb), laid=more_laid(pb, s_t))
+    check_water(case, new.u[new.nd - 1::new.ndn])  # the laid pipe added below the water too
+    return new
 
 
 def _solution(pb: Problem, react, stats: dict, s_t: float, s_l: float | None) -> Solution:
