@@ -190,7 +190,22 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats}
         passes += 1
-    while path:
+    if path:
+        pb, react, stats, s_t, passes = _current_path(case, pb, react, stats, budget, passes)
+    stats.setdefault("current_steps", 0)  # no current's path: planar, or no friction
+    stats.setdefault("current_step_max", 0)
+    stats["meshes"] = passes + stats.pop("laid_added")
+    stats["seconds"] = time.perf_counter() - t0
+    return pb, react, stats, s_t, liftoff_position(case, pb)
+
+
+def _current_path(case: Case, pb: Problem, react, stats: dict, budget: IterationBudget,
+                  passes: int):
+    """Follow the current's path from ``pb``'s gravity answer (reactions
+    ``react``), adding laid pipe and solving gravity again when touchdown runs
+    toward the lower end or a step leaves the lower end holding the laid pipe.
+    Returns (problem, reactions, stats, touchdown's arc length [m], passes)."""
+    while True:
         # along the current's path the boundaries move far: the mesh follows
         # them in zones, not with its whole grading, but for touchdown,
         # which the mesh follows over the spans beside it (:func:`touchdown_spans`)
@@ -226,11 +241,7 @@ def _solve_mesh(case: Case, warm: Problem | None, budget: IterationBudget,
         pb, react, more = _solve_gravity(case, pb, budget)
         stats = {key: stats[key] + more[key] for key in stats if key in more}
         passes += 1
-    stats.setdefault("current_steps", 0)  # no current's path: planar, or no friction
-    stats.setdefault("current_step_max", 0)
-    stats["meshes"] = passes + stats.pop("laid_added")
-    stats["seconds"] = time.perf_counter() - t0
-    return pb, react, stats, s_t, liftoff_position(case, pb)
+    return pb, react, stats, s_t, passes
 
 
 def _from_guide(case: Case, budget: IterationBudget, laid: float | None = None):
