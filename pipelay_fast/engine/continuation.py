@@ -273,7 +273,6 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
         # load path) is cheaper than a load path from the neighbour's state
         _fail(case, "the warm start's Newton solve", info, status)
     restore(pb, start)
-    _free_touchdown(pb)
     try:
         react, stats = continuation(case, pb, budget, homotopy(pb),
                                     name="the homotopy from the first guess, load factor",
@@ -314,15 +313,18 @@ def _at_upper_end(pb: Problem) -> str:
 
 def _free_touchdown(pb: Problem):
     """The mesh follows touchdown over the spans beside it
-    (:func:`.boundaries.touchdown_spans`), its other boundaries as before:
-    along the homotopy touchdown moves from the first guess's to the
-    answer's, often more than its zone's DECAY_LENGTHS flexural lengths,
-    and a zone's edge, a node that stays put, stops it there (measured:
-    an S-lay with a 2.5 m flexural length, touchdown 8.5 m above the guess's,
-    its elements squeezed to 1 cm against the edge, Newton's residual then
-    running away, 1:3d-76 of bench_random --seed 1). Set at the start and
-    after each converged step, as a switch of regime at the tip maps the
-    mesh in zones again."""
+    (:func:`.boundaries.touchdown_spans`), its other boundaries as before;
+    set after each converged step of the homotopy. Along it touchdown moves
+    from the first guess's to the answer's, often more than its zone's
+    DECAY_LENGTHS flexural lengths, and a zone's edge, a node that stays
+    put, stops it there (measured: an S-lay with a 2.5 m flexural length,
+    touchdown 8.5 m above the guess's, its elements squeezed to 1 cm against
+    the edge, Newton's residual then running away, 1:3d-76 of bench_random
+    --seed 1). Not from the first guess, which is out of balance: freed
+    there, touchdown ran to the lower end as laid pipe was added and the
+    path ended on a branch with 42 % axial strain (1:2d-367, refused by
+    its zone's edge instead). A switch of regime at the tip maps the mesh
+    in zones again until the step converges."""
     if pb.mesh.s_b is not None and pb.td_node > 0:
         pb.mesh.follow_rates(pb.bnodes, touchdown_spans(pb, pb.mesh.s_b))
 
