@@ -11,12 +11,15 @@ here from the pipe data (1e-5); the top tension met when given.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
+from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import pipelay_fast as pf
-from tests.helpers import EXAMPLES, elastica_for, weights
+from tests.helpers import EXAMPLES, elastica_for, slay_elastica_for, weights
 
 
 def weight_of(case, prof):
@@ -236,3 +239,56 @@ def test_a_warm_start_from_a_path_that_switched_regime_at_the_tip():
     cold = pf.solve(case)
     for key in ("max_von_mises", "max_lateral_deflection", "tdp_z", "top_tension"):
         assert warm.summary[key] == pytest.approx(cold.summary[key], rel=1e-4), key
+
+
+def test_slay_touchdown_beyond_its_zone_on_the_homotopy():
+    # a 2.5 m flexural length: touchdown moves 8.5 m along the homotopy from
+    # the first guess's, more than its zone's three flexural lengths
+    case = pf.load_case(EXAMPLES / "s67.toml").with_changes({
+        "pipe.outer_diameter": 0.157884, "pipe.inner_diameter": 0.143266,
+        "pipe.coating_outer_diameter": 0.216816, "pipe.hydrodynamic_diameter": 0.216816,
+        "pipe.coating_density": 2521.87, "pipe.youngs_modulus": 207e9, "pipe.extensible": False,
+        "environment.water_depth": 76.8097, "environment.current.speed": 0.0,
+        "lay.stinger.a": -0.00181439, "lay.stinger.lower": [81.2740, 325.804],
+        "lay.stinger.upper": [91.4900, 400.0], "lay.top_tension": 365645.0})
+    result = pf.solve(case)
+    ref = slay_elastica_for(case)
+    assert result.summary["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-6)
+
+
+def test_straight_ramp_whose_lift_off_lies_above_its_upper_end_is_refused_naming_it():
+    # pinned top on a straight 49.3 deg ramp, bottom tension 14.6 kN: the planar
+    # elastica from touchdown (theta = 0, M = 0) meets the ramp's angle with no
+    # moment (a lift-off) only above the ramp's upper end; the pipe leaving the
+    # top flatter than the ramp touches it only at the top, which no contact
+    # boundary models
+    case = pf.load_case(EXAMPLES / "s67.toml").with_changes({
+        "pipe.outer_diameter": 0.288793, "pipe.inner_diameter": 0.272750,
+        "pipe.coating_outer_diameter": 0.345626, "pipe.hydrodynamic_diameter": 0.345626,
+        "pipe.coating_density": 2280.97, "pipe.youngs_modulus": 207e9,
+        "environment.water_depth": 30.5752, "environment.current.speed": 0.0,
+        "lay.stinger.a": 0.0, "lay.stinger.lower": [6.11504, 371.013],
+        "lay.stinger.upper": [39.7797, 400.0], "lay.top_angle": "pinned",
+        "lay.top_tension": None, "lay.bottom_tension": 14570.9})
+    (z_tip, x_tip), (z_up, x_up) = case.lay.stinger.lower, case.lay.stinger.upper
+    ramp = math.atan2(z_up - z_tip, x_up - x_tip)
+    w, _ = weights(case)
+    ei, h = case.pipe.bending_stiffness, case.lay.bottom_tension
+
+    def moment_free(v0):  # (angle, height) where M is next 0 above touchdown
+        def back_to_zero(s, y):
+            return y[2] if s > 1e-6 else 1.0
+        back_to_zero.terminal, back_to_zero.direction = True, -1
+        # y = (z, theta, M): z' = sin(theta), theta' = M / EI,
+        # M' = H sin(theta) - V cos(theta), V = v0 + w s the vertical force
+        sol = solve_ivp(lambda s, y: [math.sin(y[1]), y[2] / ei, h * math.sin(y[1])
+                                      - (v0 + w * s) * math.cos(y[1])],
+                        (0.0, 1000.0), [0.0, 0.0, 0.0], events=back_to_zero,
+                        rtol=1e-10, atol=1e-10, max_step=0.5)
+        z, theta, _m = sol.y_events[0][0]
+        return theta, z
+
+    v0 = brentq(lambda v: moment_free(v)[0] - ramp, -6000.0, -6900.0, xtol=1e-6)
+    assert moment_free(v0)[1] > z_up + 10.0  # lift-off 14 m above the upper end
+    with pytest.raises(pf.SolveError, match="lay.stinger.upper"):
+        pf.solve(case)
