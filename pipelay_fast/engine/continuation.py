@@ -293,10 +293,8 @@ def _at_upper_end(pb: Problem) -> str:
     or the finest element h_min, of the top, the stinger's upper end: the
     answer then leaves (or regains) the stinger above it, touching it only
     at the top (and the tip), a configuration the contact boundaries do not
-    model (measured: an S-lay on a straight ramp, pinned top, bottom tension
-    14.6 kN, whose elastica meets the ramp's angle with no moment 14 m above
-    the ramp's upper end, 1:3d-181 of bench_random --seed 1; re-contact
-    beyond the upper end, 1:3d-247, as the reference finds). "" otherwise."""
+    model (e.g. a straight ramp whose elastica would meet the ramp's angle
+    with no moment above its upper end). "" otherwise."""
     k = pb.lo_node
     # on the top's element, or within the finest element h_min of the top
     # (the map squeezes the elements between a boundary and the top)
@@ -317,14 +315,11 @@ def _free_touchdown(pb: Problem):
     set after each converged step of the homotopy. Along it touchdown moves
     from the first guess's to the answer's, often more than its zone's
     DECAY_LENGTHS flexural lengths, and a zone's edge, a node that stays
-    put, stops it there (measured: an S-lay with a 2.5 m flexural length,
-    touchdown 8.5 m above the guess's, its elements squeezed to 1 cm against
-    the edge, Newton's residual then running away, 1:3d-76 of bench_random
-    --seed 1). Not from the first guess, which is out of balance: freed
-    there, touchdown ran to the lower end as laid pipe was added and the
-    path ended on a branch with 42 % axial strain (1:2d-367, refused by
-    its zone's edge instead). A switch of regime at the tip maps the mesh
-    in zones again until the step converges."""
+    put, would stop it there, its elements squeezed against the edge. Not
+    from the first guess, which is out of balance: freed there, touchdown
+    can run to the lower end and the path end on another branch. A switch
+    of regime at the tip maps the mesh in zones again until the step
+    converges."""
     if pb.mesh.s_b is not None and pb.td_node > 0:
         pb.mesh.follow_rates(pb.bnodes, touchdown_spans(pb, pb.mesh.s_b))
 
