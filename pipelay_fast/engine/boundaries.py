@@ -70,15 +70,15 @@ def follow_nodes(case: Case, pb: Problem, nodes, share_overlaps: bool = True):
     zone, both boundaries' (each one's zone reaches the other), and so is,
     with ``share_overlaps``, the span between two neighbouring boundaries
     whose zones overlap: a zone's edge inside it would be a node that stays
-    put near the other boundary, past which that one could not move
-    (measured: lift-off held 2.7 m above its answer by touchdown's zone
-    edge, 1:2d-375 of bench_random --seed 1), whereas the span's length is
+    put near the other boundary, past which that one could not move,
+    whereas the span's length is
     what the solve finds (the gap span's, from re-contact's first estimate,
     :func:`regained_span`, to the answer's is often more than its three
     flexural lengths). A graded mesh's zones, kept for the current's path
     (:func:`.problem.remesh`), are each boundary's own (``share_overlaps``
-    False): shared there, they moved the friction path's answers of six
-    random 3D cases of bench_contact by up to 0.7 %."""
+    False): the current's path moves each boundary's zone on its own (and
+    touchdown over its spans, :func:`touchdown_spans`), so the friction
+    springs between boundaries keep their nodes."""
     zone = T.DECAY_LENGTHS * pb.stats["flexural_length"]
     zones = [[zone, zone] for _ in nodes]
     if len(nodes) > B_PT and nodes[B_LO] >= 0 and nodes[B_PT] >= 0:
@@ -99,12 +99,8 @@ def touchdown_spans(pb: Problem, rates) -> np.ndarray:
     moves touchdown along the pipe by many flexural lengths (the drag bows
     the suspended span, which takes up or pays out laid pipe); a zone's
     edge, a node that stays put, would stop it there, the elements between
-    squeezed to a tenth of their length (measured: a 1455 m J-lay under
-    1.66 m/s stopped at current factor 0.34 with touchdown 67 m below its
-    gravity answer, at its zone's lower edge; a 2488 m one under 1.67 m/s
-    with touchdown 35 m above it, its zone's upper edge, its elements
-    squeezed to 3 cm, where the axial rows' round-off, 1 N, lay above the
-    tolerance). Over the two spans the mesh near touchdown moves with it,
+    squeezed until the axial rows' round-off lies above the tolerance. Over
+    the two spans the mesh near touchdown moves with it,
     and touchdown runs on until the laid pipe is short (SHORT_LAID, more
     laid pipe)."""
     rates = np.array(rates, dtype=float)
