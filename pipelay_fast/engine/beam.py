@@ -46,7 +46,23 @@ def bending_dominated(ei: float, lam: float, w: float) -> bool:
     return lam >= (ei / w) ** (1.0 / 3.0)
 
 
-class BeamSpan:
+class _Tabled:
+    """A span tabulated against arc length ``_s`` [m] from touchdown: its
+    height ``_x``, horizontal distance ``_z`` [m], angle ``_th`` [rad] and
+    curvature ``_kappa`` [1/m], interpolated linearly."""
+
+    def _shape(self, s):
+        """(s, x, z, theta) at arc lengths ``s`` [m] from touchdown."""
+        s = np.asarray(s, dtype=np.float64)
+        return (s, np.interp(s, self._s, self._x), np.interp(s, self._s, self._z),
+                np.interp(s, self._s, self._th))
+
+    def curvature(self, s):
+        """Curvature [1/m] at arc lengths ``s`` [m] from touchdown."""
+        return np.interp(np.asarray(s, dtype=np.float64), self._s, self._kappa)
+
+
+class BeamSpan(_Tabled):
     """The small-slope beam-column from touchdown (s = 0, x = z = 0) to a
     pinned top at height ``x_top`` [m], in the horizontal tension ``h`` [N]
     under the weight ``w1`` [N/m] (the seabed's; ``w2`` [N/m] above the
@@ -64,7 +80,7 @@ class BeamSpan:
         y, dy, ddy = self._y(xi)
         ds = np.hypot(1.0, dy)
         self._s = np.concatenate([[0.0], np.cumsum(0.5 * (ds[1:] + ds[:-1]) * np.diff(xi))])
-        self._xi, self._x, self._th = xi, y, np.arctan(dy)
+        self._z, self._x, self._th = xi, y, np.arctan(dy)
         self._kappa = ddy / ds**3
         self.length = float(self._s[-1])
 
@@ -104,20 +120,13 @@ class BeamSpan:
     def at(self, s):
         """Shape at arc lengths ``s`` [m] from touchdown: x, z [m], theta [rad],
         Te [N] (h plus the weight of the height climbed, less M^2 / (2 EI))."""
-        s = np.asarray(s, dtype=np.float64)
-        x = np.interp(s, self._s, self._x)
-        z = np.interp(s, self._s, self._xi)
-        th = np.interp(s, self._s, self._th)
+        s, x, z, th = self._shape(s)
         kappa = self.curvature(s)
         rise = self.w1 * np.minimum(x, self.depth) + self.w2 * np.maximum(x - self.depth, 0.0)
         return x, z, th, self.h + rise - 0.5 * self.ei * kappa * kappa
 
-    def curvature(self, s):
-        """Curvature [1/m] at arc lengths ``s`` [m] from touchdown."""
-        return np.interp(np.asarray(s, dtype=np.float64), self._s, self._kappa)
 
-
-class ElasticaSpan:
+class ElasticaSpan(_Tabled):
     """The planar heavy elastica (inextensible) from touchdown on a flat
     seabed (s = 0, x = z = theta = 0, no moment) to a top at height
     ``x_top`` [m]: pinned (``angle`` None, no moment) or held at ``angle``
@@ -190,16 +199,9 @@ class ElasticaSpan:
     def at(self, s):
         """Shape at arc lengths ``s`` [m] from touchdown: x, z [m], theta [rad],
         Te [N] (the force along the pipe, h cos(theta) + V sin(theta))."""
-        s = np.asarray(s, dtype=np.float64)
-        x = np.interp(s, self._s, self._x)
-        z = np.interp(s, self._s, self._z)
-        th = np.interp(s, self._s, self._th)
+        s, x, z, th = self._shape(s)
         v = np.interp(s, self._s, self._v)
         return x, z, th, self.h * np.cos(th) + v * np.sin(th)
-
-    def curvature(self, s):
-        """Curvature [1/m] at arc lengths ``s`` [m] from touchdown."""
-        return np.interp(np.asarray(s, dtype=np.float64), self._s, self._kappa)
 
 
 def bending_guessed(case: Case, cat) -> bool:
