@@ -6,11 +6,11 @@ Each key p is moved by +-h through the case's own build
 (:meth:`pipelay_fast.input.case.Case.with_number`: the tables on the key's
 path re-validated); the engine carries the solved state to each side, on
 the mesh a solve of that side grades at the solution's boundaries, with its
-regime held, by Newton from the converged state to solver.tolerance
-(:func:`pipelay_fast.engine.sensitivity.neighbour_solutions`, the implicit
-function theorem); each side is post-processed as a solve is (:func:`.results.build_profile`,
-:func:`.results.build_summary`) and a column's derivative is the central
-difference (f(p + h) - f(p - h)) / 2h,
+regime held, by the linear response of the tangent at the solution, factored
+once for every key (:func:`pipelay_fast.engine.sensitivity.neighbour_solutions`,
+the implicit function theorem); each side is post-processed as a solve is
+(:func:`.results.build_profile`, :func:`.results.build_summary`) and a
+column's derivative is the central difference (f(p + h) - f(p - h)) / 2h,
 exact to O(h^2) with no re-solve from the first guess. NaN, with the
 reason, where the column is not differentiable at p: a side's regime
 differs (the mesh's node count, a contact or slip set, the tip's regime),
@@ -29,7 +29,7 @@ import pandas as pd
 
 from ..engine.model import dimension_of
 from ..engine.problem import guess_sizes
-from ..engine.sensitivity import mirrored_sizes, neighbour_solutions
+from ..engine.sensitivity import base_solution, mirrored_sizes, neighbour_solutions
 from ..input.validate import get_path, number_at
 from .design import bend_regions
 from .results import SUMMARY_UNITS, build_profile, build_rollers, build_summary
@@ -105,56 +105,47 @@ def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
     column per key (d row / d key, in the row's SI unit per the key's:
     ``unit`` and ``attrs["key_units"]``), and ``reason``: why a NaN is NaN
     ("key: reason"; "" where every key's derivative is a number).
-    ``attrs["steps"]``: each key's step h; ``attrs["iterations"]``: the
-    Newton iterations each key's two sides took.
+    ``attrs["steps"]``: each key's step h.
 
     Every row is NaN, with the reason, where the solution itself does not
-    refine on its mesh (:func:`pipelay_fast.engine.sensitivity.neighbour_solutions`:
+    refine on its mesh (:func:`pipelay_fast.engine.sensitivity.base_solution`:
     3D with friction under a current). Raises ValueError for a key that is
     not numeric in the case.
     """
     rows = summary_rows()
     sizes = guess_sizes(case)
-    base, regime, error = neighbour_solutions([case], state, guessed=[sizes])
+    base, solution, error = base_solution(case, state, sizes)
     if base is not None:
-        f0, nodes0 = _side(case, base[0], functional)
+        f0, nodes0 = _side(case, solution, functional)
     table = {key: np.full(len(rows), math.nan) for key in keys}
     reasons = {name: [] for name in rows}
-    steps, iterations = {}, {}
-    tables = case.to_dict()
-    for key in keys:
-        p = _key_value(tables, key)
-        h = STEP * abs(p) if p != 0.0 else STEP
-        steps[key] = h
-        moved, why = [], error
-        for sign in (1.0, -1.0) if not why else ():
-            try:
-                moved.append(case.with_number(key, p + sign * h))
-            except ValueError as err:
-                why = f"p {'+-'[sign < 0]} h outside the key's range ({err})"
-                break
-            if dimension_of(moved[-1]) != dimension_of(case):
-                why = "the step changes the model's dimension"
-                break
-        sols = None
-        if not why:
-            plus = guess_sizes(moved[0])
-            sols, _, why = neighbour_solutions(moved, state, regime,
-                                               [plus, mirrored_sizes(sizes, plus)])
-        iterations[key] = sum(sol.stats["iterations"] for sol in sols or ())
-        if why:
-            for name in rows:
-                reasons[name].append(f"{key}: {why}")
+    steps, moved, why = _moved_cases(case, keys, error)
+    pairs = [key for key in keys if not why[key]]
+    cases = [c for key in pairs for c in moved[key]]
+    guessed = []
+    for key in pairs:
+        plus = guess_sizes(moved[key][0])
+        guessed += [plus, mirrored_sizes(sizes, plus)]
+    answers = iter(neighbour_solutions(cases, base, guessed) if cases else ())
+    for key in pairs:
+        (sol_p, why_p), (sol_m, why_m) = next(answers), next(answers)
+        why[key] = why_p or why_m
+        if why[key]:
             continue
         (fp, nodes_p), (fm, nodes_m) = (_side(c, sol, functional)
-                                        for c, sol in zip(moved, sols, strict=True))
+                                        for c, sol in zip(moved[key], (sol_p, sol_m),
+                                                          strict=True))
         for i, name in enumerate(rows):
-            why = _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h,
-                                      functional)
-            if why:
-                reasons[name].append(f"{key}: {why}")
+            text = _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m,
+                                       steps[key], functional)
+            if text:
+                reasons[name].append(f"{key}: {text}")
             else:
-                table[key][i] = (fp[name] - fm[name]) / (2.0 * h)
+                table[key][i] = (fp[name] - fm[name]) / (2.0 * steps[key])
+    for key in keys:
+        if why[key]:
+            for name in rows:
+                reasons[name].append(f"{key}: {why[key]}")
     frame = pd.DataFrame(table, index=list(rows))
     frame["unit"] = list(rows.values())
     frame["reason"] = ["; ".join(reasons[name]) for name in rows]
@@ -164,8 +155,29 @@ def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
     from ..input.keys import number_units
     frame.attrs["key_units"] = {key: number_units().get(key, "") for key in keys}
     frame.attrs["steps"] = steps
-    frame.attrs["iterations"] = iterations
     return frame
+
+
+def _moved_cases(case, keys, error: str):
+    """Each key's step h, its cases at p + h and p - h, and why it has no
+    sensitivities ("" where it has: ``error``, the solution's, else the
+    step leaves the key's range or changes the model's dimension)."""
+    tables = case.to_dict()
+    steps, moved, why = {}, {}, {}
+    for key in keys:
+        p = _key_value(tables, key)
+        h = STEP * abs(p) if p != 0.0 else STEP
+        steps[key], moved[key], why[key] = h, [], error
+        for sign in (1.0, -1.0) if not error else ():
+            try:
+                moved[key].append(case.with_number(key, p + sign * h))
+            except ValueError as err:
+                why[key] = f"p {'+-'[sign < 0]} h outside the key's range ({err})"
+                break
+            if dimension_of(moved[key][-1]) != dimension_of(case):
+                why[key] = "the step changes the model's dimension"
+                break
+    return steps, moved, why
 
 
 def _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h, functional) -> str:
