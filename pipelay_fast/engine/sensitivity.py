@@ -58,13 +58,15 @@ FRICTION_PATH = (
     "up to 2 % (S67 3D), and the slip set changes within +-1e-4 of a or of the current")
 
 
-def regraded_problem(case: Case, pb: Problem, guessed: dict | None = None) -> Problem:
+def regraded_problem(case: Case, pb: Problem, guessed: dict | None = None,
+                     keep_rates: bool = False) -> Problem:
     """The problem of ``case`` (a neighbour of the case ``pb`` solved) on
     the mesh a solve of ``case`` grades at ``pb``'s boundaries: its sizes
     and length of pipe from ``guessed`` (None: ``case``'s first guess's,
     :func:`.problem.guess_sizes`; :func:`.problem.sized_mesh`), its map the
-    grading's rates, ``pb``'s state interpolated onto it, its contact sets
-    on the same boundaries (:func:`.problem.remesh`)."""
+    grading's rates (``keep_rates``: ``pb``'s, ``pb`` itself graded at its
+    boundaries), ``pb``'s state interpolated onto it, its contact sets on
+    the same boundaries (:func:`.problem.remesh`)."""
     stats = dict(pb.stats)
     sizes = sized_mesh(case, guessed or guess_sizes(case))
     total = sizes.pop("cold_total")
@@ -73,7 +75,7 @@ def regraded_problem(case: Case, pb: Problem, guessed: dict | None = None) -> Pr
     stats.update(sizes)
     graded = replace(pb, path=replace(pb.path, stats=stats))
     return remesh(case, graded, touchdown_position(pb), stinger_foci(case, pb), grading=True,
-                  total=total)
+                  total=total, keep_rates=keep_rates)
 
 
 def mirrored_sizes(base: dict, plus: dict) -> dict:
@@ -174,8 +176,8 @@ def neighbour_solutions(cases, base: Problem, guessed):
     constraint set or bordered unknowns differ, a rigid point changes
     branch, the slip set changes, lift-off passes the stinger's tip, or the
     tangent is singular."""
-    sides = [regraded_problem(case, base, sizes) for case, sizes in zip(cases, guessed,
-                                                                         strict=True)]
+    sides = [regraded_problem(case, base, sizes, keep_rates=True)
+             for case, sizes in zip(cases, guessed, strict=True)]
     answers = [(None, f"{_REGIME_PARTS[0]} changes within the step (a regime switch)")
                if side.nn != base.nn else None for side in sides]
     kept = [k for k, answer in enumerate(answers) if answer is None]

@@ -114,19 +114,27 @@ def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
     """
     rows = summary_rows()
     sizes = guess_sizes(case)
-    base, solution, error = base_solution(case, state, sizes)
-    if base is not None:
-        f0, nodes0 = _side(case, solution, functional)
+    base, _solution, error = base_solution(case, state, sizes)
     table = {key: np.full(len(rows), math.nan) for key in keys}
     reasons = {name: [] for name in rows}
     steps, moved, why = _moved_cases(case, keys, error)
     pairs = [key for key in keys if not why[key]]
-    cases = [c for key in pairs for c in moved[key]]
-    guessed = []
+    # the case itself first: its state by the same linear map as its
+    # neighbours' (the solution's residual at the tolerance answered as
+    # theirs is), so that the one-sided differences compare like with like
+    cases, guessed = [case], [sizes]
     for key in pairs:
         plus = guess_sizes(moved[key][0])
+        cases += moved[key]
         guessed += [plus, mirrored_sizes(sizes, plus)]
-    answers = iter(neighbour_solutions(cases, base, guessed) if cases else ())
+    answers = iter(neighbour_solutions(cases, base, guessed) if base is not None else ())
+    solution, why_0 = next(answers, (None, error))
+    if solution is not None:
+        f0, nodes0 = _side(case, solution, functional)
+    elif why_0 != error:
+        for key in pairs:
+            why[key] = f"the solution itself: {why_0}"
+        pairs = []
     for key in pairs:
         (sol_p, why_p), (sol_m, why_m) = next(answers), next(answers)
         why[key] = why_p or why_m
