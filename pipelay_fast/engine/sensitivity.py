@@ -54,8 +54,9 @@ from .supports import line_span
 FRICTION_PATH = (
     "3D with seabed friction under a current: the answer follows the current's load path (its "
     "mesh graded under gravity, the friction springs anchored there, their slip set); "
-    "Newton from the answer holds neither and misses finite differences of full solves by "
-    "up to 2 % (S67 3D), and the slip set changes within +-1e-4 of a or of the current")
+    "a response at the answer holds neither (Newton from it missed finite differences of "
+    "full solves by up to 2 %, S67 3D), and the slip set changes within +-1e-4 of a or of "
+    "the current")
 
 
 def regraded_problem(case: Case, pb: Problem, guessed: dict | None = None,

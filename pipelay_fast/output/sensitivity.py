@@ -37,11 +37,14 @@ from .results import SUMMARY_UNITS, build_profile, build_rollers, build_summary
 # the key's relative step h / |p| (an absolute step of STEP in the key's SI
 # unit where p = 0), from the step-size study of benchmarks/bench_sensitivity.py
 # (S67 2D, four keys, against full solves): the largest relative difference
-# 3e-4 at 1e-3 (the O(h^2) error), 1e-5 at 1e-4, 3e-5 at 1e-5 and 1e-3 at
-# 1e-6 (the sides' round-off / h)
+# 5.9e-4 at 1e-2, 1e-5 at 1e-3 (the O(h^2) error), 3.9e-6 at 1e-4, 4.3e-5 at
+# 1e-5 and 6.5e-4 at 1e-6 (the sides' noise, 1e-12 of a value, over h)
 STEP = 1e-4
 # the one-sided differences (f(p + h) - f(p)) / h and (f(p) - f(p - h)) / h
-# of a smooth column differ by h f'' (a relative 1e-4 at STEP); by more than
+# of a smooth column differ by h f'' and by the linear sides' second-order
+# term (the nodes that follow a boundary keep their values; a relative 1e-4
+# at STEP, but 0.11 on S67 2D's tip clearance by a, which is then NaN though
+# its central difference is within 2e-6 of full solves'); by more than
 # this share of the larger, the column has a kink or a jump within +-h
 KINK = 0.1
 # a side's change of a column below this share of its value is round-off (the
