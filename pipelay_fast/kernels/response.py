@@ -51,7 +51,7 @@ from .constraints import (
 )
 from .contact import lateral_hold
 from .newton import _friction_answer, _work
-from .system import _evaluate, _to_nodal_system
+from .system import _evaluate, _solves_tb, _to_nodal_residual, _to_nodal_system
 
 
 @phase
@@ -80,15 +80,32 @@ def _response_kernels(nd):
     def residual(u, mesh, model, sup, ends, settings, g, delta, res_b, cmask, kind):
         """A neighbour's residual ``g``, constrained unknowns' increments
         ``delta`` (and which they are, ``cmask``) and bordered residuals
-        ``res_b`` (their unknowns' ``kind``) at ``u``. Returns their count."""
-        w, nb = _evaluated(nd, u, mesh, model, sup, ends, settings)
+        ``res_b`` (their unknowns' ``kind``, in :func:`.system._border`'s
+        order) at ``u``, without the tangent (the residual of
+        :func:`.system._to_nodal_residual`). Returns their count."""
+        w = _work(nd, u.shape[0], sup.phi_r.shape[0], mesh.s_el.shape[0], mesh.bnodes.shape[0],
+                  model.props, settings.href)
+        if _has_boundaries(mesh):
+            mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
+        lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
+        _nodal_frames(nd, u, mesh, sup, ends)
+        te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, False)
+        _to_nodal_residual(nd, u, mesh, sup, w, m_td)
+        _constraint_set(nd, u, mesh, sup, ends, w, settings.href)
         for i in range(u.shape[0]):
             g[i] = w.g[i]
             delta[i] = w.delta[i]
             cmask[i] = w.cmask[i]
-        for j in range(nb):
-            res_b[j] = w.res_b[j]
-            kind[j] = w.kind[j]
+        nb = 0
+        if _solves_tb(ends):
+            res_b[nb] = te_top - ends.top_target
+            kind[nb] = 0
+            nb += 1
+        for b in range(mesh.bnodes.shape[0]):
+            if mesh.bnodes[b] >= 0:
+                res_b[nb] = w.res_bnd[b]
+                kind[nb] = 2 + b
+                nb += 1
         return nb
 
     @jit(entry=True, _nrt=True)
