@@ -86,7 +86,7 @@ def _kernels(nd):
         """The system the kernel solves at ``u``: dense K (nodal frames) into
         ``kd``, G into ``g``, the border's columns, rows, residuals,
         derivatives and kinds, the constrained unknowns. Returns nb."""
-        w, nb = _evaluated(nd, u, mesh, model, sup, ends, settings)
+        w, nb = _evaluated(nd, u, mesh, model, sup, ends, settings, True)
         n = u.shape[0]
         kl = 4 * nd + 1
         kv = 2 * kl

@@ -55,19 +55,34 @@ from .system import _evaluate, _solves_tb, _to_nodal_residual, _to_nodal_system
 
 
 @phase
-def _evaluated(nd, u, mesh, model, sup, ends, settings):
-    """The Newton kernel's evaluation at ``u`` with the tangent (its work
-    arrays, :data:`.newton.Work`): residual, tangent and border in the nodal
-    frames, the constraint set. Returns (the work arrays, the bordered
-    unknowns' count)."""
+def _evaluated(nd, u, mesh, model, sup, ends, settings, want_tangent):
+    """The Newton kernel's evaluation at ``u`` (its work arrays,
+    :data:`.newton.Work`): residual, with ``want_tangent`` the tangent, and
+    the border in the nodal frames (without the tangent, the border's
+    residuals ``w.res_b`` and unknowns ``w.kind`` alone, in
+    :func:`.system._border`'s order, from :func:`.system._to_nodal_residual`),
+    the constraint set. Returns (the work arrays, the bordered unknowns' count)."""
     w = _work(nd, u.shape[0], sup.phi_r.shape[0], mesh.s_el.shape[0], mesh.bnodes.shape[0],
               model.props, settings.href)
     if _has_boundaries(mesh):
         mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
     lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
     _nodal_frames(nd, u, mesh, sup, ends)
-    te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, True)
-    nb, _nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
+    te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, want_tangent)
+    if want_tangent:
+        nb, _nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
+    else:
+        _to_nodal_residual(nd, u, mesh, sup, w, m_td)
+        nb = 0
+        if _solves_tb(ends):
+            w.res_b[nb] = te_top - ends.top_target
+            w.kind[nb] = 0
+            nb += 1
+        for b in range(mesh.bnodes.shape[0]):
+            if mesh.bnodes[b] >= 0:
+                w.res_b[nb] = w.res_bnd[b]
+                w.kind[nb] = 2 + b
+                nb += 1
     _constraint_set(nd, u, mesh, sup, ends, w, settings.href)
     return w, nb
 
@@ -83,29 +98,14 @@ def _response_kernels(nd):
         ``res_b`` (their unknowns' ``kind``, in :func:`.system._border`'s
         order) at ``u``, without the tangent (the residual of
         :func:`.system._to_nodal_residual`). Returns their count."""
-        w = _work(nd, u.shape[0], sup.phi_r.shape[0], mesh.s_el.shape[0], mesh.bnodes.shape[0],
-                  model.props, settings.href)
-        if _has_boundaries(mesh):
-            mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
-        lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
-        _nodal_frames(nd, u, mesh, sup, ends)
-        te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, False)
-        _to_nodal_residual(nd, u, mesh, sup, w, m_td)
-        _constraint_set(nd, u, mesh, sup, ends, w, settings.href)
+        w, nb = _evaluated(nd, u, mesh, model, sup, ends, settings, False)
         for i in range(u.shape[0]):
             g[i] = w.g[i]
             delta[i] = w.delta[i]
             cmask[i] = w.cmask[i]
-        nb = 0
-        if _solves_tb(ends):
-            res_b[nb] = te_top - ends.top_target
-            kind[nb] = 0
-            nb += 1
-        for b in range(mesh.bnodes.shape[0]):
-            if mesh.bnodes[b] >= 0:
-                res_b[nb] = w.res_bnd[b]
-                kind[nb] = 2 + b
-                nb += 1
+        for j in range(nb):
+            res_b[j] = w.res_b[j]
+            kind[j] = w.kind[j]
         return nb
 
     @jit(entry=True, _nrt=True)
@@ -114,7 +114,7 @@ def _response_kernels(nd):
         each neighbour's residual (module docstring), one factorisation of
         the tangent at ``u``. Returns the bordered unknowns' count, -1 when
         the tangent or a Schur complement is singular."""
-        w, nb = _evaluated(nd, u, mesh, model, sup, ends, settings)
+        w, nb = _evaluated(nd, u, mesh, model, sup, ends, settings, True)
         n, m = u.shape[0], g.shape[0]
         kl = 4 * nd + 1
         if not _condense_factor(nd, w):
