@@ -322,3 +322,31 @@ def test_straight_ramp_the_pipe_leaves_at_its_pinned_top_solves_clear_of_it():
     over = prof[(prof["z"] > z_tip) & (prof["z"] < z_up)]
     ramp_x = x_tip + (over["z"] - z_tip) * math.tan(ramp)
     assert (over["x"] > ramp_x).all()  # above the ramp
+
+
+def test_bending_dominated_slay_guess_leaves_tangent_to_the_stinger():
+    # a stiff pipe (flexural length 50 m in 31 m of water) on a steep stinger
+    # (47 deg tip), pinned top: the catenary guess, moved one flexural length
+    # up the stinger, met it 44 deg off its tangent (out of balance by 6e8 N)
+    # and the homotopy diverged at its first step (bench_random 2:2d-351).
+    # The reference: the S-lay elastica of the firing line below the pin, the
+    # tension less the pin's jump (EI kappa_U)^2 / (2 EI)
+    case = pf.load_case(EXAMPLES / "s67.toml").with_changes({
+        "pipe.outer_diameter": 0.545846, "pipe.inner_diameter": 0.509430,
+        "pipe.coating_outer_diameter": 0.648315, "pipe.hydrodynamic_diameter": 0.648315,
+        "pipe.coating_density": 3002.92, "pipe.youngs_modulus": 207e9,
+        "environment.water_depth": 31.0113, "environment.current.speed": 0.0,
+        "lay.stinger.a": -0.00848581, "lay.stinger.lower": [6.68708, 336.247],
+        "lay.stinger.upper": [41.3134, 400.0], "lay.top_angle": "pinned",
+        "lay.top_tension": 230737.7})
+    st = case.lay.stinger
+    (x_l, z_l), (x_u, z_u) = st.lower, st.upper
+    slope = 2.0 * st.a * z_u + (x_u - x_l) / (z_u - z_l) - st.a * (z_u + z_l)
+    kappa = 2.0 * abs(st.a) / (1.0 + slope * slope) ** 1.5
+    jump = 0.5 * case.pipe.bending_stiffness * kappa * kappa
+    ref = slay_elastica_for(case.with_changes({"lay.top_angle": None,
+                                               "lay.top_tension": case.lay.top_tension - jump}))
+    result = pf.solve(case)
+    assert result.summary["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-3)
+    for key in ("overbend_max_moment", "sagbend_max_moment"):
+        assert result.summary[key] == pytest.approx(ref[key], rel=5e-3), key
