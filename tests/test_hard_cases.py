@@ -350,3 +350,33 @@ def test_bending_dominated_slay_guess_leaves_tangent_to_the_stinger():
     assert result.summary["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-3)
     for key in ("overbend_max_moment", "sagbend_max_moment"):
         assert result.summary[key] == pytest.approx(ref[key], rel=5e-3), key
+
+
+def test_stiff_pipe_on_the_firing_line_clear_of_a_straight_ramp():
+    # a 1.03 m pipe in 51 m of water (flexural length 1.1 depths), held on the
+    # firing line of a straight 48 deg ramp: it leaves the top along the ramp
+    # and hangs clear of it, over its tip (bench_random 2:2d-16). Reference:
+    # the J-lay elastica from touchdown to the ramp's upper end, held at the
+    # ramp's angle there, checked above the ramp
+    case = pf.load_case(EXAMPLES / "s67.toml").with_changes({
+        "pipe.outer_diameter": 1.026434, "pipe.inner_diameter": 0.929654,
+        "pipe.coating_outer_diameter": 1.254679, "pipe.hydrodynamic_diameter": 1.254679,
+        "pipe.coating_density": 2272.62, "pipe.youngs_modulus": 207e9,
+        "environment.water_depth": 51.1871, "environment.current.speed": 0.0,
+        "lay.stinger.a": 0.0, "lay.stinger.lower": [10.2374, 355.399],
+        "lay.stinger.upper": [60.7035, 400.0], "lay.top_angle": None,
+        "lay.top_tension": None, "lay.bottom_tension": 1139481.4})
+    (x_l, z_l), (x_u, z_u) = case.lay.stinger.lower, case.lay.stinger.upper
+    ramp = math.degrees(math.atan2(x_u - x_l, z_u - z_l))
+    ref = elastica_for(case.with_changes({"lay.method": "J", "lay.stinger": None,
+                                          "lay.top": [x_u, z_u], "lay.top_angle": ramp}),
+                       T_bottom=case.lay.bottom_tension)
+    over = (ref["z"] >= z_l) & (ref["z"] < z_u - 1e-3)
+    assert over.any()
+    assert (ref["x"][over] > x_l + (ref["z"][over] - z_l) * (x_u - x_l) / (z_u - z_l)).all()
+    result = pf.solve(case)
+    assert result.summary["top_tension"] == pytest.approx(ref["top_tension"], rel=1e-3)
+    assert result.summary["tdp_z"] == pytest.approx(ref["tdp_z"], abs=0.1)
+    # (no interior peak: the largest moment, at the held top)
+    assert result.summary["sagbend_max_moment"] == pytest.approx(ref["max_moment"], rel=5e-3)
+    assert set(result.profile["contact"].iloc[:-1]) <= {"seabed", "free"}
