@@ -324,6 +324,20 @@ def test_straight_ramp_the_pipe_leaves_at_its_pinned_top_solves_clear_of_it():
     assert (over["x"] > ramp_x).all()  # above the ramp
 
 
+def _planar_slay(pipe, depth, stinger, lay):
+    """S67 with the pipe (OD, ID, coating OD [m], coating density [kg/m3]),
+    water depth [m], stinger (a [1/m], lower, upper (x, z) [m]) and the lay
+    keys ``lay``, without current."""
+    od, di, coat, rho = pipe
+    a, lower, upper = stinger
+    return pf.load_case(EXAMPLES / "s67.toml").with_changes({
+        "pipe.outer_diameter": od, "pipe.inner_diameter": di,
+        "pipe.coating_outer_diameter": coat, "pipe.hydrodynamic_diameter": coat,
+        "pipe.coating_density": rho, "pipe.youngs_modulus": 207e9,
+        "environment.water_depth": depth, "environment.current.speed": 0.0,
+        "lay.stinger.a": a, "lay.stinger.lower": lower, "lay.stinger.upper": upper, **lay})
+
+
 def test_bending_dominated_slay_guess_leaves_tangent_to_the_stinger():
     # a stiff pipe (flexural length 50 m in 31 m of water) on a steep stinger
     # (47 deg tip), pinned top: the catenary guess, moved one flexural length
@@ -331,14 +345,9 @@ def test_bending_dominated_slay_guess_leaves_tangent_to_the_stinger():
     # and the homotopy diverged at its first step (bench_random 2:2d-351).
     # The reference: the S-lay elastica of the firing line below the pin, the
     # tension less the pin's jump (EI kappa_U)^2 / (2 EI)
-    case = pf.load_case(EXAMPLES / "s67.toml").with_changes({
-        "pipe.outer_diameter": 0.545846, "pipe.inner_diameter": 0.509430,
-        "pipe.coating_outer_diameter": 0.648315, "pipe.hydrodynamic_diameter": 0.648315,
-        "pipe.coating_density": 3002.92, "pipe.youngs_modulus": 207e9,
-        "environment.water_depth": 31.0113, "environment.current.speed": 0.0,
-        "lay.stinger.a": -0.00848581, "lay.stinger.lower": [6.68708, 336.247],
-        "lay.stinger.upper": [41.3134, 400.0], "lay.top_angle": "pinned",
-        "lay.top_tension": 230737.7})
+    case = _planar_slay((0.545846, 0.509430, 0.648315, 3002.92), 31.0113,
+                        (-0.00848581, [6.68708, 336.247], [41.3134, 400.0]),
+                        {"lay.top_angle": "pinned", "lay.top_tension": 230737.7})
     st = case.lay.stinger
     (x_l, z_l), (x_u, z_u) = st.lower, st.upper
     slope = 2.0 * st.a * z_u + (x_u - x_l) / (z_u - z_l) - st.a * (z_u + z_l)
@@ -358,14 +367,10 @@ def test_stiff_pipe_on_the_firing_line_clear_of_a_straight_ramp():
     # and hangs clear of it, over its tip (bench_random 2:2d-16). Reference:
     # the J-lay elastica from touchdown to the ramp's upper end, held at the
     # ramp's angle there, checked above the ramp
-    case = pf.load_case(EXAMPLES / "s67.toml").with_changes({
-        "pipe.outer_diameter": 1.026434, "pipe.inner_diameter": 0.929654,
-        "pipe.coating_outer_diameter": 1.254679, "pipe.hydrodynamic_diameter": 1.254679,
-        "pipe.coating_density": 2272.62, "pipe.youngs_modulus": 207e9,
-        "environment.water_depth": 51.1871, "environment.current.speed": 0.0,
-        "lay.stinger.a": 0.0, "lay.stinger.lower": [10.2374, 355.399],
-        "lay.stinger.upper": [60.7035, 400.0], "lay.top_angle": None,
-        "lay.top_tension": None, "lay.bottom_tension": 1139481.4})
+    case = _planar_slay((1.026434, 0.929654, 1.254679, 2272.62), 51.1871,
+                        (0.0, [10.2374, 355.399], [60.7035, 400.0]),
+                        {"lay.top_angle": None, "lay.top_tension": None,
+                         "lay.bottom_tension": 1139481.4})
     (x_l, z_l), (x_u, z_u) = case.lay.stinger.lower, case.lay.stinger.upper
     ramp = math.degrees(math.atan2(x_u - x_l, z_u - z_l))
     ref = elastica_for(case.with_changes({"lay.method": "J", "lay.stinger": None,

@@ -59,9 +59,8 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
     pb.contacts.st_active[:] = 0
     pb.contacts.st_active[kl:-1] = 1
     follow_nodes(case, pb, (k, kl, -1))
-    # lifting off at the upper end: held there alone (as :func:`tip_regime`
-    # switches), but where the two regimes part (a pinned top's moment
-    # EI kappa_U falls to 0 across the pin while the pipe conforms up to it)
+    # lifting off at the upper end: held there alone (tip_regime's switch), but where the
+    # regimes part (a pinned top's EI kappa_U falls to 0 across the pin while conforming)
     if at_upper_end(pb) and pb.ends.pin_jump == 0.0:
         conform_from(case, pb, -1)
 
