@@ -301,22 +301,22 @@ def tip_regime(pb: Problem, status: int, can_switch: bool) -> int:
     still switch (it lifts off somewhere, and has switched fewer than
     MAX_TIP_SWITCHES times, :mod:`.tuning`); if not, ``status`` stands.
 
-    At the curve's upper end: a call that fails with lift-off (or
+    Then at the curve's upper end: a call that fails with lift-off (or
     re-contact) there (:func:`at_upper_end`) asks TO_UPPER_END, the contact
     shrunk to the end point; an answer clear of the stinger that lies below
     its curve asks ONTO_STINGER (:func:`conform_from`)."""
     if not can_switch:
         return status
-    if status not in (L.OK, L.PAST_TIP, L.SPAN_CLOSED) and at_upper_end(pb):
-        return TO_UPPER_END
-    if status == L.OK and pb.clear_of_stinger and below_stinger(pb) >= 0:
-        return ONTO_STINGER
     if status == L.OK and passes_below_tip(pb):
         return L.PAST_TIP
     if status == L.OK and tip_released(pb):
         return L.SPAN_CLOSED
     if status == L.TIP_CYCLE and pb.tip_node >= 0:
         return L.SPAN_CLOSED
+    if status not in (L.OK, L.PAST_TIP, L.SPAN_CLOSED) and at_upper_end(pb):
+        return TO_UPPER_END
+    if status == L.OK and pb.clear_of_stinger and below_stinger(pb) >= 0:
+        return ONTO_STINGER
     return status
 
 
