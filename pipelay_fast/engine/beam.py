@@ -221,19 +221,21 @@ def bending_guessed(case: Case, cat) -> bool:
             and bending_dominated(ei, math.sqrt(ei / cat.h), cat.w1))
 
 
-def bending_span(case: Case, cat):
-    """A bending-dominated J-lay's free span (:func:`bending_guessed`):
-    the planar heavy elastica (:class:`ElasticaSpan`) started from the
-    small-slope beam-column (:class:`BeamSpan`) on the catenary
-    ``cat``'s tension; when the elastica is not found, that beam-column
-    (pinned top) or ``cat``. On the same height and tension a pinned top's
-    effective tension is the catenary's (M = 0 there), so h is ``cat``'s
-    unless a top angle and the top tension are given."""
+def bending_span(case: Case, cat, held: float | None = None):
+    """A bending-dominated lay's free span (:func:`bending_guessed`): the
+    planar heavy elastica (:class:`ElasticaSpan`) started from the
+    small-slope beam-column (:class:`BeamSpan`) on the catenary ``cat``'s
+    tension; when the elastica is not found, that beam-column (pinned top)
+    or ``cat``. The top is the J-lay's, or, with ``held`` [rad], held at
+    that angle (an S-lay's lift-off, tangent to the stinger). On the same
+    height and tension a pinned top's effective tension is the catenary's
+    (M = 0 there), so h is ``cat``'s unless a J-lay's top angle and its top
+    tension are given."""
     lay = case.lay
     beam = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top, case.pipe.bending_stiffness)
-    pinned = lay.top_angle in (None, "pinned")
-    angle = None if pinned else math.radians(lay.top_angle)
-    free_h = not pinned and lay.bottom_tension is None
+    pinned = held is None and lay.top_angle in (None, "pinned")
+    angle = held if held is not None or pinned else math.radians(lay.top_angle)
+    free_h = held is None and not pinned and lay.bottom_tension is None
     span = ElasticaSpan(beam, angle, None if free_h else cat.h,
                         lay.top_tension if free_h else None, case.solver.element_length)
     if span.ok:

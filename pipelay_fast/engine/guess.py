@@ -256,6 +256,9 @@ def _slay_span(case: Case, bottom_tension=None):
     def under(x_td):
         z_lo, h, past = slay_liftoff(case, bottom_tension, x_td, tan0)
         cat = Catenary(h, w1, w2, depth - x_td, float(st.height(z_lo)) - x_td, tan0)
+        if past is None and not sloped and bending_guessed(case, cat):
+            # bending-dominated: the elastica, tangent to the stinger at lift-off
+            cat = bending_span(case, cat, math.atan(float(st.slope(z_lo))))
         return float(seabed_height(case, z_lo - cat.span)), (z_lo, cat, past)
 
     x_td = 0.0

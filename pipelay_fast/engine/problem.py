@@ -319,8 +319,9 @@ def _problem(case: Case, nd, s, u, tb, fref, stats, knots) -> Problem:
     props, table = build_props(case)
     fric = np.zeros((nn, L.N_FRIC))
     anchor_friction(fric, u, nd, s, props)
+    pin = pinned and st is not None  # held along the stinger's tangent, conforming
     ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target,
-                         angle)
+                         angle, base + nd if pin else -1, pin_jump(case) if pin else 0.0)
     section = section_array(s, sections_of(case))
     return make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
                         fref=fref, href=stats["h_max"], points=_points(case, curve), curve=curve,

@@ -52,9 +52,9 @@ SMALLEST_LOAD_STEP = 1e-4
 # converged state (measured: the random 3D cases, bench_contact.py part 6).
 PREDICTED_CAP = 2
 
-# --- the regime at the stinger's tip (:mod:`.boundaries`) -------------------------
-# Switches between bearing on the tip and lifting off in one Newton solve: one
-# each way.
+# --- the regime at the stinger's ends (:mod:`.boundaries`) ------------------------
+# Switches of regime in one Newton solve (between bearing on the tip and lifting
+# off, or between conforming to the curve and held at its upper end): one each way.
 MAX_TIP_SWITCHES = 2
 
 # --- meshes ----------------------------------------------------------------------

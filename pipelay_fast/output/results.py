@@ -15,7 +15,6 @@ import weakref
 import numpy as np
 import pandas as pd
 
-from ..engine.model import pin_jump
 from ..engine.state import Solution
 from ..input.case import Case
 from ..input.frame import vessel_note
@@ -290,7 +289,7 @@ def build_profile(case: Case, sol: Solution) -> dict:
     pipe = case.pipe
     ei = pipe.bending_stiffness
     r, rp, kvec, t3 = nodal_fields(nd, s, u, sol.y_held)
-    jump = pin_jump(case)
+    jump = sol.top_jump
     if jump:  # a pinned S-lay top: the pin's own values, past the moment's fall
         kvec[-1] = 0.0
     torque = sol.torque
