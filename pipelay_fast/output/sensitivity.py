@@ -47,10 +47,6 @@ STEP = 1e-4
 # its central difference is within 2e-6 of full solves'); by more than
 # this share of the larger, the column has a kink or a jump within +-h
 KINK = 0.1
-# a side's change of a column below this share of its value is round-off (the
-# sides agree with each other to 1e-10 of it, S67 2D's overbend peak at the
-# top by the water depth): no kink is sought in it
-NOISE = 1e-8
 
 # the columns that read the functional load case (a second solve, not differentiated)
 FUNCTIONAL_COLUMNS = ("sagbend_lcc_utilisation", "sagbend_lcc_axial_ratio", "max_utilisation")
@@ -148,7 +144,7 @@ def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
                                                           strict=True))
         for i, name in enumerate(rows):
             text = _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m,
-                                       steps[key], functional)
+                                       steps[key], functional, case.solver.tolerance)
             if text:
                 reasons[name].append(f"{key}: {text}")
             else:
@@ -191,9 +187,13 @@ def _moved_cases(case, keys, error: str):
     return steps, moved, why
 
 
-def _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h, functional) -> str:
+def _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h, functional,
+                        tolerance) -> str:
     """Why row ``name`` has no derivative from the sides ``fp``, ``fm``
-    around ``f0`` (their peak nodes ``nodes_*``); "" where it has one."""
+    around ``f0`` (their peak nodes ``nodes_*``); "" where it has one. A
+    side's change of a column below ``tolerance`` (solver.tolerance, to
+    which the solution the sides are linearised about is solved) of its
+    value is not resolved by the solve: no kink is sought in it."""
     if functional is not None and name in FUNCTIONAL_COLUMNS:
         return "reads the functional load case (a second solve, not differentiated)"
     values = (f0[name], fp[name], fm[name])
@@ -205,6 +205,6 @@ def _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h, functiona
                 f"{nodes_p[peak]} within +-h")
     up, down = (values[1] - values[0]) / h, (values[0] - values[2]) / h
     steepest = max(abs(up), abs(down))
-    if abs(up - down) > KINK * steepest and steepest * h > NOISE * abs(values[0]):
+    if abs(up - down) > KINK * steepest and steepest * h > tolerance * abs(values[0]):
         return f"one-sided differences {down:.6g} and {up:.6g} disagree (a kink within +-h)"
     return ""
