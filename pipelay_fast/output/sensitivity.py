@@ -193,7 +193,9 @@ def _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h, functiona
     around ``f0`` (their peak nodes ``nodes_*``); "" where it has one. A
     side's change of a column below ``tolerance`` (solver.tolerance, to
     which the solution the sides are linearised about is solved) of its
-    value is not resolved by the solve: no kink is sought in it."""
+    value is not resolved by the solve, nor one below STEP^2 of it by the
+    linear sides (their second-order term, even in h, is of that order):
+    no kink is sought in it."""
     if functional is not None and name in FUNCTIONAL_COLUMNS:
         return "reads the functional load case (a second solve, not differentiated)"
     values = (f0[name], fp[name], fm[name])
@@ -205,6 +207,7 @@ def _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h, functiona
                 f"{nodes_p[peak]} within +-h")
     up, down = (values[1] - values[0]) / h, (values[0] - values[2]) / h
     steepest = max(abs(up), abs(down))
-    if abs(up - down) > KINK * steepest and steepest * h > tolerance * abs(values[0]):
+    resolved = max(tolerance, STEP**2) * abs(values[0])
+    if abs(up - down) > KINK * steepest and steepest * h > resolved:
         return f"one-sided differences {down:.6g} and {up:.6g} disagree (a kink within +-h)"
     return ""
