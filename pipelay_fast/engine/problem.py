@@ -352,7 +352,7 @@ def _points(case: Case, curve) -> np.ndarray:
 
 def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
            laid: float | None = None, grading: bool = False,
-           total: float | None = None) -> Problem:
+           total: float | None = None, keep_rates: bool = False) -> Problem:
     """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
     state interpolated onto it.
 
@@ -363,6 +363,10 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     for boundaries that are still to be found) or, with ``grading`` (graded at
     boundaries found), as its grading moves with them
     (:meth:`Problem.follow_rates`), the zones kept for the current's path.
+    With ``keep_rates`` (and ``grading``), ``pb``'s map's rates are kept where
+    the boundaries fall on ``pb``'s nodes (``pb`` graded at the same
+    boundaries with other sizes: the rates differ by the change of the
+    sizes, a second-order change of the nodes' moves).
     """
     nd, ndn = pb.nd, pb.ndn
     extra = 0.0 if total is None else total - pb.s[-1]
@@ -412,9 +416,13 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
         new.contacts.st_active[:] = 0
         new.contacts.st_active[at(pb.lo_node):-1] = 1
     nodes = [at(int(k)) for k in pb.bnodes]
-    follow_nodes(case, new, nodes, share_overlaps=not grading)
-    if grading:
-        _follow_grading(new, nodes, total, foci, over)
+    if keep_rates and grading and nodes == pb.bnodes.tolist():
+        new.mesh.follow_rates(nodes, pb.mesh.s_b)
+        new.mesh.zone_b, new.mesh.grade_b = pb.mesh.zone_b, pb.mesh.grade_b
+    else:
+        follow_nodes(case, new, nodes, share_overlaps=not grading)
+        if grading:
+            _follow_grading(new, nodes, total, foci, over)
     # a bearing point keeps bearing (the node over it moves with the pipe)
     new.contacts.points[:, L.PT_BEAR:L.PT_R + 1] = pb.contacts.points[:, L.PT_BEAR:L.PT_R + 1]
     return new

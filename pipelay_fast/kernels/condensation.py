@@ -41,13 +41,33 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     ``w.du_free`` [m, -, N]. False when singular."""
     ndn = 2 * nd + 1
     kl = 2 * ndn - 1
+    n = w.g.shape[0]
+    if not _condense_factor(nd, w):
+        return False
+    # the step and the border columns solved together, the band read once
+    # (column 0 the step y0, column 1 + j the border column Y_j)
+    rhs = w.rhs
+    _condensed_rhs(nd, w, w.g, w.delta, w.du)
+    _border_columns(w, nb, rhs, 1)
+    for i in range(n):
+        rhs[i, 0] = w.du[i]
+    band_solve_many(w.ab, kl, kl, w.ipiv, rhs, 1 + nb)
+    return _border_solve(nd, w, nb, rhs, phi_r, phi_rp)
+
+
+@phase
+def _condense_factor(nd, w):
+    """The tangent ``w.ab`` scaled (``w.scale``), kept in ``w.ab0``, its
+    constrained rows and columns (``w.cmask``) made identity, factored in
+    place (pivots ``w.ipiv``). False when singular."""
+    ndn = 2 * nd + 1
+    kl = 2 * ndn - 1
     ku = kl
     kv = kl + ku
     n = w.g.shape[0]
     ab = w.ab
     scale = w.scale
     cmask = w.cmask
-    du = w.du
     for j in range(n):
         sj = scale[j]
         for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
@@ -55,15 +75,6 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     for j in range(ab.shape[1]):
         for i in range(ab.shape[0]):
             w.ab0[i, j] = ab[i, j]
-    for i in range(n):
-        du[i] = -w.g[i] * scale[i]
-    for j in range(n):
-        if not cmask[j]:
-            continue
-        dj = w.delta[j] / scale[j]
-        for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
-            if not cmask[r]:
-                du[r] -= ab[kv + r - j, j] * dj
     for j in range(n):
         if not cmask[j]:
             continue
@@ -72,17 +83,54 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
         for c in range(max(0, j - kl), min(n - 1, j + ku) + 1):
             ab[kv + j - c, c] = 0.0
         ab[kv, j] = 1.0
-        du[j] = w.delta[j] / scale[j]
-    if band_factor(ab, kl, ku, w.ipiv) != 0:
-        return False
-    # the step and the border columns solved together, the band read once
-    # (column 0 the step y0, column 1 + j the border column Y_j)
-    rhs = w.rhs
+    return band_factor(ab, kl, ku, w.ipiv) == 0
+
+
+@phase
+def _condensed_rhs(nd, w, g, delta, du):
+    """The condensed right-hand side of residual ``g`` with the constrained
+    unknowns' increments ``delta`` (nodal frames) into ``du`` (scaled):
+    -G_f - K_fc delta_c on the free rows, delta_c on the constrained
+    (K the scaled tangent ``w.ab0``)."""
+    ndn = 2 * nd + 1
+    kl = 2 * ndn - 1
+    kv = 2 * kl
+    n = g.shape[0]
+    scale = w.scale
+    cmask = w.cmask
     for i in range(n):
-        rhs[i, 0] = du[i]
+        du[i] = -g[i] * scale[i]
+    for j in range(n):
+        if not cmask[j]:
+            continue
+        dj = delta[j] / scale[j]
+        for r in range(max(0, j - kl), min(n - 1, j + kl) + 1):
+            if not cmask[r]:
+                du[r] -= w.ab0[kv + r - j, j] * dj
+    for j in range(n):
+        if cmask[j]:
+            du[j] = delta[j] / scale[j]
+
+
+@phase
+def _border_columns(w, nb, rhs, first):
+    """The border columns dG/dz, scaled and 0 on the constrained rows, into
+    columns ``first`` .. ``first + nb - 1`` of ``rhs``."""
+    for i in range(w.g.shape[0]):
         for j in range(nb):
-            rhs[i, 1 + j] = 0.0 if cmask[i] else w.cols[j, i] * scale[i]
-    band_solve_many(ab, kl, ku, w.ipiv, rhs, 1 + nb)
+            rhs[i, first + j] = 0.0 if w.cmask[i] else w.cols[j, i] * w.scale[i]
+
+
+@phase
+def _border_solve(nd, w, nb, rhs, phi_r, phi_rp):
+    """From the solved step y0 (``rhs`` column 0) and border columns Y_j
+    (columns 1 + j): the border steps ``w.dz`` by the Schur complement of
+    the border equations res + rows . du + d_b dz = 0 (``w.res_b``), the
+    scaled step ``w.du`` = y0 - Y dz and the step in the global frame
+    ``w.du_free``. False when the Schur complement is singular."""
+    n = w.g.shape[0]
+    du = w.du
+    scale = w.scale
     for i in range(n):
         du[i] = rhs[i, 0]
     # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz; each
