@@ -172,7 +172,8 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
     from 0 to 1, each step a Newton solve (:func:`newton_in_regime`) from the
     last converged state, with the step rule of tuning.LOAD_STEP,
     LOAD_STEP_FACTOR and SMALLEST_LOAD_STEP: a step that fails is undone and
-    cut, one that converges grows for the next, up to LOAD_STEP.
+    the step it took (shorter than the one asked where the path's end clips
+    it) cut, one that converges grows for the next, up to LOAD_STEP.
 
     ``load(level, predict)`` puts the problem at that load level and returns
     Newton's residual offset (ndof,); with ``predict`` it may also move the
@@ -237,7 +238,9 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
                 converged(level, react)
             continue
         restore(pb, saved)
-        step /= T.LOAD_STEP_FACTOR
+        # the step taken, not the one asked: a step clipped at the path's end
+        # and cut from the one asked would be tried again at the same level
+        step = (trial - level) / T.LOAD_STEP_FACTOR
         if step < T.SMALLEST_LOAD_STEP:
             _fail(case, where, info, status, f"; load step cut below {T.SMALLEST_LOAD_STEP:g}")
     return react, stats

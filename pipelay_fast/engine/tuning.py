@@ -38,11 +38,12 @@ BOUNDARY_STEP_LAYER = 0.2
 # step is larger: friction is path dependent, and half steps follow another
 # slip path on fine meshes (measured: S125 3D, benchmarks/bench_contact.py
 # part 2). A converged step multiplies the next by LOAD_STEP_FACTOR, a failed
-# one divides it (bisection: a cut step is the half of the failed one that
-# starts from the last converged state, and growth undoes one cut). A step cut
-# below SMALLEST_LOAD_STEP fails the solve (LOAD_STEP halved 12 times: the
-# homotopy's floor, measured on the random cases, bench_contact.py part 6),
-# and so does a path that takes solver.max_load_steps steps.
+# one divides the step it took (bisection: a cut step is the half of the
+# failed one that starts from the last converged state, and growth undoes one
+# cut). A step cut below SMALLEST_LOAD_STEP fails the solve (LOAD_STEP halved
+# 12 times: the homotopy's floor, measured on the random cases,
+# bench_contact.py part 6), and so does a path that takes
+# solver.max_load_steps steps.
 LOAD_STEP = 0.25
 LOAD_STEP_FACTOR = 1.0 / BACKTRACK  # (the kernels' halving: one bisection factor)
 SMALLEST_LOAD_STEP = 1e-4
