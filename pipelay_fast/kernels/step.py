@@ -76,7 +76,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     return False
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     """Where the step starts and how far it may go. Saves the state, the
     boundaries' and the nodes' arc lengths (``w.u_old``, ``w.bnd_old``,
