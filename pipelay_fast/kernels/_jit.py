@@ -191,8 +191,9 @@ def phase(func):
     blocks with the function's whole scope, a cost that grows as blocks
     times variables, and LLVM optimises the caller as one function of the
     size of all its phases. So a phase is to be small, and a large function
-    is a kernel even with one caller (the Newton kernel's constraint set,
-    condensed solve and step's start, ``jit(by_dimension=True)``;
+    is a kernel even with one caller (the Newton kernel's nodal frames,
+    constraint set, border, test, condensed solve, step's start, line search
+    and free residual, ``jit(by_dimension=True)``;
     :func:`.newton._newton_kernel` makes the Newton kernel a closure)."""
     return jit(func, inline="always")
 

@@ -53,7 +53,7 @@ from .supports import (
 )
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _nodal_frames(nd, u, mesh, sup, ends):
     """The nodal frames of the iteration: none on the contacts of a support
     held in curve coordinates (with one, every node's frame but the top's is
