@@ -26,7 +26,7 @@ from .supports import in_curve_coords, support_angle
 from .system import _to_global
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     """The Newton step by condensation and the bordered solve (module
     docstring), ``nb`` bordered unknowns.
