@@ -22,6 +22,7 @@ import pipelay_fast as pf
 from pipelay_fast.input.examples import example_path
 from pipelay_fast.input.validate import get_path
 from pipelay_fast.output import sensitivity as S
+from tests.reference.held import held_slip_central
 from tests.reference.solves import richardson
 
 RTOL = 1e-5  # issue 43, target 1
@@ -105,41 +106,23 @@ def test_regime_switch_is_nan_with_reason(monkeypatch):
     assert table["reason"].str.contains("tip|regime").all()
 
 
-def _held_slip_reference(case, result, key: str, h: float, names) -> dict:
-    """Central differences of Newton solves of the case at p +- h, each
-    from ``result``'s answer with its friction anchors carried and its
-    slip set held (the sensitivities' definition), each side meshed and
-    solved to the case's tolerance as a neighbour's base is
-    (:func:`pipelay_fast.engine.sensitivity.base_solution`): the nonlinear
-    solve that the sensitivities' linear response stands for."""
-    from pipelay_fast.engine.problem import guess_sizes
-    from pipelay_fast.engine.sensitivity import base_solution, held_answer
-
-    p = float(get_path(case.to_dict(), key))
-    sides = []
-    for value in (p + h, p - h):
-        moved = case.with_number(key, value)
-        held, why = held_answer(moved, result.state)
-        _pb, solution, why = base_solution(moved, held, guess_sizes(moved))
-        assert not why, why
-        sides.append(S._side(moved, solution, result.functional)[0])
-    return {name: (sides[0][name] - sides[1][name]) / (2.0 * h) for name in names}
-
-
-@pytest.mark.parametrize("key, rtol", [
-    ("lay.top_tension", RTOL),
+@pytest.mark.parametrize("name, key, rtol", [
+    ("s67_3d", "lay.top_tension", RTOL),
     # the current moves the sliding laid pipe over its anchors, piecewise
     # linear between the answer's nodes: the reference's own central
     # differences at 1e-5 and 1e-4 |p| differ by 1.6e-5 (bottom tension)
-    ("environment.current.speed", 3e-5),
+    ("s67_3d", "environment.current.speed", 3e-5),
+    # the overbend's peak on the first node the stinger holds laterally,
+    # whose lateral curvature is its free side's (the sides' lateral hold)
+    ("s125_3d", "lay.top_tension", RTOL),
 ])
-def test_friction_with_the_slip_set_held(key, rtol):
-    """3D with seabed friction under a cross current (S67 3D): the
+def test_friction_with_the_slip_set_held(name, key, rtol):
+    """3D with seabed friction under a cross current: the
     sensitivities hold the laid pipe's anchors and its slip set, and agree
     with central differences of Newton solves at p +- h from the answer
     with the same anchors, each side solved in full (its own mesh, its
-    residual to 1e-11)."""
-    case = _case("s67_3d")
+    residual to 1e-11: :func:`tests.reference.held.held_slip_central`)."""
+    case = _case(name)
     result = pf.solve(case, sensitivities=[key])
     table = result.sensitivities
     assert (table["reason"] == "").sum() > 20, table["reason"].tolist()
@@ -148,7 +131,7 @@ def test_friction_with_the_slip_set_held(key, rtol):
     # anchors: the reference's central differences at 1e-3 and 1e-4 |p|
     # differ by 1.1e-2 of it by the top tension, 4.6e-4 by a)
     names = [name for name in SMOOTH if name != "max_lateral_deflection"]
-    reference = _held_slip_reference(case, result, key, S.STEP * abs(p), names)
+    reference = held_slip_central(case, result, key, S.STEP * abs(p), names)
     compared = 0
     for name, fd in reference.items():
         value = result.summary[name]

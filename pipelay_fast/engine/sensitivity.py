@@ -218,15 +218,20 @@ def _kernels(nd: int):
 
 def _residuals(problems, out):
     """Each problem's residual at its state (:func:`.kernels.response.residual_2d`)
-    into ``out`` = (g, delta, res_b, cmask, kind), a row each. Returns the
-    bordered unknowns' counts."""
+    into ``out`` = (g, delta, res_b, cmask, kind), a row each, and its
+    lateral hold (3D: the nodes the stinger holds,
+    :func:`.kernels.contact.lateral_hold`) as that evaluation marks it, as
+    a solve's last evaluation leaves it for the profile (the lateral
+    curvature there is the free side's). Returns the bordered unknowns'
+    counts."""
     residual = _kernels(problems[0].nd)[0]
     counts = []
     for k, pb in enumerate(problems):
         mesh, settings = _kernel_args(pb)
-        counts.append(residual(pb.u, mesh, pb.model(), _copied(pb.kernel_supports()),
-                               pb.kernel_ends(np.zeros_like(pb.u)), settings,
-                               *(part[k] for part in out)))
+        sup = _copied(pb.kernel_supports())
+        counts.append(residual(pb.u, mesh, pb.model(), sup, pb.kernel_ends(np.zeros_like(pb.u)),
+                               settings, *(part[k] for part in out)))
+        pb.contacts.y_held[:] = sup.y_held
     return counts
 
 
