@@ -158,7 +158,8 @@ def reference(case, key, result=None) -> dict:
     solves from ``result``'s answer with its slip set held (tests/reference/held.py)."""
     p = float(get_path(case.to_dict(), key))
     if result is not None and friction_path(case):
-        return held_slip_central(case, result, key, S.STEP * (abs(p) or 1.0), S.summary_rows())
+        columns = [name for name in S.summary_rows() if name in result.summary]
+        return held_slip_central(case, result, key, S.STEP * (abs(p) or 1.0), columns)
     h = OWN_STEP.get(key, REFERENCE_STEP * (abs(p) or 1.0))  # (absolute where p = 0)
     return richardson(case, key, p, h, S.summary_rows())
 
