@@ -20,7 +20,12 @@
    tolerance of 1e-11, Richardson-extrapolated, (4 D(h) - D(2h)) / 3. A
    column whose relative change per relative change of the key is below
    1e-3 is "insensitive" (the reference's round-off over the step is then
-   1e-10 / 2e-3 / 1e-3 = 5e-5 of its derivative, or more).
+   1e-10 / 2e-3 / 1e-3 = 5e-5 of its derivative, or more). A case with
+   seabed friction on the current's path (3D under a cross current) is
+   compared with central differences at the sensitivities' own step of
+   Newton solves from the answer, its anchors carried and its slip set held
+   (tests/reference/held.py: the held-slip definition), not with cold
+   solves, which lay the pipe again from a moved gravity state.
 
 Writes bench_sensitivity.json into --out (default benchmarks/out) and
 prints the tables as markdown.
@@ -41,6 +46,7 @@ from bench_jlay import machine_info
 
 import pipelay_fast as pf
 from pipelay_fast.engine import sensitivity as ES
+from pipelay_fast.engine.friction import friction_path
 from pipelay_fast.input.case import Case
 from pipelay_fast.input.examples import example_path
 from pipelay_fast.input.validate import get_path
@@ -48,6 +54,7 @@ from pipelay_fast.output import sensitivity as S
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))  # the repository root, for tests.reference
+from tests.reference.held import held_slip_central  # noqa: E402
 from tests.reference.solves import richardson  # noqa: E402
 
 KEYS = ("lay.stinger.a", "lay.top_tension", "environment.water_depth",
@@ -145,10 +152,14 @@ def cost(name: str, repeats: int) -> dict:
             "nan_reasons": sorted({r.split(": ", 1)[1][:90] for r in table["reason"] if r})}
 
 
-def reference(case, key) -> dict:
+def reference(case, key, result=None) -> dict:
     """Richardson-extrapolated central differences of full solves, per column
-    (tests/reference/solves.py)."""
+    (tests/reference/solves.py); on the friction path, those of Newton
+    solves from ``result``'s answer with its slip set held (tests/reference/held.py)."""
     p = float(get_path(case.to_dict(), key))
+    if result is not None and friction_path(case):
+        columns = [name for name in S.summary_rows() if name in result.summary]
+        return held_slip_central(case, result, key, S.STEP * (abs(p) or 1.0), columns)
     h = OWN_STEP.get(key, REFERENCE_STEP * (abs(p) or 1.0))  # (absolute where p = 0)
     return richardson(case, key, p, h, S.summary_rows())
 
@@ -180,11 +191,12 @@ def agreement(names) -> dict:
         table = result.sensitivities
         rows[name] = {}
         for key in keys:
-            if table[key].isna().all():  # (no reference solves: 3D friction's, at 1e-11)
+            if table[key].isna().all():  # (no reference solves)
                 reason = table.loc[table.index[0], "reason"].split(f"{key}: ", 1)[-1]
                 rows[name][key] = {"every column": "NaN: " + reason[:70]}
             else:
-                rows[name][key] = compare(case, result.summary, table, key, reference(case, key))
+                rows[name][key] = compare(case, result.summary, table, key,
+                                          reference(case, key, result))
     return rows
 
 

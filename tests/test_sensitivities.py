@@ -22,6 +22,7 @@ import pipelay_fast as pf
 from pipelay_fast.input.examples import example_path
 from pipelay_fast.input.validate import get_path
 from pipelay_fast.output import sensitivity as S
+from tests.reference.held import held_slip_central
 from tests.reference.solves import richardson
 
 RTOL = 1e-5  # issue 43, target 1
@@ -105,14 +106,51 @@ def test_regime_switch_is_nan_with_reason(monkeypatch):
     assert table["reason"].str.contains("tip|regime").all()
 
 
-def test_friction_path_is_nan_with_reason():
-    """3D with seabed friction under a cross current: the answer follows the
-    current's load path, which the sensitivities do not hold: NaN, with
-    the reason."""
-    table = pf.solve(pf.load_case(example_path("s67_3d")),
-                     sensitivities=["lay.top_tension"]).sensitivities
+@pytest.mark.parametrize("name, key, rtol", [
+    ("s67_3d", "lay.top_tension", RTOL),
+    # the current moves the sliding laid pipe over its anchors, piecewise
+    # linear between the answer's nodes: the reference's own central
+    # differences at 1e-5 and 1e-4 |p| differ by 1.6e-5 (bottom tension)
+    ("s67_3d", "environment.current.speed", 3e-5),
+    # the overbend's peak on the first node the stinger holds laterally,
+    # whose lateral curvature is its free side's (the sides' lateral hold)
+    ("s125_3d", "lay.top_tension", RTOL),
+])
+def test_friction_with_the_slip_set_held(name, key, rtol):
+    """3D with seabed friction under a cross current: the
+    sensitivities hold the laid pipe's anchors and its slip set, and agree
+    with central differences of Newton solves at p +- h from the answer
+    with the same anchors, each side solved in full (its own mesh, its
+    residual to 1e-11: :func:`tests.reference.held.held_slip_central`)."""
+    case = _case(name)
+    result = pf.solve(case, sensitivities=[key])
+    table = result.sensitivities
+    assert (table["reason"] == "").sum() > 20, table["reason"].tolist()
+    p = float(get_path(case.to_dict(), key))
+    # (the lateral deflection's peak lies on the laid pipe sliding over its
+    # anchors: the reference's central differences at 1e-3 and 1e-4 |p|
+    # differ by 1.1e-2 of it by the top tension, 4.6e-4 by a)
+    names = [name for name in SMOOTH if name != "max_lateral_deflection"]
+    reference = held_slip_central(case, result, key, S.STEP * abs(p), names)
+    compared = 0
+    for name, fd in reference.items():
+        value = result.summary[name]
+        if not math.isfinite(fd) or abs(fd * p) <= INSENSITIVE * abs(value):
+            continue
+        got = table.loc[name, key]
+        assert abs(got - fd) <= rtol * abs(fd), (name, got, fd)
+        compared += 1
+    assert compared >= 4, compared
+
+
+def test_friction_on_an_elastic_seabed_is_nan_with_reason():
+    """Seabed friction on an elastic seabed under a current: the springs'
+    normal force is the foundation's, updated between Newton iterations,
+    which the tangent does not carry: NaN, with the reason."""
+    case = pf.load_case(example_path("s67_3d")).with_changes({"seabed.stiffness": 2e6})
+    table = pf.solve(case, sensitivities=["lay.top_tension"]).sensitivities
     assert table["lay.top_tension"].isna().all()
-    assert table["reason"].str.contains("current's load path").all()
+    assert table["reason"].str.contains("elastic seabed").all()
 
 
 def test_a_key_out_of_range_and_not_numeric():

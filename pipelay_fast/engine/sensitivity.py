@@ -21,7 +21,10 @@ depth; held, the derivative of a sagbend peak misses a full solve's, S125
 so that a key entering through derived quantities (the water depth's
 pressures and current profile, the top tension's equation row, the
 current's drag) is differentiated as the model has it. The residual at p +
-h is evaluated at U* interpolated onto that mesh.
+h is evaluated at U* interpolated onto that mesh. With seabed friction on
+the current's path, the friction springs' anchors are part of the answer
+(laid along the path): every neighbour takes the answer's anchors at its
+nodes' material points and the answer's slip set, held (:func:`held_answer`).
 The output layer differences the post-processed columns
 (:mod:`pipelay_fast.output.sensitivity`).
 """
@@ -50,24 +53,25 @@ from .problem import guess_sizes, remesh, sized_mesh
 from .solver import _solution
 from .state import Problem
 from .supports import line_span
+from .tuning import HELD_SLIP
 
-FRICTION_PATH = (
-    "3D with seabed friction under a current: the answer follows the current's load path (its "
-    "mesh graded under gravity, the friction springs anchored there, their slip set); "
-    "a response at the answer holds neither (Newton from it missed finite differences of "
-    "full solves by up to 2 %, S67 3D), and the slip set changes within +-1e-4 of a or of "
-    "the current")
+ELASTIC_FRICTION = (
+    "seabed friction on an elastic seabed under a current: the springs' normal force is "
+    "the foundation's, which the Newton kernel updates between iterations "
+    "(kernels.contact.friction_track) and its tangent does not carry")
 
 
 def regraded_problem(case: Case, pb: Problem, guessed: dict | None = None,
-                     keep_rates: bool = False) -> Problem:
+                     keep_rates: bool = False, anchors: Problem | None = None) -> Problem:
     """The problem of ``case`` (a neighbour of the case ``pb`` solved) on
     the mesh a solve of ``case`` grades at ``pb``'s boundaries: its sizes
     and length of pipe from ``guessed`` (None: ``case``'s first guess's,
     :func:`.problem.guess_sizes`; :func:`.problem.sized_mesh`), its map the
     grading's rates (``keep_rates``: ``pb``'s, ``pb`` itself graded at its
     boundaries), ``pb``'s state interpolated onto it, its contact sets on
-    the same boundaries (:func:`.problem.remesh`)."""
+    the same boundaries (:func:`.problem.remesh`), with seabed friction on
+    the current's path the friction springs of ``anchors`` (None: ``pb``;
+    :func:`carry_anchors`) and ``pb``'s load factors."""
     stats = dict(pb.stats)
     sizes = sized_mesh(case, guessed or guess_sizes(case))
     total = sizes.pop("cold_total")
@@ -75,8 +79,55 @@ def regraded_problem(case: Case, pb: Problem, guessed: dict | None = None,
         total = float(pb.s[-1])
     stats.update(sizes)
     graded = replace(pb, path=replace(pb.path, stats=stats))
-    return remesh(case, graded, touchdown_position(pb), stinger_foci(case, pb), grading=True,
-                  total=total, keep_rates=keep_rates)
+    new = remesh(case, graded, touchdown_position(pb), stinger_foci(case, pb), grading=True,
+                 total=total, keep_rates=keep_rates)
+    new.settings.factors = pb.settings.factors.copy()  # (friction on, on its path)
+    if friction_path(case):
+        carry_anchors(pb if anchors is None else anchors, new)
+    return new
+
+
+def carry_anchors(pb: Problem, new: Problem):
+    """The friction springs of ``pb`` onto ``new`` (``pb`` regraded): the
+    anchors belong to material points (:func:`..kernels.contact.anchor_at`,
+    piecewise linear in their arc lengths ``FR_S``), so each of ``new``'s
+    nodes takes the anchors of its material point, ``pb``'s arc length plus
+    the laid pipe prepended (``new``'s own position where that is new pipe:
+    :func:`.problem.remesh` anchored it there); its slip directions and
+    normal force are those of ``pb``'s node nearest to it, the force 0 off
+    the seabed's contact (as the Newton kernel's tracking leaves it,
+    :func:`..kernels.contact.friction_track`: a rigid seabed's contact
+    reads its own)."""
+    extra = float(new.s[-1] - pb.s[-1])
+    old, fric = pb.contacts.fric, new.contacts.fric
+    points = new.s - extra
+    laid = points >= old[0, L.FR_S]
+    for col in (L.FR_Y, L.FR_Z):
+        fric[laid, col] = np.interp(points[laid], old[:, L.FR_S], old[:, col])
+    right = np.clip(np.searchsorted(pb.s, points[laid]), 1, pb.nn - 1)
+    nearest = right - (points[laid] - pb.s[right - 1] < pb.s[right] - points[laid])
+    for col in (L.FR_W, L.FR_DIR, L.FR_DIRZ):
+        fric[laid, col] = old[nearest, col]
+    fric[new.contacts.bed_active == 0, L.FR_W] = 0.0
+
+
+def hold_slips(pb: Problem):
+    """Hold ``pb``'s slip set for its neighbours (:data:`.tuning.HELD_SLIP`):
+    each sliding spring (``FR_DIR`` or ``FR_DIRZ`` not 0, as the answer's
+    return mapping, :func:`..kernels.contact.friction_commit`, left it) has
+    its anchor moved to HELD_SLIP d_slip behind the pipe, its force the
+    same."""
+    fric, nd, ndn = pb.contacts.fric, pb.nd, pb.ndn
+    d_slip = pb.props[L.FRICTION_SLIP]
+    m = pb.props[L.SEABED_TAN]
+    c = 1.0 / np.sqrt(1.0 + m * m)
+    along = m * c * pb.u[0::ndn] + c * pb.u[nd - 1::ndn] if m != 0.0 else pb.u[nd - 1::ndn]
+    for col, dcol, pos in ((L.FR_Y, L.FR_DIR, pb.u[1::ndn] if nd == 3 else None),
+                           (L.FR_Z, L.FR_DIRZ, along)):
+        sliding = fric[:, dcol] != 0.0
+        if pos is not None and sliding.any():
+            fric[sliding, col] = pos[sliding] + fric[sliding, dcol] * HELD_SLIP * d_slip
+            fric[sliding, L.FR_S] = pb.s[sliding]
 
 
 def mirrored_sizes(base: dict, plus: dict) -> dict:
@@ -109,25 +160,41 @@ _REGIME_PARTS = ("the mesh's element count (the discrete answer jumps)",
                  "the lateral slip set", "the axial slip set")
 
 
+def held_answer(case: Case, pb: Problem) -> tuple[Problem | None, str]:
+    """(The answer ``pb`` of ``case`` as its neighbours start from, ""), or
+    (None, why it has no sensitivities). With seabed friction on the
+    current's path its anchors are the laid pipe's, its slip set held
+    (:func:`hold_slips`, on a copy of its springs): the sensitivities are
+    those of the pipe laid as it lies, not of a lay redone from its gravity
+    state; every neighbour takes these anchors (:func:`carry_anchors`), the
+    anchor of a material point being piecewise linear between the answer's
+    nodes."""
+    if not friction_path(case):
+        return pb, ""
+    if not case.seabed.is_rigid:
+        return None, ELASTIC_FRICTION
+    held = replace(pb, contacts=replace(pb.contacts, fric=pb.contacts.fric.copy()))
+    hold_slips(held)
+    return held, ""
+
+
 def base_solution(case: Case, pb: Problem, sizes: dict):
-    """The answer of ``case`` (solved to ``pb``) on the mesh a solve of it
-    grades at ``pb``'s boundaries (:func:`regraded_problem`, sized by
-    ``sizes``), by Newton from ``pb``'s state to solver.tolerance: the
-    state the neighbours are linearised about.
+    """The answer of ``case`` (solved to ``pb``, :func:`held_answer`) on the
+    mesh a solve of it grades at ``pb``'s boundaries (:func:`regraded_problem`,
+    sized by ``sizes``), by Newton from ``pb``'s state to solver.tolerance:
+    the state the neighbours are linearised about, its slip set held.
 
     Returns (that :class:`.state.Problem`, its :class:`.state.Solution`, "")
-    or (None, None, the reason): the answer follows the current's path with
-    seabed friction (:data:`FRICTION_PATH`), or Newton does not converge."""
-    if friction_path(case):
-        return None, None, FRICTION_PATH
+    or (None, None, the reason): Newton does not converge."""
     new = regraded_problem(case, pb, sizes)
-    new.settings.factors = pb.settings.factors.copy()
     new.settings.tolerance = None
     new.settings.in_balance = True  # U* is a refined solution: the boundaries move freely
     status, react, info = run_newton(new, np.zeros_like(new.u), case.solver.tolerance,
                                      case.solver.max_iterations)
     if status != L.OK:
         return None, None, f"Newton from the solution: {L.STATUS_TEXT.get(status, status)}"
+    if friction_path(case):
+        hold_slips(new)
     stats = {"iterations": int(info[L.I_ITER]), "meshes": 0, "seconds": 0.0,
              "current_steps": 0, "current_step_max": 0}
     return new, _solution(new, react, stats, touchdown_position(new),
@@ -151,33 +218,39 @@ def _kernels(nd: int):
 
 def _residuals(problems, out):
     """Each problem's residual at its state (:func:`.kernels.response.residual_2d`)
-    into ``out`` = (g, delta, res_b, cmask, kind), a row each. Returns the
-    bordered unknowns' counts."""
+    into ``out`` = (g, delta, res_b, cmask, kind), a row each, and its
+    lateral hold (3D: the nodes the stinger holds,
+    :func:`.kernels.contact.lateral_hold`) as that evaluation marks it, as
+    a solve's last evaluation leaves it for the profile (the lateral
+    curvature there is the free side's). Returns the bordered unknowns'
+    counts."""
     residual = _kernels(problems[0].nd)[0]
     counts = []
     for k, pb in enumerate(problems):
         mesh, settings = _kernel_args(pb)
-        counts.append(residual(pb.u, mesh, pb.model(), _copied(pb.kernel_supports()),
-                               pb.kernel_ends(np.zeros_like(pb.u)), settings,
-                               *(part[k] for part in out)))
+        sup = _copied(pb.kernel_supports())
+        counts.append(residual(pb.u, mesh, pb.model(), sup, pb.kernel_ends(np.zeros_like(pb.u)),
+                               settings, *(part[k] for part in out)))
+        pb.contacts.y_held[:] = sup.y_held
     return counts
 
 
-def neighbour_solutions(cases, base: Problem, guessed):
+def neighbour_solutions(cases, base: Problem, guessed, anchors: Problem | None = None):
     """The solutions of ``cases`` (neighbours of the case ``base`` solved,
     :func:`base_solution`), each ``base``'s state interpolated onto the mesh
     a solve of that case grades at ``base``'s boundaries
     (:func:`regraded_problem`, sized by ``guessed``, one per case) and
     stepped by the linear response to its residual there (the module
     docstring; the tangent factored once for them all), in ``base``'s
-    regime.
+    regime, with seabed friction the springs of ``anchors`` (the held answer,
+    :func:`held_answer`; None: ``base``'s).
 
     Returns, for each case, (its :class:`.state.Solution`, "") or (None,
     the reason) where it leaves the regime: its mesh's element count, its
     constraint set or bordered unknowns differ, a rigid point changes
     branch, the slip set changes, lift-off passes the stinger's tip, or the
     tangent is singular."""
-    sides = [regraded_problem(case, base, sizes, keep_rates=True)
+    sides = [regraded_problem(case, base, sizes, keep_rates=True, anchors=anchors)
              for case, sizes in zip(cases, guessed, strict=True)]
     answers = [(None, f"{_REGIME_PARTS[0]} changes within the step (a regime switch)")
                if side.nn != base.nn else None for side in sides]

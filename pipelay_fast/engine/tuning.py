@@ -138,3 +138,13 @@ ELASTICA_NODES = 41
 # many times the case's: its answer is only a start (measured:
 # benchmarks/bench_rollers.py parts 1 and 3).
 GUIDE_COARSENING = 2.0
+
+# --- sensitivities (:mod:`.sensitivity`) --------------------------------------------
+# The slip set a sensitivity holds: a sliding friction spring's anchor is put
+# HELD_SLIP mobilising displacements d_slip behind the pipe (the answer's
+# return mapping leaves it at 1, on the spring's corner, where the tangent's
+# stick or slip is a matter of round-off). Its force mu W is the same beyond 1
+# (clipped); the neighbours' steps move it by a relative 1e-4 of the current's
+# lateral displacement, far below the 1 d_slip this leaves, so it keeps
+# sliding; any value above 1 by more than that holds it.
+HELD_SLIP = 2.0

@@ -16,8 +16,10 @@ reason, where the column is not differentiable at p: a side's regime
 differs (the mesh's node count, a contact or slip set, the tip's regime),
 a peak sits on another node on either side, the two one-sided differences
 disagree by more than :data:`KINK`, the column depends on the functional
-load case's second solve, or the answer followed the current's path with
-seabed friction (3D).
+load case's second solve, or friction on an elastic seabed meets a
+current. With seabed friction on the current's path the sides hold the
+answer's anchors and slip set
+(:func:`pipelay_fast.engine.sensitivity.held_answer`).
 """
 
 from __future__ import annotations
@@ -29,7 +31,12 @@ import pandas as pd
 
 from ..engine.model import dimension_of
 from ..engine.problem import guess_sizes
-from ..engine.sensitivity import base_solution, mirrored_sizes, neighbour_solutions
+from ..engine.sensitivity import (
+    base_solution,
+    held_answer,
+    mirrored_sizes,
+    neighbour_solutions,
+)
 from ..input.validate import get_path, number_at
 from .design import bend_regions
 from .results import SUMMARY_UNITS, build_profile, build_rollers, build_summary
@@ -107,13 +114,16 @@ def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
     ``attrs["steps"]``: each key's step h.
 
     Every row is NaN, with the reason, where the solution itself does not
-    refine on its mesh (:func:`pipelay_fast.engine.sensitivity.base_solution`:
-    3D with friction under a current). Raises ValueError for a key that is
+    refine on its mesh (:func:`pipelay_fast.engine.sensitivity.base_solution`)
+    or has no held answer (:func:`pipelay_fast.engine.sensitivity.held_answer`:
+    friction on an elastic seabed under a current). Raises ValueError for a key that is
     not numeric in the case.
     """
     rows = summary_rows()
     sizes = guess_sizes(case)
-    base, _solution, error = base_solution(case, state, sizes)
+    held, error = held_answer(case, state)
+    base, _solution, error = (base_solution(case, held, sizes) if held is not None
+                              else (None, None, error))
     table = {key: np.full(len(rows), math.nan) for key in keys}
     reasons = {name: [] for name in rows}
     steps, moved, why = _moved_cases(case, keys, error)
@@ -126,7 +136,7 @@ def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
         plus = guess_sizes(moved[key][0])
         cases += moved[key]
         guessed += [plus, mirrored_sizes(sizes, plus)]
-    answers = iter(neighbour_solutions(cases, base, guessed) if base is not None else ())
+    answers = iter(neighbour_solutions(cases, base, guessed, held) if base is not None else ())
     solution, why_0 = next(answers, (None, error))
     if solution is not None:
         f0, nodes0 = _side(case, solution, functional)
