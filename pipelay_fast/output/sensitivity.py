@@ -83,11 +83,13 @@ def _side(case, sol, functional):
     hog, sag = bend_regions(cols, sol.s_tdp, sol.s_liftoff, case.lay.stinger is not None)
     if hog is None:  # J-lay: the sagbend is the span above touchdown
         hog, sag = np.zeros(sol.s.size, dtype=bool), sol.s >= sol.s_tdp
+    masks = {None: None, "hog": hog, "sag": sag}
+    magnitudes = {column: np.abs(cols[column]) for column in {c for c, _r in PEAKS.values()}}
     nodes = {}
     for name, (column, region) in PEAKS.items():
-        mask = {None: np.ones(sol.s.size, dtype=bool), "hog": hog, "sag": sag}[region]
-        values = np.abs(cols[column])
-        k = int(np.flatnonzero(mask)[np.argmax(values[mask])]) if mask.any() else -1
+        mask = masks[region]
+        values = magnitudes[column] if mask is None else np.where(mask, magnitudes[column], -1.0)
+        k = int(np.argmax(values)) if mask is None or mask.any() else -1
         nodes[name] = k
         summary[f"s_{name}"] = float(sol.s[k]) if k >= 0 else math.nan
     return summary, nodes
@@ -144,6 +146,7 @@ def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
         for key in pairs:
             why[key] = f"the solution itself: {why_0}"
         pairs = []
+    values0 = _row_values(f0, rows) if solution is not None else None
     for key in pairs:
         (sol_p, why_p), (sol_m, why_m) = next(answers), next(answers)
         why[key] = why_p or why_m
@@ -152,20 +155,19 @@ def sensitivity_table(case, state, keys, functional=None) -> pd.DataFrame:
         (fp, nodes_p), (fm, nodes_m) = (_side(c, sol, functional)
                                         for c, sol in zip(moved[key], (sol_p, sol_m),
                                                           strict=True))
-        for i, name in enumerate(rows):
-            text = _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m,
-                                       steps[key], functional, case.solver.tolerance)
-            if text:
-                reasons[name].append(f"{key}: {text}")
-            else:
-                table[key][i] = (fp[name] - fm[name]) / (2.0 * steps[key])
+        values = np.stack([values0, _row_values(fp, rows), _row_values(fm, rows)])
+        table[key], texts = _derivatives(rows, values, (nodes0, nodes_p, nodes_m), steps[key],
+                                         functional, case.solver.tolerance)
+        for name, text in texts.items():
+            reasons[name].append(f"{key}: {text}")
     for key in keys:
         if why[key]:
             for name in rows:
                 reasons[name].append(f"{key}: {why[key]}")
-    frame = pd.DataFrame(table, index=list(rows))
-    frame["unit"] = list(rows.values())
-    frame["reason"] = ["; ".join(reasons[name]) for name in rows]
+    # (one constructor: string columns set one by one cost twice the frame)
+    frame = pd.DataFrame({**table, "unit": list(rows.values()),
+                          "reason": ["; ".join(reasons[name]) for name in rows]},
+                         index=list(rows))
     # the registry is imported here, not with the package, so that its
     # generator runs as ``python -m pipelay_fast.input.keys`` without a
     # second copy of the module
@@ -197,27 +199,45 @@ def _moved_cases(case, keys, error: str):
     return steps, moved, why
 
 
-def _not_differentiable(name, f0, fp, fm, nodes0, nodes_p, nodes_m, h, functional,
-                        tolerance) -> str:
-    """Why row ``name`` has no derivative from the sides ``fp``, ``fm``
-    around ``f0`` (their peak nodes ``nodes_*``); "" where it has one. A
-    side's change of a column below ``tolerance`` (solver.tolerance, to
-    which the solution the sides are linearised about is solved) of its
+def _row_values(summary: dict, rows) -> np.ndarray:
+    """The ``rows`` of a side's ``summary`` as floats (None: NaN)."""
+    return np.array([math.nan if summary[name] is None else float(summary[name])
+                     for name in rows])
+
+
+def _derivatives(rows, values, nodes, h, functional, tolerance):
+    """(d row / d key per row, {row: why it has none}) from ``values`` (3,
+    rows): the rows at p, p + h and p - h, their peak nodes ``nodes`` (the
+    same three's). A row has none where it reads the functional load case,
+    is not a finite number on a side, its peak sits on another node on a
+    side, or its one-sided differences disagree by more than :data:`KINK`
+    of the steeper: a side's change below ``tolerance`` (solver.tolerance,
+    to which the solution the sides are linearised about is solved) of the
     value is not resolved by the solve, nor one below STEP^2 of it by the
-    linear sides (their second-order term, even in h, is of that order):
-    no kink is sought in it."""
-    if functional is not None and name in FUNCTIONAL_COLUMNS:
-        return "reads the functional load case (a second solve, not differentiated)"
-    values = (f0[name], fp[name], fm[name])
-    if any(v is None or not math.isfinite(float(v)) for v in values):
-        return "the column is not a finite number here"
-    peak = name[2:] if name.startswith("s_") else name
-    if peak in PEAKS and not nodes0[peak] == nodes_p[peak] == nodes_m[peak]:
-        return (f"the peak jumps between nodes {nodes_m[peak]}, {nodes0[peak]} and "
-                f"{nodes_p[peak]} within +-h")
-    up, down = (values[1] - values[0]) / h, (values[0] - values[2]) / h
-    steepest = max(abs(up), abs(down))
-    resolved = max(tolerance, STEP**2) * abs(values[0])
-    if abs(up - down) > KINK * steepest and steepest * h > resolved:
-        return f"one-sided differences {down:.6g} and {up:.6g} disagree (a kink within +-h)"
-    return ""
+    linear sides (their second-order term, even in h, is of that order): no
+    kink is sought in it."""
+    f0, fp, fm = values
+    with np.errstate(invalid="ignore"):
+        up, down = (fp - f0) / h, (f0 - fm) / h
+        steepest = np.maximum(np.abs(up), np.abs(down))
+        kink = ((np.abs(up - down) > KINK * steepest)
+                & (steepest * h > max(tolerance, STEP**2) * np.abs(f0)))
+    finite = np.isfinite(values).all(axis=0)
+    derivative = (fp - fm) / (2.0 * h)
+    texts = {}
+    for i, name in enumerate(rows):
+        peak = name[2:] if name.startswith("s_") else name
+        if functional is not None and name in FUNCTIONAL_COLUMNS:
+            texts[name] = "reads the functional load case (a second solve, not differentiated)"
+        elif not finite[i]:
+            texts[name] = "the column is not a finite number here"
+        elif peak in PEAKS and not nodes[0][peak] == nodes[1][peak] == nodes[2][peak]:
+            texts[name] = (f"the peak jumps between nodes {nodes[2][peak]}, {nodes[0][peak]} "
+                           f"and {nodes[1][peak]} within +-h")
+        elif kink[i]:
+            texts[name] = (f"one-sided differences {down[i]:.6g} and {up[i]:.6g} disagree "
+                           "(a kink within +-h)")
+        else:
+            continue
+        derivative[i] = math.nan
+    return derivative, texts
