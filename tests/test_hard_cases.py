@@ -385,3 +385,43 @@ def test_stiff_pipe_on_the_firing_line_clear_of_a_straight_ramp():
     # (no interior peak: the largest moment, at the held top)
     assert result.summary["sagbend_max_moment"] == pytest.approx(ref["max_moment"], rel=5e-3)
     assert set(result.profile["contact"].iloc[:-1]) <= {"seabed", "free"}
+
+
+@pytest.fixture(scope="module")
+def steep_ramp():
+    # a straight 47 deg ramp whose pipe is held on its firing line at 569 kN
+    # (bench_random 1:2d-49): the catenary leaves the ramp's top at 35 deg,
+    # flatter than the ramp, and it flattens further down while the ramp does
+    # not, so the pipe bends away from the ramp below its top and touches it
+    # nowhere else (the guess once laid it along the whole ramp, kinked at the
+    # tip, and the homotopy diverged). Reference: the J-lay elastica from
+    # touchdown to the ramp's upper end, held at the ramp's angle there
+    case = _planar_slay((0.395504, 0.371807, 0.572707, 2080.93), 68.4002,
+                        (0.0, [31.3818, 355.572], [78.8422, 400.0]),
+                        {"lay.top_angle": None, "lay.top_tension": 568902.6})
+    (x_l, z_l), (x_u, z_u) = case.lay.stinger.lower, case.lay.stinger.upper
+    ramp = math.degrees(math.atan2(x_u - x_l, z_u - z_l))
+    ref = elastica_for(case.with_changes({"lay.method": "J", "lay.stinger": None,
+                                          "lay.top": [x_u, z_u], "lay.top_angle": ramp}),
+                       T_top=case.lay.top_tension)
+    return case, ref, pf.solve(case)
+
+
+def test_ramp_steeper_than_the_catenary_at_its_top_is_left_there(steep_ramp):
+    case, ref, result = steep_ramp
+    (x_l, z_l), (x_u, z_u) = case.lay.stinger.lower, case.lay.stinger.upper
+    over = (ref["z"] >= z_l) & (ref["z"] < z_u - 1e-3)
+    assert (ref["x"][over] > x_l + (ref["z"][over] - z_l) * (x_u - x_l) / (z_u - z_l)).all()
+    assert result.summary["bottom_tension"] == pytest.approx(ref["bottom_tension"], rel=1e-3)
+    assert result.summary["tdp_z"] == pytest.approx(ref["tdp_z"], abs=0.1)
+    assert result.summary["liftoff_z"] == pytest.approx(z_u)
+    assert set(result.profile["contact"].iloc[:-1]) <= {"seabed", "free"}
+
+
+def test_clear_pipe_sagbend_moment_is_the_spans_interior_peak(steep_ramp):
+    # held at the top, the largest moment is there (1.1 MN m); the sagbend's is
+    # the span's interior peak (149 kN m), as J-lay's
+    _case, ref, result = steep_ramp
+    assert ref["max_moment"] > 5.0 * ref["sagbend_moment"]
+    assert result.profile["moment"].max() == pytest.approx(ref["max_moment"], rel=5e-3)
+    assert result.summary["sagbend_max_moment"] == pytest.approx(ref["sagbend_moment"], rel=5e-3)
