@@ -102,18 +102,23 @@ def _fail(case, step, info, status, extra=""):
 
 
 def _budgeted_newton(case: Case, pb: Problem, g_off, budget: IterationBudget, where: str,
-                     switch: bool = False, maxit: int | None = None):
+                     switch: bool = False, maxit: int | None = None, guessed: bool = False):
     """:func:`run_newton` within the solve's iteration budget; a SolveError
     naming solver.max_iterations_total when it is spent. ``switch``: a
     lift-off that reaches the stinger's tip (status PAST_TIP) is returned to
     the caller, which switches to bearing on the tip, instead of raised.
-    ``maxit``: the call's iterations at most (None: solver.max_iterations)."""
+    ``maxit``: the call's iterations at most (None: solver.max_iterations).
+    Touchdown running toward the lower end (SHORT_LAID) raises ShortLaid, for
+    more laid pipe; ``guessed``: the call lifts off above a tip whose branch
+    cycled (TIP_CYCLE), a regime guessed, not one Newton's iterate reached,
+    from which touchdown's run measures no shortage of laid pipe: SHORT_LAID
+    is then the call's failure, returned."""
     if budget.left < 1:
         raise SolveError(f"case {case.name!r} {budget.spent_message(where)}")
     status, react, info = run_newton(pb, g_off, pb.settings.tolerance or case.solver.tolerance,
                                       budget.cap(maxit or case.solver.max_iterations))
     budget.charge(info[I_ITER])
-    if status == L.SHORT_LAID:
+    if status == L.SHORT_LAID and not guessed:
         raise ShortLaid
     if status in (L.PAST_TIP, L.SPAN_CLOSED) and not switch:
         raise SolveError(f"case {case.name!r} at {where}: {_newton_state(info, status)}")
@@ -138,17 +143,23 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     (a predicted start, :func:`continuation`); it does not switch, but
     returns the status that asks for a switch, for the caller to solve the
     step from its own start. ``maxit``: each call's iterations at most
-    (None: solver.max_iterations).
+    (None: solver.max_iterations). A call lifting off above a tip whose
+    branch cycled that stops with touchdown running toward the lower end
+    fails (SHORT_LAID returned, no ShortLaid: :func:`_budgeted_newton`), so
+    that the caller's fallback starts again from its own state (laid pipe
+    added to the guessed regime's iterate would carry that regime on).
 
     Returns (status, reactions, info, iterations of every call).
     """
     spent = 0  # iterations of the calls that ended in a switch of regime
+    cycled = False  # lifting off above a tip whose branch cycled (TIP_CYCLE)
     for switches in range(T.MAX_TIP_SWITCHES + 1):
         can_switch = ((pb.lo_node >= 0 or pb.clear_of_stinger)
                       and switches < T.MAX_TIP_SWITCHES)
         start = snapshot(pb)
         status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
-                                              switch=can_switch or predicted, maxit=maxit)
+                                              switch=can_switch or predicted, maxit=maxit,
+                                              guessed=cycled)
         stopped, status = status, tip_regime(pb, status, can_switch)
         if status not in _SWITCHES or predicted:
             break
@@ -156,6 +167,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
         if status == L.PAST_TIP:
             bear_on_tip(case, pb, float(info[I_PAST]))
         elif status == L.SPAN_CLOSED:
+            cycled = cycled or stopped == L.TIP_CYCLE
             lift_off_above_tip(case, pb)
         elif status == ONTO_STINGER:
             conform_from(case, pb, below_stinger(pb))

@@ -200,12 +200,16 @@ def slay_liftoff(case: Case, bottom_tension: float | None = None, x_td: float = 
     # and psi steepens, so it grows strictly, to H (1 - cos psi) > 0 at the
     # seabed (x = 0, W = 0). One root, when it is negative at the top of the
     # rise (the upper end, or where the curve is level: -W there) and
-    # positive at the lower end; none otherwise (the cable flatter than the
-    # stinger at its top, or steeper than the curve that far below the tip).
+    # positive at the lower end; none otherwise: the cable flatter than the
+    # stinger at its top leaves from the top, clear of the curve below it
+    # (down the curve the stinger steepens and the cable flattens), and one
+    # steeper than the curve that far below the tip leaves from the tip.
     z_low, z_top = _search_range(st)
     z_lo = z_l
     past = None
-    if mismatch(z_top) < 0.0 < mismatch(z_low):
+    if mismatch(z_top) >= 0.0:
+        z_lo = z_top  # flatter than the stinger at its top: clear of it
+    elif mismatch(z_top) < 0.0 < mismatch(z_low):
         z_c = brentq(mismatch, z_low, z_top)
         # a stiff pipe leaves about one flexural length sqrt(EI/Te) further up
         # the stinger (boundary-layer asymptotics, EI -> 0)

@@ -413,9 +413,12 @@ def build_summary(case: Case, sol: Solution, cols: dict, rollers: dict | None = 
     if stinger is not None:
         over_vm = float(vm[hog].max()) if hog.any() else nan
         over_m = float(mom[hog].max()) if hog.any() else nan
-        sag_vm = float(vm[sag].max()) if sag.any() else nan
-        sag_m = float(mom[sag].max()) if sag.any() else nan
         lift = s_liftoff if s_liftoff is not None else s[-1]
+        # clear of the stinger (lift-off at the top): held there as J-lay's
+        # top, whose moment is no sagbend peak (:func:`.design.interior_peak`)
+        peak = interior_peak if lift >= s[-1] else np.max
+        sag_vm = float(peak(vm[sag])) if sag.any() else nan
+        sag_m = float(peak(mom[sag])) if sag.any() else nan
         liftoff_z = float(np.interp(lift, s, cols["z"]))
         liftoff_angle = float(np.interp(lift, s, cols["angle_deg"]))
         suspended = float(lift - s_tdp)
