@@ -42,6 +42,7 @@ from ..kernels.response import (
     responses_2d,
     responses_3d,
 )
+from ..kernels.scene import in_scene
 from ..kernels.types import Mesh, Settings
 from .boundaries import liftoff_position, stinger_foci, touchdown_position
 from .continuation import boundary_step, run_newton
@@ -143,17 +144,19 @@ def _kernel_args(pb: Problem):
     return mesh, settings
 
 
-def _kernels(nd: int):
-    """The linear response's kernels (residual, responses, finish) for ``nd``."""
-    return (residual_2d, responses_2d, finish_2d) if nd == 2 else (residual_3d, responses_3d,
-                                                                  finish_3d)
+def _kernels(pb: Problem):
+    """The linear response's kernels (residual, responses, finish) for
+    ``pb``'s dimension and scene (:attr:`.state.Problem.scene`)."""
+    kernels = (residual_2d, responses_2d, finish_2d) if pb.nd == 2 else (
+        residual_3d, responses_3d, finish_3d)
+    return tuple(in_scene(kernel, pb.scene) for kernel in kernels)
 
 
 def _residuals(problems, out):
     """Each problem's residual at its state (:func:`.kernels.response.residual_2d`)
     into ``out`` = (g, delta, res_b, cmask, kind), a row each. Returns the
     bordered unknowns' counts."""
-    residual = _kernels(problems[0].nd)[0]
+    residual = _kernels(problems[-1])[0]
     counts = []
     for k, pb in enumerate(problems):
         mesh, settings = _kernel_args(pb)
@@ -189,7 +192,7 @@ def neighbour_solutions(cases, base: Problem, guessed):
     g, delta, res_b, cmask, kind = out
     same = [counts[i] == counts[-1] and (cmask[i] == cmask[-1]).all()
             and (kind[i] == kind[-1]).all() for i in range(m)]
-    _residual, responses, finish = _kernels(base.nd)
+    _residual, responses, finish = _kernels(base)
     du, dz, react = np.zeros((m, n)), np.zeros((m, nbr)), np.zeros((m, n))
     mesh, settings = _kernel_args(base)
     singular = m > 0 and responses(
