@@ -109,7 +109,7 @@ def test_a_cold_cache_puts_one_task_of_each_dimension_first(sweep):
 
 
 def test_the_cold_cache_order_gives_the_same_summary(sweep, one_worker, tmp_path, monkeypatch):
-    monkeypatch.setattr(runner, "kernels_cached", lambda: False)
+    monkeypatch.setattr(runner, "kernels_cached", lambda family=None: False)
     rounds = []
     compile_first = runner.compile_first
 

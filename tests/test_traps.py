@@ -89,7 +89,7 @@ def new_process(monkeypatch):
     monkeypatch.setattr(notice, "_given", False)
     cold, calls = [True], []
 
-    def cached():
+    def cached(family=None):
         calls.append(1)
         return not cold[0]
 

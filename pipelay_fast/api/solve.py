@@ -13,11 +13,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..engine.model import scene_of
 from ..engine.solver import solve_problem
 from ..engine.state import Problem
 from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import strain_beyond_line
+from ..kernels import _jit
+from ..kernels.scene import tag
 from ..output.results import Result, build_profile, build_rollers, build_summary
 from ..output.sensitivity import sensitivity_table
 from ..output.spans import span_table
@@ -69,10 +72,11 @@ def solve(case: Case, *, warm: Result | None = None,
         the inputs give no first guess (a floating pipe, a tension too low
         to hold it).
 
-    The first call in a process whose kernels are not in numba's cache logs
-    that they compile (:mod:`pipelay_fast.api.notice`).
+    The first call in a process whose kernels (the case's family,
+    :func:`pipelay_fast.engine.model.scene_of`) are not in numba's cache
+    logs that they compile (:mod:`pipelay_fast.api.notice`).
     """
-    announce_compile()
+    announce_compile(lambda: _jit.kernels_cached(tag(scene_of(case))))
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
                          f"{type(warm).__name__}")

@@ -5,12 +5,14 @@ pinned S-lay top."""
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
+from ..kernels.scene import Scene
 
 _PROFILES = {
     "uniform": L.PROFILE_UNIFORM,
@@ -18,6 +20,36 @@ _PROFILES = {
     "power": L.PROFILE_POWER,
     "table": L.PROFILE_TABLE,
 }
+
+
+_SHARED: dict = {}  # dimension -> the scene its cases are compiled with at least
+
+
+@contextlib.contextmanager
+def shared_scenes(scenes: dict):
+    """Within the block, a case of dimension nd is compiled with at least the
+    features of ``scenes[nd]`` (:func:`scene_of`): a sweep's cases then share
+    one Newton kernel per dimension (:func:`pipelay_fast.study.runner.sweep_scenes`)."""
+    saved = dict(_SHARED)
+    _SHARED.clear()
+    _SHARED.update(scenes)
+    try:
+        yield
+    finally:
+        _SHARED.clear()
+        _SHARED.update(saved)
+
+
+def scene_of(case: Case) -> Scene:
+    """The features ``case``'s Newton kernel is compiled with
+    (:mod:`..kernels.scene`): seabed friction when a coefficient that acts
+    in its dimension is above 0 (the axial one; the lateral one in 3D), the
+    stinger when it has one (a curve or rollers: S-lay); and those of
+    :func:`shared_scenes`."""
+    nd = dimension_of(case)
+    friction = case.seabed.axial_friction > 0.0 or (nd == 3 and case.seabed.lateral_friction > 0.0)
+    own = Scene(friction=bool(friction), stinger=case.lay.curve is not None or case.lay.has_rollers)
+    return Scene(*(a or b for a, b in zip(own, _SHARED.get(nd, own), strict=True)))
 
 
 def dimension_of(case: Case) -> int:

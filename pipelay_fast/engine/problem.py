@@ -31,7 +31,7 @@ from .boundaries import (
 from .friction import anchor_friction, friction_laid_length
 from .guess import first_guess, guide_case, shape
 from .mesh import graded_nodes, grading_rates
-from .model import build_props, dimension_of, pin_jump, section_array, sections_of
+from .model import build_props, dimension_of, pin_jump, scene_of, section_array, sections_of
 from .state import EndConditions, Problem, interpolate_state, make_problem
 from .supports import line_height, seabed_row, surface_heights
 
@@ -323,10 +323,12 @@ def _problem(case: Case, nd, s, u, tb, fref, stats, knots) -> Problem:
     ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target,
                          angle, base + nd if pin else -1, pin_jump(case) if pin else 0.0)
     section = section_array(s, sections_of(case))
-    return make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
-                        fref=fref, href=stats["h_max"], points=_points(case, curve), curve=curve,
-                        tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats, seabed=bed,
-                        bed=knots)
+    pb = make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
+                      fref=fref, href=stats["h_max"], points=_points(case, curve), curve=curve,
+                      tb=tb, fric=fric, phi_r=phi_r, phi_rp=phi_rp, stats=stats, seabed=bed,
+                      bed=knots)
+    pb.scene = scene_of(case)
+    return pb
 
 
 def _points(case: Case, curve) -> np.ndarray:

@@ -45,6 +45,7 @@ from ..kernels.response import (
     responses_2d,
     responses_3d,
 )
+from ..kernels.scene import in_scene
 from ..kernels.types import Mesh, Settings
 from .boundaries import liftoff_position, stinger_foci, touchdown_position
 from .continuation import boundary_step, run_newton
@@ -210,10 +211,12 @@ def _kernel_args(pb: Problem):
     return mesh, settings
 
 
-def _kernels(nd: int):
-    """The linear response's kernels (residual, responses, finish) for ``nd``."""
-    return (residual_2d, responses_2d, finish_2d) if nd == 2 else (residual_3d, responses_3d,
-                                                                  finish_3d)
+def _kernels(pb: Problem):
+    """The linear response's kernels (residual, responses, finish) for
+    ``pb``'s dimension and scene (:attr:`.state.Problem.scene`)."""
+    kernels = (residual_2d, responses_2d, finish_2d) if pb.nd == 2 else (
+        residual_3d, responses_3d, finish_3d)
+    return tuple(in_scene(kernel, pb.scene) for kernel in kernels)
 
 
 def _residuals(problems, out):
@@ -224,7 +227,7 @@ def _residuals(problems, out):
     a solve's last evaluation leaves it for the profile (the lateral
     curvature there is the free side's). Returns the bordered unknowns'
     counts."""
-    residual = _kernels(problems[0].nd)[0]
+    residual = _kernels(problems[-1])[0]
     counts = []
     for k, pb in enumerate(problems):
         mesh, settings = _kernel_args(pb)
@@ -262,7 +265,7 @@ def neighbour_solutions(cases, base: Problem, guessed, anchors: Problem | None =
     g, delta, res_b, cmask, kind = out
     same = [counts[i] == counts[-1] and (cmask[i] == cmask[-1]).all()
             and (kind[i] == kind[-1]).all() for i in range(m)]
-    _residual, responses, finish = _kernels(base.nd)
+    _residual, responses, finish = _kernels(base)
     du, dz, react = np.zeros((m, n)), np.zeros((m, nbr)), np.zeros((m, n))
     mesh, settings = _kernel_args(base)
     singular = m > 0 and responses(

@@ -7,11 +7,10 @@ the next Newton call (:class:`Settings`) and the load path's record
 nodes.
 
 Units: SI; nn nodes, nd = 2 or 3 dimensions, ndn = 2 nd + 1 unknowns a node
-(:mod:`pipelay_fast.kernels.layout`). The functions that build a Problem are
-:mod:`.problem`'s and :mod:`.warm`'s; the boundaries' placement and the
-regime at the stinger's tip are :mod:`.boundaries`'; the Newton kernel
-updates the state, the contacts and the boundaries through
-:func:`.continuation.run_newton`.
+(:mod:`pipelay_fast.kernels.layout`). :mod:`.problem` and :mod:`.warm` build a
+Problem; :mod:`.boundaries` places the boundaries and decides the regime at
+the stinger's tip; the Newton kernel updates the state, the contacts and the
+boundaries through :func:`.continuation.run_newton`.
 """
 
 from __future__ import annotations
@@ -24,6 +23,7 @@ from ..kernels import layout as L
 from ..kernels.geometry import hermite_state
 from ..kernels.grading import boundary_map
 from ..kernels.layout import B_PT
+from ..kernels.scene import ALL, Scene
 from ..kernels.types import Ends, Model, Supports, load_factors
 from .supports import Contacts, support_table
 
@@ -183,8 +183,8 @@ class Problem:
     per element of this mesh (layout ``S_*``; its node count is fixed: a new
     mesh is a new problem, :func:`.model.section_array`); the unknowns ``u``
     (nn ndn,): x, (y), z [m], r' [-], lambda [N] node by node, and ``tb``
-    (1,) [N]: the bottom tension.
-    """
+    (1,) [N]: the bottom tension; ``scene``: the features its Newton kernel
+    is compiled with (:func:`.model.scene_of`; by default every one)."""
 
     nd: int
     props: np.ndarray
@@ -198,6 +198,7 @@ class Problem:
     settings: Settings
     path: Path = field(default_factory=Path)
     bed: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    scene: Scene = ALL
 
     def model(self) -> Model:
         """What the element kernels read: the case's data and the load path's factors."""
@@ -489,8 +490,7 @@ def restore(pb: Problem, snap):
 def interpolate_state(s_old, u_old, nd, s_new):
     """The state ``u_old`` on nodes ``s_old`` [m] at nodes ``s_new`` [m]:
     Hermite interpolation of (r, r') and linear interpolation of lambda
-    (:func:`.kernels.geometry.hermite_state`; the powers of xi NumPy's, as
-    the NumPy version had them, so every value is the same to the bit)."""
+    (:func:`.kernels.geometry.hermite_state`, the powers of xi NumPy's)."""
     idx = np.clip(np.searchsorted(s_old, s_new, side="right") - 1, 0, s_old.size - 2)
     le = s_old[idx + 1] - s_old[idx]
     xi = np.clip((s_new - s_old[idx]) / le, 0.0, 1.0)

@@ -177,7 +177,17 @@ def plain_calls(dispatcher, keep=()):
                    {k: v if k in keep else types.unliteral(v) for k, v in kws.items()})
 
     dispatcher.get_call_template = get_call_template
+    dispatcher.__dict__["_keep"] = keep
     return dispatcher
+
+
+def recompiled(dispatcher, func):
+    """A kernel like ``dispatcher`` (its class, options, caching and literal
+    arguments) for ``func``, a copy of its function under a name of its own
+    (:func:`.scene.in_scene`)."""
+    options = {**dispatcher.targetoptions, "cache": not isinstance(dispatcher._cache, NullCache)}
+    return plain_calls(_dispatcher(type(dispatcher), func, options),
+                       dispatcher.__dict__.get("_keep", ()))
 
 
 def phase(func):
@@ -236,20 +246,22 @@ def cache_dirs(source_dir: str) -> list[str]:
     return [os.path.join(source_dir, "__pycache__"), os.path.join(_user_cache_dir(), mirror)]
 
 
-NEWTON_CACHE_PREFIX = "newton._newton_kernel"  # numba's index file of the Newton kernel
+NEWTON_CACHE_PREFIX = "newton._newton_kernel.locals.newton"  # numba's index files of it
 
 
-def kernels_cached() -> bool:
+def kernels_cached(tag: str | None = None) -> bool:
     """Whether numba's cache holds the Newton kernel's machine code for these
-    sources (stale files are gone at import, :func:`expire_stale_cache`): when
-    it does not, the first solve compiles the kernels (for how long:
+    sources (stale files are gone at import, :func:`expire_stale_cache`), of
+    the family ``tag`` (:func:`.scene.tag`; None: of any family): when it
+    does not, the first solve compiles the kernels (for how long:
     ``benchmarks/bench_compile.py``), and the command line says so."""
+    prefix = NEWTON_CACHE_PREFIX + (f"__{tag}-" if tag else "-" if tag is not None else "")
     for cache_dir in cache_dirs(KERNEL_DIR):
         try:
             names = os.listdir(cache_dir)
         except OSError:
             continue
-        if any(n.startswith(NEWTON_CACHE_PREFIX) and n.endswith(".nbi") for n in names):
+        if any(n.startswith(prefix) and n.endswith(".nbi") for n in names):
             return True
     return False
 

@@ -43,6 +43,7 @@ from ._jit import jit, phase
 from .assembly import element_forces
 from .element_shapes import WORK_SIZE, hermite
 from .layout import B_LO, B_TD, SUP_POINT, SUP_SEABED
+from .scene import STINGER
 from .supports import (
     frame_angle,
     in_curve_coords,
@@ -66,7 +67,7 @@ def _nodal_frames(nd, u, mesh, sup, ends):
     curved = False
     for k in range(sup.kind.shape[0]):
         curved = curved or in_curve_coords(sup.kind[k])
-    if curved:
+    if STINGER and curved:
         for node in range(1, nn):
             if node != ends.top_node:
                 sup.phi_r[node] = 0.0
@@ -78,6 +79,8 @@ def _nodal_frames(nd, u, mesh, sup, ends):
                 if node != ends.top_node and (node == 0 or sup.active[k, node] != 0):
                     sup.phi_r[node] = angle
                     sup.phi_rp[node] = angle
+    if not STINGER:  # (no rigid point)
+        return
     for b in range(mesh.bnodes.shape[0]):
         kt = mesh.bnodes[b]
         if kt >= 0 and sup.kind[b] == SUP_POINT:
@@ -136,21 +139,30 @@ def _constraint_set(nd, u, mesh, sup, ends, w, href):
     for k in range(sup.kind.shape[0]):
         if sup.kind[k] == SUP_SEABED or in_curve_coords(sup.kind[k]):
             _hold_on_line(nd, u, sup, k, ends.top_node, w)
-    for b in range(mesh.bnodes.shape[0]):
-        kt = mesh.bnodes[b]
-        if kt >= 0 and sup.kind[b] == SUP_POINT and sup.geom[b, L.PT_BEAR] != 0.0:
-            # bearing on a point: the node on it along the pipe's normal
-            w.cmask[kt * ndn] = True
-            w.delta[kt * ndn] = -_point_gap(nd, u, sup.geom[b], kt, sup.phi_r[kt])
-            if nd == 3 and sup.geom[b, L.PT_HOLD] != 0.0:  # a V roller: laterally too
-                w.cmask[kt * ndn + 1] = True
-                w.delta[kt * ndn + 1] = -u[kt * ndn + 1]
+    if STINGER:
+        _points_held(nd, u, mesh, sup, w)
     max_delta = 0.0
     for i in range(n):
         lim = href if i % ndn < nd else 1.0
         if w.cmask[i] and abs(w.delta[i]) / lim > max_delta:
             max_delta = abs(w.delta[i]) / lim
     return max_delta
+
+
+@phase
+def _points_held(nd, u, mesh, sup, w):
+    """The constraint set's rigid points (:func:`_constraint_set`): the node
+    over each point that bears held on it along the pipe's normal (a V
+    roller's laterally too)."""
+    ndn = 2 * nd + 1
+    for b in range(mesh.bnodes.shape[0]):
+        kt = mesh.bnodes[b]
+        if kt >= 0 and sup.kind[b] == SUP_POINT and sup.geom[b, L.PT_BEAR] != 0.0:
+            w.cmask[kt * ndn] = True
+            w.delta[kt * ndn] = -_point_gap(nd, u, sup.geom[b], kt, sup.phi_r[kt])
+            if nd == 3 and sup.geom[b, L.PT_HOLD] != 0.0:
+                w.cmask[kt * ndn + 1] = True
+                w.delta[kt * ndn + 1] = -u[kt * ndn + 1]
 
 
 @jit(_nrt=False)
@@ -180,7 +192,7 @@ def _hold_on_line(nd, u, sup, k, top_node, w):
             if (on or node == 0) and fix_mask[base + nd] == 0:
                 w.cmask[base + nd] = True
                 w.delta[base + nd] = -_local_value(nd, u, node, nd, sup.phi_r, sup.phi_rp)
-        elif on and node != top_node and fix_mask[base] == 0:
+        elif STINGER and on and node != top_node and fix_mask[base] == 0:  # a curve
             z_n = u[base + nd - 1]
             _f, fp, _fpp = support_height(kind, sup.geom[k], z_n)
             w.cmask[base] = True

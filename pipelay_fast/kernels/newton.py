@@ -117,6 +117,7 @@ from .layout import (
     ROW_CURVE,
     SUP_NONE,
 )
+from .scene import FRICTION, STINGER
 from .step import _hold_boundaries, _line_search, _start_step, _take_step, at_tolerance
 from .supports import in_curve_coords
 from .system import (
@@ -305,14 +306,15 @@ def _free_residual(nd, u, sup, w, out):
     ndn = 2 * nd + 1
     for i in range(out.shape[0]):
         out[i] = 0.0 if w.cmask[i] else w.g[i]
-    for k in range(sup.kind.shape[0]):
-        if not in_curve_coords(sup.kind[k]):
-            continue
-        for node in range(sup.active.shape[1]):
-            if sup.active[k, node] != 0:
-                for i in (node * ndn, node * ndn + nd):
-                    if sup.fix_mask[i] == 0:
-                        out[i] = w.g[i]
+    if STINGER:
+        for k in range(sup.kind.shape[0]):
+            if not in_curve_coords(sup.kind[k]):
+                continue
+            for node in range(sup.active.shape[1]):
+                if sup.active[k, node] != 0:
+                    for i in (node * ndn, node * ndn + nd):
+                        if sup.fix_mask[i] == 0:
+                            out[i] = w.g[i]
     _from_nodal_frames(nd, out, u, sup)
 
 
@@ -321,7 +323,10 @@ def _friction_answer(nd, u, mesh, model, sup, w, react):
     """The answer's friction: the springs' normal forces (``w.g`` in the nodal
     frames), their forces turned into the nodal frames (a sloped seabed's
     axial force has x and z parts) and joined to the reactions ``react``;
-    then the slipping springs' anchors follow (:func:`.contact.friction_commit`)."""
+    then the slipping springs' anchors follow (:func:`.contact.friction_commit`).
+    Nothing without friction in the scene (:mod:`.scene`)."""
+    if not FRICTION:
+        return
     w.fr_out[:] = 0.0
     node_arcs(mesh.s_el, w.s_nd)
     bed = sup.active[ROW_BED]
@@ -363,8 +368,8 @@ def _newton_kernel(nd):
             # ---- evaluate (after a converged trial, the residual alone first)
             want_tangent = not (trial_converged or residual_only)
             while True:
-                # the nodes the stinger holds laterally: those over it now
-                lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
+                if STINGER:  # the nodes the stinger holds laterally: those over it now
+                    lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
                 _nodal_frames(nd, u, mesh, sup, ends)
                 te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, want_tangent)
                 if want_tangent:
@@ -421,9 +426,12 @@ def _newton_kernel(nd):
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)
-            friction_track(nd, u, react, model.props, model.bed, sup.active[ROW_BED], sup.fric,
-                           w.s_nd)
-            changed = _points_update(nd, u, mesh, sup, react, settings) > 0
+            if FRICTION:
+                friction_track(nd, u, react, model.props, model.bed, sup.active[ROW_BED],
+                               sup.fric, w.s_nd)
+            changed = False
+            if STINGER:
+                changed = _points_update(nd, u, mesh, sup, react, settings) > 0
             trial_converged = accepted and not changed and at_tolerance(m1, settings.tol)
             if changed and sup.kind[ROW_CURVE] != SUP_NONE:
                 # the stinger's tip changes branch again with the residual no
@@ -436,7 +444,8 @@ def _newton_kernel(nd):
                 res_change = res_max
         if status == L.OK:
             _friction_answer(nd, u, mesh, model, sup, w, react)
-        _curve_reactions(nd, u, sup, react)
+        if STINGER:
+            _curve_reactions(nd, u, sup, react)
         info[I_STATUS] = status
         info[I_ITER] = it
         return status

@@ -51,6 +51,7 @@ from .constraints import (
 )
 from .contact import lateral_hold
 from .newton import _friction_answer, _work
+from .scene import STINGER
 from .system import _border_residuals, _evaluate, _to_nodal_residual, _to_nodal_system
 
 
@@ -66,7 +67,8 @@ def _evaluated(nd, u, mesh, model, sup, ends, settings, want_tangent):
               model.props, settings.href)
     if _has_boundaries(mesh):
         mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
-    lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
+    if STINGER:
+        lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
     _nodal_frames(nd, u, mesh, sup, ends)
     te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, want_tangent)
     if want_tangent:
@@ -150,14 +152,18 @@ def _response_kernels(nd):
         for i in range(u.shape[0]):
             w.u_old[i] = u[i]
             u[i] += du[i]
-        _onto_curves(nd, u, w.u_old, du, 1.0, sup)
+        if STINGER:
+            _onto_curves(nd, u, w.u_old, du, 1.0, sup)
         if _has_boundaries(mesh):
             mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
-        changes = _points_update(nd, u, mesh, sup, react, settings)
+        changes = 0
+        if STINGER:
+            changes = _points_update(nd, u, mesh, sup, react, settings)
         for i in range(u.shape[0]):
             w.g[i] = react[i]
         _friction_answer(nd, u, mesh, model, sup, w, react)
-        _curve_reactions(nd, u, sup, react)
+        if STINGER:
+            _curve_reactions(nd, u, sup, react)
         return changes
 
     return residual, responses, finish

@@ -26,6 +26,7 @@ from .constraints import (
 )
 from .contact import friction_step, node_arcs
 from .layout import B_LO, B_PT, B_TD, ROW_BED
+from .scene import FRICTION, STINGER
 from .supports import support_span
 from .system import _evaluate, _solves_tb, _to_nodal_frames, _weighted_max
 from .tuning import (
@@ -59,6 +60,8 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     unheld steps alternating near equilibrium would make the convergence
     linear), nor in a call that starts from a state in balance
     (``settings.hold`` False)."""
+    if not STINGER:
+        return False
     if mesh.bnodes[B_LO] < 0:
         return False
     ndn = 2 * nd + 1
@@ -133,6 +136,8 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     if has_td and not hold and d_bnd[B_TD] < 0.0:
         if -d_bnd[B_TD] * alpha > SHORT_LAID_SHARE * (s_bd[B_TD] - mesh.s_a[0]):
             return merit0, alpha, L.SHORT_LAID
+    if not STINGER:  # (no lift-off, no rigid point)
+        return merit0, alpha, -1
     if has_lo and has_tipn and not hold:
         gap_s = s_bd[B_LO] - s_bd[B_PT]
         d_gap_s = (d_bnd[B_LO] - d_bnd[B_PT]) * alpha
@@ -186,8 +191,9 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     has_bnd = _has_boundaries(mesh)
     tb_old = ends.tb[0]
     alpha_lim = alpha
-    alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.active[ROW_BED], sup.fric,
-                          w.fr_stop, alpha)
+    if FRICTION:
+        alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.active[ROW_BED], sup.fric,
+                              w.fr_stop, alpha)
     if alpha < alpha_lim:
         best = alpha
         m_best = np.inf
@@ -248,10 +254,11 @@ def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td):
     tdr = 0.0
     if bnodes[B_TD] >= 0 and not hold:
         tdr += (m_td / (fref * href)) ** 2
-    for b in range(B_LO, bnodes.shape[0]):
-        if bnodes[b] >= 0 and not hold:
-            tdr += (_bnd_equation(nd, u, sup, b, bnodes[b], w.no_row)
-                    / _bnd_scale(b, fref, href)) ** 2
+    if STINGER:  # the boundaries above touchdown
+        for b in range(B_LO, bnodes.shape[0]):
+            if bnodes[b] >= 0 and not hold:
+                tdr += (_bnd_equation(nd, u, sup, b, bnodes[b], w.no_row)
+                        / _bnd_scale(b, fref, href)) ** 2
     _to_nodal_frames(nd, w.g_trial, u, sup, w)
     _rm, rs = _weighted_max(nd, w.g_trial, w.cmask, fref, href)
     return rs + tr * tr + tdr
@@ -305,7 +312,7 @@ def _take_step(nd, alpha, u, u_old, du, sup, tb, tb_old, dtb, has_bnd, mesh, w):
     nn = sup.phi_r.shape[0]
     for i in range(u.shape[0]):
         u[i] = u_old[i] + alpha * du[i]
-    if has_bnd:
+    if STINGER and has_bnd:  # (the boundaries above touchdown: the stinger's)
         for node in range(nn):
             rate = 0.0
             for b in range(B_LO, mesh.s_b.shape[0]):
@@ -321,7 +328,8 @@ def _take_step(nd, alpha, u, u_old, du, sup, tb, tb_old, dtb, has_bnd, mesh, w):
             base = node * ndn
             for i in range(ndn):
                 u[base + i] += w.at[i] - u_old[base + i] - alpha * w.at_rate[i] * rate
-    _onto_curves(nd, u, u_old, du, alpha, sup)
+    if STINGER:
+        _onto_curves(nd, u, u_old, du, alpha, sup)
     tb[0] = tb_old + alpha * dtb
     if has_bnd:
         for b in range(mesh.s_bd.shape[0]):

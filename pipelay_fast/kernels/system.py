@@ -40,6 +40,7 @@ from .assembly import assemble, curve_node, distribute_torque, rotate_node
 from .constraints import _bnd_equation, _free_moment
 from .contact import friction_forces, friction_length_derivative, node_arcs
 from .layout import B_LO, B_TD, ROW_BED, SUP_POINT
+from .scene import FRICTION, STINGER
 from .supports import in_curve_coords, support_height
 from .tuning import EPS
 
@@ -99,8 +100,9 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, want_tangent, mesh.s_b,
             bnodes, w.bcols)
     node_arcs(mesh.s_el, w.s_nd)
-    friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model, sup.active[ROW_BED],
-                    sup.fric, w.fr_out, w.s_nd, False)
+    if FRICTION:
+        friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model,
+                        sup.active[ROW_BED], sup.fric, w.fr_out, w.s_nd, False)
     te_top = 0.0
     if _solves_tb(ends):
         if want_tangent:
@@ -110,10 +112,10 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     if want_tangent:
         for b in range(bnodes.shape[0]):
             if bnodes[b] >= 0:
-                # the springs' anchors are read at material points, which move
-                # with the boundary too (:func:`.contact.anchor_at`)
-                friction_length_derivative(nd, u, g, model, sup.active[ROW_BED], sup.fric, w.s_nd,
-                                           mesh.s_b[b], w.bcols[b])
+                if FRICTION:  # the springs' anchors are read at material points,
+                    # which move with the boundary too (:func:`.contact.anchor_at`)
+                    friction_length_derivative(nd, u, g, model, sup.active[ROW_BED], sup.fric,
+                                               w.s_nd, mesh.s_b[b], w.bcols[b])
                 w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
     m_td = 0.0
     if bnodes[B_TD] >= 0:
@@ -179,8 +181,9 @@ def _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td):
     Returns (the border unknowns, those of them other than the boundaries)."""
     kl = 4 * nd + 1
     _rotate_all(nd, w.ab, kl, kl, w.g, sup.phi_r, sup.phi_rp, True)
-    _frame_turn(nd, w.ab, kl, w.g, u, mesh, sup)
-    _curve_all(nd, w.ab, kl, kl, w.g, u, sup, True)
+    if STINGER:  # the frames over the rigid points, the curve's contacts
+        _frame_turn(nd, w.ab, kl, w.g, u, mesh, sup)
+        _curve_all(nd, w.ab, kl, kl, w.g, u, sup, True)
     w.res_bnd[0] = m_td
     return _border(nd, u, mesh, sup, ends, w, te_top)
 
@@ -192,9 +195,10 @@ def _to_nodal_residual(nd, u, mesh, sup, w, m_td):
     that only tests convergence."""
     _to_nodal_frames(nd, w.g, u, sup, w)
     w.res_bnd[0] = m_td
-    for b in range(B_LO, mesh.bnodes.shape[0]):
-        if mesh.bnodes[b] >= 0:
-            w.res_bnd[b] = _bnd_equation(nd, u, sup, b, mesh.bnodes[b], w.no_row)
+    if STINGER:  # the boundaries above touchdown
+        for b in range(B_LO, mesh.bnodes.shape[0]):
+            if mesh.bnodes[b] >= 0:
+                w.res_bnd[b] = _bnd_equation(nd, u, sup, b, mesh.bnodes[b], w.no_row)
 
 
 @jit(_nrt=False)
@@ -203,7 +207,8 @@ def _to_nodal_frames(nd, v, u, sup, w):
     coordinates. (A kernel: it has five callers.)"""
     kl = 4 * nd + 1
     _rotate_all(nd, w.no_ab, kl, kl, v, sup.phi_r, sup.phi_rp, False)
-    _curve_all(nd, w.no_ab, kl, kl, v, u, sup, False)
+    if STINGER:
+        _curve_all(nd, w.no_ab, kl, kl, v, u, sup, False)
 
 
 @jit(_nrt=False)
@@ -216,7 +221,7 @@ def _from_nodal_frames(nd, v, u, sup):
     ndn = 2 * nd + 1
     for k in range(sup.kind.shape[0] - 1, -1, -1):
         kind = sup.kind[k]
-        if not in_curve_coords(kind):
+        if not STINGER or not in_curve_coords(kind):
             continue
         for node in range(sup.active.shape[1]):
             if sup.active[k, node] != 0:
@@ -333,7 +338,7 @@ def _border(nd, u, mesh, sup, ends, w, te_top):
             for i in range(w.rows.shape[1]):
                 w.rows[nb, i] = w.row_td[i]
             d_own = w.own_td[B_TD]
-        else:
+        elif STINGER:  # (the boundaries above touchdown)
             w.res_bnd[b] = _bnd_equation(nd, u, sup, b, node, w.rows[nb])
         _to_nodal_frames(nd, w.cols[nb], u, sup, w)
         _to_nodal_frames(nd, w.rows[nb], u, sup, w)

@@ -15,8 +15,8 @@ with more than one worker, the sweep starts with one round of a task per
 dimension (:func:`compile_first`), which all finish before the other tasks
 start: each of those workers compiles one dimension's kernels while the
 other compiles the other's, and every later task loads them from the cache,
-instead of every worker compiling both. The parent process is the only
-writer of the dataset.
+instead of every worker compiling both (the cases of a dimension share one
+Newton kernel, :func:`sweep_scenes`). The parent process is the only writer of the dataset.
 """
 
 from __future__ import annotations
@@ -34,8 +34,10 @@ from tqdm import tqdm
 from ..api.notice import announce_compile, notice_given
 from ..api.solve import solve
 from ..api.target import solve_for
+from ..engine.model import dimension_of, scene_of, shared_scenes
 from ..input.errors import SolveError
 from ..kernels._jit import kernels_cached
+from ..kernels.scene import Scene, tag
 from ..output.results import SUMMARY_UNITS
 from .dataset import Dataset, encode_chunk, repeated_text
 from .sensitivity import sensitivity_columns, sensitivity_values
@@ -158,15 +160,15 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         todo = [c for c in cases if c.case_id not in done] if done else cases
         report.skipped = len(cases) - len(todo)
         tasks = pack(chains(todo), chunk_size or _default_chunk(len(todo), workers))
-        first = 0
-        if tasks and workers > 1 and not kernels_cached():
+        first, scenes = 0, sweep_scenes(tasks)
+        if tasks and workers > 1 and not all(kernels_cached(tag(s)) for s in scenes.values()):
             tasks, first = compile_first(tasks)
         if tasks:
             announce_compile()  # here, once, rather than in each worker
         with (progress_bar(len(todo), enabled=progress) as bar,
               _backend(backend, workers, scheduler)):
-            for chunk, times, pid in _parallel(tasks, (sweep.name, profiles, warm_start,
-                                                       sweep.sensitivities), workers, first):
+            args = (sweep.name, profiles, warm_start, sweep.sensitivities, scenes)
+            for chunk, times, pid in _parallel(tasks, args, workers, first):
                 t0 = time.perf_counter()
                 dataset.write_chunk(chunk)
                 report.write_seconds += time.perf_counter() - t0
@@ -201,6 +203,17 @@ def pack(chain_list: list[list[SweepCase]], size: int) -> list[list[list[SweepCa
     return tasks
 
 
+def sweep_scenes(tasks: list[list[list[SweepCase]]]) -> dict[int, Scene]:
+    """The scene each dimension's cases in ``tasks`` are compiled with: the features
+    any of them has (:func:`pipelay_fast.engine.model.shared_scenes`)."""
+    scenes: dict[int, Scene] = {}
+    for case in (sc.case for task in tasks for chain in task for sc in chain):
+        if case is not None:
+            nd, own = dimension_of(case), scene_of(case)
+            scenes[nd] = Scene(*(a or b for a, b in zip(scenes.get(nd, own), own, strict=True)))
+    return scenes
+
+
 def compile_first(tasks: list[list[list[SweepCase]]]) -> tuple[list, int]:
     """``tasks`` reordered for a cold kernel cache, and how many of them form
     the first round: the first task of each dimension ("2d", "3d": the Newton
@@ -230,10 +243,11 @@ def _default_chunk(n: int, workers: int) -> int:
 
 
 def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
-               warm_start: bool = True, sensitivities: tuple = ()):
+               warm_start: bool = True, sensitivities: tuple = (), scenes: dict | None = None):
     """Solve the chains of one task and encode them as a chunk (runs in a
     worker), the summary with the columns of the sweep's ``sensitivities``
-    (:func:`pipelay_fast.study.sensitivity.sensitivity_columns`).
+    (:func:`pipelay_fast.study.sensitivity.sensitivity_columns`), each case's
+    kernels those of ``scenes`` (:func:`sweep_scenes`; None: its own).
 
     Returns (the :class:`~pipelay_fast.study.dataset.Chunk`, times in seconds: "solve"
     and "solve_cpu" in ``pf.solve``, "task_cpu" of the whole task; the pid).
@@ -242,8 +256,9 @@ def solve_task(task: list[list[SweepCase]], sweep: str, profiles: bool,
     notice_given()  # by the process that runs the sweep
     rows, parts, roller_parts, span_parts = [], [], [], []
     times = {"solve": 0.0, "solve_cpu": 0.0}
-    for chain in task:
-        for sc, row, result, dt, cpu in solve_chain(chain, warm_start, sensitivities):
+    with shared_scenes(scenes or {}):
+        solved = (out for chain in task for out in solve_chain(chain, warm_start, sensitivities))
+        for sc, row, result, dt, cpu in solved:
             rows.append(row)
             times["solve"] += dt
             times["solve_cpu"] += cpu
