@@ -34,18 +34,11 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
-from ..kernels.response import (
-    finish_2d,
-    finish_3d,
-    residual_2d,
-    residual_3d,
-    responses_2d,
-    responses_3d,
-)
 from ..kernels.types import Mesh, Settings
 from .boundaries import liftoff_position, stinger_foci, touchdown_position
 from .continuation import boundary_step, run_newton
 from .friction import friction_path
+from .predictor import copied, response_kernels
 from .problem import guess_sizes, remesh, sized_mesh
 from .solver import _solution
 from .state import Problem
@@ -143,21 +136,15 @@ def _kernel_args(pb: Problem):
     return mesh, settings
 
 
-def _kernels(nd: int):
-    """The linear response's kernels (residual, responses, finish) for ``nd``."""
-    return (residual_2d, responses_2d, finish_2d) if nd == 2 else (residual_3d, responses_3d,
-                                                                  finish_3d)
-
-
 def _residuals(problems, out):
     """Each problem's residual at its state (:func:`.kernels.response.residual_2d`)
     into ``out`` = (g, delta, res_b, cmask, kind), a row each. Returns the
     bordered unknowns' counts."""
-    residual = _kernels(problems[0].nd)[0]
+    residual = response_kernels(problems[0].nd)[0]
     counts = []
     for k, pb in enumerate(problems):
         mesh, settings = _kernel_args(pb)
-        counts.append(residual(pb.u, mesh, pb.model(), _copied(pb.kernel_supports()),
+        counts.append(residual(pb.u, mesh, pb.model(), copied(pb.kernel_supports()),
                                pb.kernel_ends(np.zeros_like(pb.u)), settings,
                                *(part[k] for part in out)))
     return counts
@@ -189,11 +176,11 @@ def neighbour_solutions(cases, base: Problem, guessed):
     g, delta, res_b, cmask, kind = out
     same = [counts[i] == counts[-1] and (cmask[i] == cmask[-1]).all()
             and (kind[i] == kind[-1]).all() for i in range(m)]
-    _residual, responses, finish = _kernels(base.nd)
+    _residual, responses, finish = response_kernels(base.nd)
     du, dz, react = np.zeros((m, n)), np.zeros((m, nbr)), np.zeros((m, n))
     mesh, settings = _kernel_args(base)
     singular = m > 0 and responses(
-        base.u.copy(), mesh, base.model(), _copied(base.kernel_supports()),
+        base.u.copy(), mesh, base.model(), copied(base.kernel_supports()),
         base.kernel_ends(np.zeros(n)), settings, g[:m], delta[:m], res_b[:m], du, dz,
         react) < 0
     held = _regime(base)
@@ -232,9 +219,3 @@ def _stepped(case: Case, side: Problem, du, dz, react, kind, held, finish):
              "current_step_max": 0}
     return _solution(side, react, stats, touchdown_position(side),
                      liftoff_position(case, side)), ""
-
-
-def _copied(sup):
-    """A copy of the kernel's supports ``sup`` (an evaluation rewrites the
-    nodal frames and the lateral hold, which a solution's output reads)."""
-    return type(sup)(*(part.copy() for part in sup))
