@@ -706,6 +706,7 @@ def test_touchdown_equation_is_differentiated_by_every_boundary(s67):
     (:func:`.constraints.mesh_lengths`) at s_b +- h."""
     from pipelay_fast.engine.solver import solve_problem
     from pipelay_fast.kernels import layout as L
+    from pipelay_fast.kernels.assembly import element_work
     from pipelay_fast.kernels.constraints import _free_moment, mesh_lengths
 
     pb, _sol = solve_problem(s67)
@@ -716,7 +717,8 @@ def test_touchdown_equation_is_differentiated_by_every_boundary(s67):
     def moment(s_bd, row, own):
         s_el = np.empty(pb.nn - 1)
         mesh_lengths(s_a, s_b, s_bd, s_el)
-        return _free_moment(nd, s_el, pb.u, pb.model(), torques, td, s_b, row, own, 0.0)
+        return _free_moment(nd, s_el, pb.u, pb.model(), torques, td, s_b, row, own, 0.0,
+                            element_work(nd))
 
     own = np.zeros(pb.bnodes.size)
     moment(pb.mesh.s_bd.copy(), np.zeros(pb.u.size), own)

@@ -216,10 +216,11 @@ print(float(np.abs(g).max()))
 
 @pytest.mark.skipif(numba.config.DISABLE_JIT, reason="no machine code without the JIT")
 def test_the_residual_compiles_before_the_newton_kernel(tmp_path):
-    """``system_2d`` (no reference counting) calls ``_system``, which
-    allocates: compiled first from it, before the Newton kernel, it inherited
-    the caller's setting and failed to compile, and every solve of the
-    process after it."""
+    """``system_2d`` compiles the residual's kernels (``_system``, the
+    element) before the Newton kernel: a kernel compiled first from a
+    caller with another reference-counting setting inherits it (an
+    allocating one then failed to compile, and every solve of the process
+    after it)."""
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
     done = subprocess.run([sys.executable, "-c", RESIDUAL_FIRST, str(EXAMPLES / "s67.toml")],
                           env=env, capture_output=True, text=True, timeout=300)

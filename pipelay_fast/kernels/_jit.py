@@ -74,8 +74,8 @@ def jit(func=None, *, by_dimension=False, entry=False, **overrides):
     when it does not (its arrays' counts then cost nothing). numba compiles
     a kernel that does not set it with its first caller's setting, so an
     allocating kernel first reached from one without counting would fail to
-    compile (``tests/test_jit_cache.py``: :func:`.system._system`, first
-    reached from ``system_2d``)."""
+    compile (``tests/test_jit_cache.py``: the residual's kernels compiled
+    from ``system_2d`` before the Newton kernel)."""
     options = {"nopython": True, "boundscheck": None, "cache": True, "nogil": True,
                "error_model": "numpy",
                "no_cfunc_wrapper": True, "no_cpython_wrapper": not entry}

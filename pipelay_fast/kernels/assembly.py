@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba.core import types
@@ -20,12 +21,20 @@ from .types import Model, load_factors
 def element_forces(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """One element's G, dG/du and dG/dle: the planar kernel in 2D
     (:func:`.element2d.element_2d`), the spatial one in 3D
-    (:func:`.element.element_force_ws`); the arguments are the latter's.
+    (:func:`.element.element_force_ws`), with the same arguments.
 
     In a kernel compiled for its dimension (``nd`` a literal, see
     :func:`pipelay_fast.kernels._jit.plain_calls`) the choice is made when it is
     typed, so only that dimension's element kernel is compiled
-    (:func:`_element_forces_impl`); from Python, or with ``nd`` a plain
+    (:func:`_element_forces_impl`). numba compiles the ``overload``'s
+    implementation once for each set of argument types it is typed with,
+    literals included, and each caller's settings: so the arguments but
+    ``nd`` are to be plain values at every call (a flag set to False, then
+    maybe True, is typed as the literal False once: one compilation more),
+    and one kernel calls it (:func:`.system._system`), since each compiled
+    function up the element's call chain optimises and compiles the
+    element's machine code again in its own module
+    (``benchmarks/bench_compile.py``). From Python, or with ``nd`` a plain
     integer, it branches at run time (called from Python, it runs
     :func:`element_forces_py`)."""
     element_forces_py(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
@@ -36,7 +45,7 @@ def _element_forces_impl(nd, le, ue, model, sec, torque, fe, ke, want_tangent, d
                          ws, wm):
     if isinstance(nd, types.IntegerLiteral) and nd.literal_value == 2:
         def planar(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
-            element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+            element_2d(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
         return planar
     if isinstance(nd, types.IntegerLiteral):
         def spatial(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
@@ -50,8 +59,23 @@ def _element_forces_impl(nd, le, ue, model, sec, torque, fe, ke, want_tangent, d
     return either
 
 
+ElementWork = namedtuple("ElementWork", ["fe", "ke", "dfe", "ws", "wm"])
+ElementWork.__doc__ = """One element's outputs and scratch, given to the kernels that loop
+over elements (:func:`element_work`): ``fe`` (ne,) its G, ``ke`` (ne, ne)
+dG/due, ``dfe`` (ne,) dG/dle, ``ws`` (WORK_SIZE,) and ``wm`` (3, 3) the
+element kernel's scratch (ne = 2 (2 nd + 1) unknowns)."""
+
+
 @phase
-def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes, bcols):
+def element_work(nd):
+    """Allocate an :data:`ElementWork` for dimension ``nd`` (left unset)."""
+    ne = 2 * (2 * nd + 1)
+    return ElementWork(np.empty(ne), np.empty((ne, ne)), np.empty(ne), np.empty(WORK_SIZE),
+                       np.empty((3, 3)))
+
+
+@phase
+def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes, bcols, ew):
     """Global residual ``g`` (= internal - distributed external forces) and tangent.
 
     ``u`` holds the nodal unknowns node by node, so element ``e`` owns the
@@ -64,26 +88,16 @@ def assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnod
     so s_b changes element e's length at the rate s_b[b, e+1] - s_b[b, e], and
     the column is the sum of the elements' dG/dle times those rates.
 
-    (Inlined: it only allocates the loop's scratch, :func:`_assemble_elements`.)
+    ``ew`` (:data:`ElementWork`) is the element's scratch. (Inlined into a
+    kernel compiled without numba's reference counting, as the element
+    kernels are: the counts on each element's slice of ``u`` and on the
+    arrays passed down cost more than the element's residual.)
     """
-    ne = 2 * (2 * nd + 1)
-    _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes,
-                       bcols, np.empty(ne), np.empty((ne, ne)), np.empty(ne), np.empty(WORK_SIZE),
-                       np.empty((3, 3)))
-
-
-@jit(by_dimension=True, _nrt=False)
-def _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes,
-                       bcols, fe, ke, dfe, ws, wm):
-    """:func:`assemble`'s loop, with its scratch ``fe``, ``ke``, ``dfe``, ``ws``,
-    ``wm`` given. (Compiled without numba's reference counting, as the element
-    kernels are: it allocates nothing, and the counts on each element's slice
-    of ``u`` and on the arrays passed down would cost more than the
-    element's residual.)"""
     ndn = 2 * nd + 1
     ne = 2 * ndn
     nel = s_el.shape[0]
     nbnd = bnodes.shape[0]
+    fe, ke, dfe = ew.fe, ew.ke, ew.dfe
     g[:] = 0.0
     any_bnd = False
     if want_tangent:
@@ -94,13 +108,14 @@ def _assemble_elements(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent,
                 bcols[b, :] = 0.0
     for e in range(nel):
         g0 = e * ndn
-        want_dle = False
+        moving = 0  # the boundaries that move the element's length
         if any_bnd:
             for b in range(nbnd):
                 if bnodes[b] >= 0 and s_b[b, e + 1] != s_b[b, e]:
-                    want_dle = True
+                    moving += 1
+        want_dle = moving > 0  # (a bool, never a literal: see element_forces)
         element_forces(nd, s_el[e], u[g0:g0 + ne], model, model.section[e], torques[e], fe, ke,
-                       want_tangent, dfe, want_dle, ws, wm)
+                       want_tangent, dfe, want_dle, ew.ws, ew.wm)
         for a in range(ne):
             g[g0 + a] += fe[a]
         if want_tangent:
@@ -248,7 +263,7 @@ def element_forces_py(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe,
     branch on ``nd`` at run time (also under NUMBA_DISABLE_JIT, where calling
     :func:`element_forces` would come back here)."""
     if nd == 2:
-        element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm)
+        element_2d(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm)
     else:
         element_force_ws(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle,
                          ws, wm)

@@ -36,12 +36,10 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from . import layout as L
 from ._jit import jit, phase
 from .assembly import element_forces
-from .element_shapes import WORK_SIZE, hermite
+from .element_shapes import hermite
 from .layout import B_LO, B_TD, SUP_POINT, SUP_SEABED
 from .scene import STINGER
 from .supports import (
@@ -202,8 +200,8 @@ def _hold_on_line(nd, u, sup, k, top_node, w):
                 w.delta[base + nd] = -(u[base + nd] - fp * u[base + 2 * nd - 1])
 
 
-@jit(by_dimension=True, _nrt=True)
-def _free_moment(nd, s_el, u, model, torques, td_node, s_b, row, own, phi):
+@phase
+def _free_moment(nd, s_el, u, model, torques, td_node, s_b, row, own, phi, ew):
     """Touchdown's equation: the moment at touchdown on the free side, the
     residual [N m] of the first free element at the slope unknown of its lower
     node (on the seabed, its slope held), which vanishes with that moment as
@@ -216,24 +214,25 @@ def _free_moment(nd, s_el, u, model, torques, td_node, s_b, row, own, phi):
     ``row`` gets its derivative d/du, ``own`` (nbnd,) its derivatives by each
     boundary's arc length at fixed u (the element's length moves with every
     boundary whose rates ``s_b`` reach it: a graded mesh's with all of
-    them); returns it."""
+    them); returns it. ``ew``: the element's scratch
+    (:func:`.assembly.element_work`). (Inlined into :func:`.system._system`,
+    the kernel that calls the element for the assembly too.)"""
     ndn = 2 * nd + 1
     ne = 2 * ndn
     e = td_node
-    fe = np.zeros(ne)
-    ke = np.zeros((ne, ne))
-    dfe = np.zeros(ne)
+    fe, ke, dfe = ew.fe, ew.ke, ew.dfe
     want = row.shape[0] == u.shape[0]
     sec = model.section[e]
     element_forces(nd, s_el[e], u[e * ndn:e * ndn + ne], model, sec, torques[e], fe, ke,
-                   want, dfe, want, np.empty(WORK_SIZE), np.empty((3, 3)))
+                   want, dfe, want, ew.ws, ew.wm)
     if phi != 0.0:  # the slope unknown of the node's frame (x' row of the turned pair)
         c = math.cos(phi)
         s = math.sin(phi)
         fe[nd] = c * fe[nd] - s * fe[2 * nd - 1]
-        dfe[nd] = c * dfe[nd] - s * dfe[2 * nd - 1]
-        for j in range(ne):
-            ke[nd, j] = c * ke[nd, j] - s * ke[2 * nd - 1, j]
+        if want:
+            dfe[nd] = c * dfe[nd] - s * dfe[2 * nd - 1]
+            for j in range(ne):
+                ke[nd, j] = c * ke[nd, j] - s * ke[2 * nd - 1, j]
     if not want:
         return fe[nd]
     for i in range(row.shape[0]):

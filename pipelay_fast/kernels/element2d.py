@@ -59,10 +59,11 @@ def _drag_2d(c, v, dv_dx, xp, zp):
 
 
 @jit(_nrt=False)
-def element_2d(le, ue, model, sec, fe, ke, want_tangent, dfe, want_dle, ws, wm):
+def element_2d(nd, le, ue, model, sec, torque, fe, ke, want_tangent, dfe, want_dle, ws, wm):
     """Force vector ``fe`` (= G), tangent ``ke`` = dG/due and dG/dle ``dfe``
     of one planar element (unknowns per node x, z, x', z', lam); the
-    arguments as :func:`.element.element_force_ws`'s (nd = 2, no torque)."""
+    arguments as :func:`.element.element_force_ws`'s, ``nd`` (2) and
+    ``torque`` unused (:func:`.assembly.element_forces`)."""
     props = model.props
     ei = sec[L.S_EI]
     ea = sec[L.S_EA]

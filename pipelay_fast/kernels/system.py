@@ -36,7 +36,7 @@ import numpy as np
 
 from . import layout as L
 from ._jit import jit, phase
-from .assembly import assemble, curve_node, distribute_torque, rotate_node
+from .assembly import assemble, curve_node, distribute_torque, element_work, rotate_node
 from .constraints import _bnd_equation, _free_moment
 from .contact import friction_forces, friction_length_derivative, node_arcs
 from .layout import B_LO, B_TD, ROW_BED, SUP_POINT
@@ -45,35 +45,51 @@ from .supports import in_curve_coords, support_height
 from .tuning import EPS
 
 
-@jit(by_dimension=True, _nrt=True)
-def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b, bnodes, bcols):
+@jit(by_dimension=True, _nrt=False)
+def _system(nd, s_el, u, model, torques, ab, kl, ku, g, ends, want_tangent, s_b, bnodes, bcols,
+            ew, row_td, own_td, phi_td):
     """Residual (+ tangent, global frame, and the boundaries' columns dG/ds_b
     of the elements, :func:`.assembly.assemble`) with the nodal loads, the
     load path's offset and the bottom tension on the sliding lower end
     (along the seabed: in its frame, the lower end's, the tension's row is
-    the slide's, :func:`_border`)."""
+    the slide's, :func:`_border`); returns touchdown's equation [N m] when
+    touchdown is an unknown (``bnodes[B_TD] >= 0``, else 0), its gradients
+    in ``row_td`` and ``own_td`` (:func:`.constraints._free_moment`, its
+    frame turned by ``phi_td`` [rad]; ``row_td`` of size 0: the equation
+    alone). ``ew``: the element's scratch (:func:`.assembly.element_work`).
+
+    The one kernel between the element kernel and the Newton kernel's
+    phases: each compiled function up the element's call chain optimises
+    and compiles the element's machine code again in its own module
+    (``benchmarks/bench_compile.py``)."""
     props = model.props
     if props[L.MOM_X] != 0.0 or props[L.MOM_Y] != 0.0 or props[L.MOM_Z] != 0.0:
         distribute_torque(nd, s_el, u, props, torques)
-    assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes, bcols)
+    assemble(nd, s_el, u, model, torques, ab, kl, ku, g, want_tangent, s_b, bnodes, bcols, ew)
     n = g.shape[0]
     for i in range(n):
         g[i] += ends.g_off[i] - ends.f_node[i]
     if ends.slide_dof >= 0:  # along the seabed, at ends.slide_angle above horizontal
         g[ends.slide_dof] += ends.tb[0] * math.cos(ends.slide_angle)
         g[ends.slide_dof - nd + 1] += ends.tb[0] * math.sin(ends.slide_angle)
+    if bnodes[B_TD] < 0:
+        return 0.0
+    return _free_moment(nd, s_el, u, model, torques, bnodes[B_TD], s_b, row_td, own_td, phi_td,
+                        ew)
 
 
-@jit(entry=True, _nrt=False)
+@jit(entry=True, _nrt=True)
 def system_2d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
     """:func:`_system` in the plane, from Python (kl = ku = 9)."""
-    _system(2, s_el, u, model, torques, ab, 9, 9, g, ends, want_tangent, s_b, bnodes, bcols)
+    _system(2, s_el, u, model, torques, ab, 9, 9, g, ends, want_tangent, s_b, bnodes, bcols,
+            element_work(2), np.zeros(0), np.zeros(0), 0.0)
 
 
-@jit(entry=True, _nrt=False)
+@jit(entry=True, _nrt=True)
 def system_3d(s_el, u, model, torques, ab, g, ends, want_tangent, s_b, bnodes, bcols):
     """:func:`_system` in space, from Python (kl = ku = 13)."""
-    _system(3, s_el, u, model, torques, ab, 13, 13, g, ends, want_tangent, s_b, bnodes, bcols)
+    _system(3, s_el, u, model, torques, ab, 13, 13, g, ends, want_tangent, s_b, bnodes, bcols,
+            element_work(3), np.zeros(0), np.zeros(0), 0.0)
 
 
 @phase
@@ -85,20 +101,23 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     touchdown's row (``w.row_td``, ``w.own_td``). The line search calls it
     for its trial states without the tangent.
 
-    (The one phase that calls the element kernel's callers: numba optimises
-    each kernel with all its callees linked in, so a kernel of its own above
-    the element's would add the element's compile time again. The phases
-    are inlined into the Newton kernel (:func:`.newton._newton_kernel`,
-    :func:`._jit.phase`), and this keeps the element's callers in one
-    place.)
+    (The one phase that calls the element kernel's caller, :func:`_system`:
+    numba optimises each kernel with all its callees linked in, so a kernel
+    of its own above the element's would add the element's compile time
+    again. The phases are inlined into the Newton kernel
+    (:func:`.newton._newton_kernel`, :func:`._jit.phase`), and this keeps
+    the element's caller in one place.)
 
     Returns (the top's effective tension [N], touchdown's equation [N m])."""
     ndn = 2 * nd + 1
     kl = 2 * ndn - 1
     bnodes = mesh.bnodes
     ab = w.ab if want_tangent else w.no_ab
-    _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, want_tangent, mesh.s_b,
-            bnodes, w.bcols)
+    td = bnodes[B_TD]
+    m_td = _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, want_tangent,
+                   mesh.s_b, bnodes, w.bcols, element_work(nd),
+                   w.row_td if want_tangent else w.no_row, w.own_td,
+                   sup.phi_rp[td] if td >= 0 else 0.0)
     node_arcs(mesh.s_el, w.s_nd)
     if FRICTION:
         friction_forces(nd, u, g, ab, 2 * kl if want_tangent else 0, model,
@@ -117,11 +136,6 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
                     friction_length_derivative(nd, u, g, model, sup.active[ROW_BED], sup.fric,
                                                w.s_nd, mesh.s_b[b], w.bcols[b])
                 w.d_top[b] = _top_te(nd, w.bcols[b], u, ends.top_node)
-    m_td = 0.0
-    if bnodes[B_TD] >= 0:
-        row = w.row_td if want_tangent else w.no_row
-        m_td = _free_moment(nd, mesh.s_el, u, model, w.torques, bnodes[B_TD], mesh.s_b, row,
-                            w.own_td, sup.phi_rp[bnodes[B_TD]])
     return te_top, m_td
 
 
