@@ -62,6 +62,7 @@ def friction_system(pb):
     ``dense(ab)`` -> the band as a dense matrix; ``friction_only(u)`` -> the
     springs' share of the residual."""
     from pipelay_fast.kernels import layout as L
+    from pipelay_fast.kernels.assembly import element_work
     from pipelay_fast.kernels.contact import friction_forces, node_arcs
     from pipelay_fast.kernels.system import _system
 
@@ -77,7 +78,8 @@ def friction_system(pb):
         ab = np.zeros((3 * kl + 1, n)) if tangent else np.zeros((1, 1))
         _system(nd, pb.s_el, u, pb.model(), torques, ab, kl, kl, g,
                 pb.kernel_ends(np.zeros(n)), tangent, np.zeros((nb, pb.nn)),
-                np.full(nb, -1, dtype=np.int64), np.zeros((nb, n)))
+                np.full(nb, -1, dtype=np.int64), np.zeros((nb, n)), element_work(nd),
+                np.zeros(0), np.zeros(0), 0.0)
         if friction:
             friction_forces(nd, u, g, ab, 2 * kl if tangent else 0, pb.model(),
                             pb.contacts.bed_active, pb.contacts.fric, np.zeros(n), s, False)
