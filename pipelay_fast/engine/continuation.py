@@ -32,7 +32,6 @@ from .boundaries import (
     tip_regime,
     touchdown_spans,
 )
-from .predictor import level_residual, tangent_start
 from .state import Problem, restore, snapshot
 
 # the statuses at which a solve switches regime (:func:`.boundaries.tip_regime`)
@@ -65,17 +64,6 @@ def run_newton(pb: Problem, g_off, tol, maxit):
     Returns (status, reactions (ndof,) [N, N m], info (N_INFO,))."""
     react = np.zeros_like(pb.u)
     info = np.zeros(N_INFO)
-    mesh, settings = _kernel_args(pb, tol, maxit)
-    pb.settings.in_balance = False
-    kernel = in_scene(newton_2d if pb.nd == 2 else newton_3d, pb.scene)
-    status = kernel(pb.u, mesh, pb.model(), pb.kernel_supports(), pb.kernel_ends(g_off),
-                    settings, react, info)
-    pb.mesh.update_nodes()
-    return status, react, info
-
-
-def _kernel_args(pb: Problem, tol, maxit):
-    """The Newton kernel's mesh and settings of ``pb`` (:func:`run_newton`)."""
     if pb.mesh.s_a is not None:
         s_a, s_b = pb.mesh.s_a, pb.mesh.s_b
     else:
@@ -83,7 +71,12 @@ def _kernel_args(pb: Problem, tol, maxit):
     mesh = Mesh(pb.s_el, s_a, s_b, pb.mesh.s_bd, pb.bnodes)
     settings = Settings(float(tol), float(pb.settings.fref), float(pb.settings.href), int(maxit),
                         not pb.settings.in_balance, boundary_step(pb))
-    return mesh, settings
+    pb.settings.in_balance = False
+    kernel = in_scene(newton_2d if pb.nd == 2 else newton_3d, pb.scene)
+    status = kernel(pb.u, mesh, pb.model(), pb.kernel_supports(), pb.kernel_ends(g_off),
+                    settings, react, info)
+    pb.mesh.update_nodes()
+    return status, react, info
 
 
 def _residual(pb: Problem):
@@ -187,7 +180,7 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
 
 
 def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name: str,
-                 converged=None, tangent: bool = False):
+                 converged=None):
     """The one adaptive-step routine of every load path: raise a load level
     from 0 to 1, each step a Newton solve (:func:`newton_in_regime`) from the
     last converged state, with the step rule of tuning.LOAD_STEP,
@@ -206,12 +199,6 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
     from the last converged state before it is halved, so that a warm start
     takes the cold start's steps (friction and the tip's contact are both
     path dependent: another sequence of steps may end on another answer).
-    ``tangent``: each step starts from the tangent predictor's state instead
-    (:func:`.predictor.tangent_start`, from the last level's), and is
-    solved from there as a cold start is (switching regime at the tip, no
-    cap, a failure cut); but a step that stops there for more laid pipe
-    (SHORT_LAID: the linear step may carry touchdown further than the
-    answer does) is solved again from the last converged state.
     A step cut below tuning.SMALLEST_LOAD_STEP, or solver.max_load_steps
     steps taken, raises SolveError naming the load path ``name``, the level
     and why. Returns the last reactions and {"iterations", "load_steps",
@@ -231,10 +218,7 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
             _fail(case, where, info, status, f"; {max_steps} load steps taken, the limit "
                   "that solver.max_load_steps sets")
         saved = snapshot(pb)  # (with the boundaries' map: a switch of regime replaces it)
-        if tangent:  # (the residual at the last level, which the load sets)
-            before = level_residual(pb, *_kernel_args(pb, 1.0, 1), load(level, False)[0])
         g_off, predicted = load(trial, True)
-        ahead = tangent and tangent_start(pb, *_kernel_args(pb, 1.0, 1), g_off, before)
         # a predicted start that takes PREDICTED_CAP times the iterations of
         # the path's hardest converged call so far is not nearer: the step is
         # solved from the last converged state instead
@@ -245,14 +229,9 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
             status, react, info, used = newton_in_regime(case, pb, g_off, budget,
                                                                  where, predicted, cap)
         except ShortLaid:
-            if ahead:  # (from the last converged state, where it may not stop)
-                restore(pb, saved)
-                g_off, _ = load(trial, False)
-                status, react, info, used = newton_in_regime(case, pb, g_off, budget, where)
-            elif not predicted:
+            if not predicted:
                 raise
-            else:
-                status, used = L.SHORT_LAID, 0  # (its iterations are in the budget)
+            status, used = L.SHORT_LAID, 0  # (its iterations are in the budget)
         if status != L.OK and predicted and budget.left > 0:
             # from the last converged state, as the cold start
             restore(pb, saved)
@@ -309,10 +288,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     from that state u0, the one the mesh's solve started from (before any
     switch of regime at the stinger's tip: a switched state is Newton's
     stopped iterate, which may be far out of balance), with
-    its load factor alpha from 0 to 1 (:func:`homotopy`, :func:`continuation`),
-    each step from the tangent predictor's state (no friction on this path;
-    the predictor's state is O(h^2) from a step h's answer, the last
-    converged state O(h)).
+    its load factor alpha from 0 to 1 (:func:`homotopy`, :func:`continuation`).
     ``budget``: the solve's Newton iterations left (None: a fresh one).
 
     Returns the reactions and a dict of iteration counts.
@@ -335,8 +311,7 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
     try:
         react, stats = continuation(case, pb, budget, homotopy(pb),
                                     name="the homotopy from the first guess, load factor",
-                                    converged=lambda _level, _react: _free_touchdown(pb),
-                                    tangent=True)
+                                    converged=lambda _level, _react: _free_touchdown(pb))
     finally:
         pb.settings.top_target = None
     return react, {"iterations": stats["iterations"] + iters, "load_steps": stats["load_steps"]}

@@ -37,11 +37,19 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
+from ..kernels.response import (
+    finish_2d,
+    finish_3d,
+    residual_2d,
+    residual_3d,
+    responses_2d,
+    responses_3d,
+)
+from ..kernels.scene import in_scene
 from ..kernels.types import Mesh, Settings
 from .boundaries import liftoff_position, stinger_foci, touchdown_position
 from .continuation import boundary_step, run_newton
 from .friction import friction_path
-from .predictor import copied, response_kernels
 from .problem import guess_sizes, remesh, sized_mesh
 from .solver import _solution
 from .state import Problem
@@ -203,6 +211,14 @@ def _kernel_args(pb: Problem):
     return mesh, settings
 
 
+def _kernels(pb: Problem):
+    """The linear response's kernels (residual, responses, finish) for
+    ``pb``'s dimension and scene (:attr:`.state.Problem.scene`)."""
+    kernels = (residual_2d, responses_2d, finish_2d) if pb.nd == 2 else (
+        residual_3d, responses_3d, finish_3d)
+    return tuple(in_scene(kernel, pb.scene) for kernel in kernels)
+
+
 def _residuals(problems, out):
     """Each problem's residual at its state (:func:`.kernels.response.residual_2d`)
     into ``out`` = (g, delta, res_b, cmask, kind), a row each, and its
@@ -211,11 +227,11 @@ def _residuals(problems, out):
     a solve's last evaluation leaves it for the profile (the lateral
     curvature there is the free side's). Returns the bordered unknowns'
     counts."""
-    residual = response_kernels(problems[-1])[0]
+    residual = _kernels(problems[-1])[0]
     counts = []
     for k, pb in enumerate(problems):
         mesh, settings = _kernel_args(pb)
-        sup = copied(pb.kernel_supports())
+        sup = _copied(pb.kernel_supports())
         counts.append(residual(pb.u, mesh, pb.model(), sup, pb.kernel_ends(np.zeros_like(pb.u)),
                                settings, *(part[k] for part in out)))
         pb.contacts.y_held[:] = sup.y_held
@@ -249,11 +265,11 @@ def neighbour_solutions(cases, base: Problem, guessed, anchors: Problem | None =
     g, delta, res_b, cmask, kind = out
     same = [counts[i] == counts[-1] and (cmask[i] == cmask[-1]).all()
             and (kind[i] == kind[-1]).all() for i in range(m)]
-    _residual, responses, finish = response_kernels(base)
+    _residual, responses, finish = _kernels(base)
     du, dz, react = np.zeros((m, n)), np.zeros((m, nbr)), np.zeros((m, n))
     mesh, settings = _kernel_args(base)
     singular = m > 0 and responses(
-        base.u.copy(), mesh, base.model(), copied(base.kernel_supports()),
+        base.u.copy(), mesh, base.model(), _copied(base.kernel_supports()),
         base.kernel_ends(np.zeros(n)), settings, g[:m], delta[:m], res_b[:m], du, dz,
         react) < 0
     held = _regime(base)
@@ -292,3 +308,9 @@ def _stepped(case: Case, side: Problem, du, dz, react, kind, held, finish):
              "current_step_max": 0}
     return _solution(side, react, stats, touchdown_position(side),
                      liftoff_position(case, side)), ""
+
+
+def _copied(sup):
+    """A copy of the kernel's supports ``sup`` (an evaluation rewrites the
+    nodal frames and the lateral hold, which a solution's output reads)."""
+    return type(sup)(*(part.copy() for part in sup))
