@@ -99,12 +99,21 @@ def anchor_friction(fric, u, nd, s, props):
     and material points (arc lengths ``s`` [m]); the axial one's along the
     seabed plane's tangent (:func:`..kernels.contact.slip_coordinate`, z on
     the flat seabed, ``props`` the model's properties)."""
-    ndn = 2 * nd + 1
     fric[:, L.FR_S] = s
-    m = props[L.SEABED_TAN]  # the plane's tangent (m c, c), as the kernels' plane_tangent
-    c = 1.0 / math.sqrt(1.0 + m * m)
-    fric[:, L.FR_Z] = u[nd - 1::ndn] if m == 0.0 else m * c * u[0::ndn] + c * u[nd - 1::ndn]
-    if nd == 3:
-        fric[:, L.FR_Y] = u[1::ndn]
+    lateral, along = slip_positions(u, nd, props)
+    fric[:, L.FR_Z] = along
+    if lateral is not None:
+        fric[:, L.FR_Y] = lateral
     fric[:, L.FR_DIR] = 0.0
     fric[:, L.FR_DIRZ] = 0.0
+
+
+def slip_positions(u, nd, props):
+    """The nodes' coordinates [m] the friction springs measure in the state
+    ``u``: (y, lateral; None in 2D) and along the seabed plane's tangent
+    (:func:`..kernels.contact.slip_coordinate`, z on the flat seabed)."""
+    ndn = 2 * nd + 1
+    m = props[L.SEABED_TAN]  # the plane's tangent (m c, c), as the kernels' plane_tangent
+    c = 1.0 / math.sqrt(1.0 + m * m)
+    along = u[nd - 1::ndn] if m == 0.0 else m * c * u[0::ndn] + c * u[nd - 1::ndn]
+    return (u[1::ndn] if nd == 3 else None), along

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..input.case import Case
 from ..kernels import layout as L
-from ..kernels.scene import Scene
+from ..kernels.scene import Scene, union
 
 _PROFILES = {
     "uniform": L.PROFILE_UNIFORM,
@@ -49,7 +49,7 @@ def scene_of(case: Case) -> Scene:
     nd = dimension_of(case)
     friction = case.seabed.axial_friction > 0.0 or (nd == 3 and case.seabed.lateral_friction > 0.0)
     own = Scene(friction=bool(friction), stinger=case.lay.curve is not None or case.lay.has_rollers)
-    return Scene(*(a or b for a, b in zip(own, _SHARED.get(nd, own), strict=True)))
+    return union(own, _SHARED.get(nd, own))
 
 
 def dimension_of(case: Case) -> int:

@@ -49,7 +49,7 @@ from ..kernels.scene import in_scene
 from ..kernels.types import Mesh, Settings
 from .boundaries import liftoff_position, stinger_foci, touchdown_position
 from .continuation import boundary_step, run_newton
-from .friction import friction_path
+from .friction import friction_path, slip_positions
 from .problem import guess_sizes, remesh, sized_mesh
 from .solver import _solution
 from .state import Problem
@@ -118,13 +118,10 @@ def hold_slips(pb: Problem):
     return mapping, :func:`..kernels.contact.friction_commit`, left it) has
     its anchor moved to HELD_SLIP d_slip behind the pipe, its force the
     same."""
-    fric, nd, ndn = pb.contacts.fric, pb.nd, pb.ndn
+    fric = pb.contacts.fric
     d_slip = pb.props[L.FRICTION_SLIP]
-    m = pb.props[L.SEABED_TAN]
-    c = 1.0 / np.sqrt(1.0 + m * m)
-    along = m * c * pb.u[0::ndn] + c * pb.u[nd - 1::ndn] if m != 0.0 else pb.u[nd - 1::ndn]
-    for col, dcol, pos in ((L.FR_Y, L.FR_DIR, pb.u[1::ndn] if nd == 3 else None),
-                           (L.FR_Z, L.FR_DIRZ, along)):
+    lateral, along = slip_positions(pb.u, pb.nd, pb.props)
+    for col, dcol, pos in ((L.FR_Y, L.FR_DIR, lateral), (L.FR_Z, L.FR_DIRZ, along)):
         sliding = fric[:, dcol] != 0.0
         if pos is not None and sliding.any():
             fric[sliding, col] = pos[sliding] + fric[sliding, dcol] * HELD_SLIP * d_slip

@@ -51,6 +51,11 @@ _depends: dict = {}  # dispatcher -> whether it reads a flag, itself or through 
 _copies: dict = {}  # (dispatcher, scene) -> its copy for the scene
 
 
+def union(a: Scene, b: Scene) -> Scene:
+    """The scene with the features of ``a`` or ``b``."""
+    return Scene(*(x or y for x, y in zip(a, b, strict=True)))
+
+
 def tag(scene: Scene) -> str:
     """The suffix of a family's kernel names (numba's cache files): the
     features it is compiled without, "" for :data:`ALL`."""

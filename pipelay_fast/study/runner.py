@@ -37,7 +37,7 @@ from ..api.target import solve_for
 from ..engine.model import dimension_of, scene_of, shared_scenes
 from ..input.errors import SolveError
 from ..kernels._jit import kernels_cached
-from ..kernels.scene import Scene, tag
+from ..kernels.scene import Scene, tag, union
 from ..output.results import SUMMARY_UNITS
 from .dataset import Dataset, encode_chunk, repeated_text
 from .sensitivity import sensitivity_columns, sensitivity_values
@@ -210,7 +210,7 @@ def sweep_scenes(tasks: list[list[list[SweepCase]]]) -> dict[int, Scene]:
     for case in (sc.case for task in tasks for chain in task for sc in chain):
         if case is not None:
             nd, own = dimension_of(case), scene_of(case)
-            scenes[nd] = Scene(*(a or b for a, b in zip(scenes.get(nd, own), own, strict=True)))
+            scenes[nd] = union(scenes.get(nd, own), own)
     return scenes
 
 
