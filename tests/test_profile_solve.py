@@ -103,6 +103,22 @@ def test_stiff_foundation_on_a_flat_profile_gives_the_rigid_answer():
     assert stiff["n_spans"] == 0
 
 
+def test_touchdown_on_a_profiles_flank_gives_its_height_and_depth():
+    """J125 touching down where the profile rises 4 m over 160 m (z = 60 to
+    220 m): ``seabed_depth_at_tdp`` is the table's depth at ``tdp_z``
+    (scipy's PCHIP), and ``tdp_x``, the axis where it leaves the foundation,
+    is the seabed's height there, to a micrometre (the pipe rests w/k =
+    3.3 mm below the surface behind touchdown)."""
+    rows = [[-200.0, DEPTH], [60.0, DEPTH], [220.0, DEPTH - 4.0], [600.0, DEPTH - 4.0]]
+    r = pf.solve(_j125(**{"seabed.profile": rows}))
+    sm = r.summary
+    assert sm["status"] == "ok" and 80.0 < sm["tdp_z"] < 200.0
+    depth = float(profile_depth(rows, sm["tdp_z"]))
+    assert DEPTH - 3.9 < depth < DEPTH - 0.1  # on the flank
+    assert sm["seabed_depth_at_tdp"] == pytest.approx(depth, abs=1e-9)
+    assert sm["tdp_x"] == pytest.approx(DEPTH - depth, abs=1e-6)
+
+
 def test_3d_with_a_current_on_a_profile_is_admissible():
     """J125 3D (1 m/s along +y) on the trench and hump: the foundation
     pushes, it and the vessel carry the weight, friction stays in its cone

@@ -15,6 +15,7 @@ import pytest
 import pipelay_fast as pf
 from pipelay_fast.input.surface import check_water
 from tests.helpers import load
+from tests.reference.profile import profile_depth
 
 
 def refused(name, **changes) -> str:
@@ -165,3 +166,87 @@ def test_a_generated_roller_turned_below_the_slope_names_the_path_and_the_trim()
                               "lay.trim_deg = 1.0 deg about lay.trim_pivot = [70.0, 400.0]")
     z = float(re.search(r"to \[[^,]+, (-?[0-9.e+-]+)\]", message).group(1))
     assert seabed_x(message) == pytest.approx(z * math.tan(math.radians(10.0)), rel=1e-5)
+
+
+# ------------------------------------------------------------------ the stinger's length
+
+
+def shoal(top: float, z: float = 300.0) -> list[list[float]]:
+    """A profile for S67 (67 m of water) level but for a shoal 20 m wide whose
+    crest, at ``z`` [m], is ``top`` [m] above the reference seabed."""
+    return [[200.0, 67.0], [z - 10.0, 67.0], [z, 67.0 - top], [z + 10.0, 67.0], [500.0, 67.0]]
+
+
+def parabola_x(case, u):
+    """The height x [m] at z = ``u`` [m] of the case's quadratic stinger as
+    given (seabed frame, untrimmed), from its keys: x = x_l + m (u - z_l) +
+    a (u - z_l) (u - z_u), m the chord's slope."""
+    st = case.given_lay.stinger
+    (x_l, z_l), (x_u, z_u) = st.lower, st.upper
+    return x_l + (x_u - x_l) / (z_u - z_l) * (u - z_l) + st.a * (u - z_l) * (u - z_u)
+
+
+def stinger_clearance(case, rows, deg=0.0, pivot=(0.0, 0.0)):
+    """The least height [m] of the case's stinger (turned by ``deg`` about
+    ``pivot``) above the profile ``rows`` (scipy's PCHIP in 67 m of water),
+    densely sampled strictly between its ends."""
+    st = case.given_lay.stinger
+    u = np.linspace(st.lower[1], st.upper[1], 400001)[1:-1]
+    x = parabola_x(case, u)
+    t = math.radians(deg)
+    xt = pivot[0] + math.cos(t) * (x - pivot[0]) + math.sin(t) * (u - pivot[1])
+    zt = pivot[1] + math.cos(t) * (u - pivot[1]) - math.sin(t) * (x - pivot[0])
+    return float(np.min(xt - (67.0 - profile_depth(rows, zt))))
+
+
+def test_a_shoal_under_the_stingers_middle_is_refused_naming_the_stinger():
+    """S67's stinger is 53.6 m above the reference seabed at z = 300 m. A
+    shoal there rising to 54 m, level seabed (x = 0) under the tip (41.5 m at
+    265 m) and the upper end (72 m at 400 m), cuts the stinger between its
+    ends: refused, naming the stinger's keys and a point below the seabed
+    (the heights checked here with the parabola and scipy's PCHIP). A crest
+    0.1 m lower clears the stinger by less than 0.1 m (the dense check
+    here) and is accepted."""
+    base = load("s67", **{"seabed.stiffness": 1e6})
+    rows = shoal(54.0)
+    assert stinger_clearance(base, rows) < 0.0
+    message = refused("s67", **{"seabed.stiffness": 1e6, "seabed.profile": rows})
+    assert message.startswith("lay.stinger.a = -0.0012 with lay.stinger.lower = [41.5, 265.0] "
+                              "and lay.stinger.upper = [72.0, 400.0] passes, between its ends, "
+                              "at x = ")
+    assert "seabed.profile and environment.water_depth = 67.0 m put" in message
+    z = float(re.search(r"m at z = (-?[0-9.e+-]+) m in the", message).group(1))
+    x = float(re.search(r"between its ends, at x = (-?[0-9.e+-]+) m", message).group(1))
+    assert 290.0 < z < 310.0
+    # (to the message's 6 digits: z to 5e-4 m, on slopes up to 0.3 and 8)
+    assert x == pytest.approx(parabola_x(base, z), abs=1e-3)
+    assert seabed_x(message) == pytest.approx(67.0 - float(profile_depth(rows, z)), abs=1e-2)
+    assert seabed_x(message) > x
+    clear = shoal(53.6074 - 0.1)
+    assert 0.0 < stinger_clearance(base, clear) < 0.1
+    assert load("s67", **{"seabed.stiffness": 1e6, "seabed.profile": clear}).seabed.profile
+
+
+def test_a_trim_that_lowers_the_stinger_onto_a_shoal_is_refused_naming_it():
+    """The shoal's crest 0.3 m under the untrimmed S67 stinger at z = 300 m;
+    a trim of +1 deg about (70, 330) lowers the stinger there by about
+    30 sin(1 deg) = 0.52 m onto it: refused, naming the trim; the point named lies on the
+    vessel's parabola turned by the trim (turned back here)."""
+    rows = shoal(53.6074 - 0.3)
+    base = load("s67", **{"seabed.stiffness": 1e6, "seabed.profile": rows})
+    assert stinger_clearance(base, rows) > 0.2
+    trim = {"lay.trim_deg": 1.0, "lay.trim_pivot": [70.0, 330.0]}
+    assert stinger_clearance(base, rows, 1.0, (70.0, 330.0)) < 0.0
+    message = refused("s67", **{"seabed.stiffness": 1e6, "seabed.profile": rows, **trim})
+    assert message.startswith("lay.stinger.a = -0.0012 with lay.stinger.lower = [41.5, 265.0] "
+                              "and lay.stinger.upper = [72.0, 400.0], turned by lay.trim_deg = "
+                              "1.0 deg about lay.trim_pivot = [70.0, 330.0] passes, between its "
+                              "ends, at x = ")
+    z = float(re.search(r"m at z = (-?[0-9.e+-]+) m in the", message).group(1))
+    x = float(re.search(r"between its ends, at x = (-?[0-9.e+-]+) m", message).group(1))
+    t = math.radians(-1.0)  # back into the vessel's frame
+    xv = 70.0 + math.cos(t) * (x - 70.0) + math.sin(t) * (z - 330.0)
+    zv = 330.0 + math.cos(t) * (z - 330.0) - math.sin(t) * (x - 70.0)
+    assert xv == pytest.approx(parabola_x(base, zv), abs=1e-3)
+    assert seabed_x(message) == pytest.approx(67.0 - float(profile_depth(rows, z)), abs=1e-2)
+    assert seabed_x(message) > x

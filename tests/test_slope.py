@@ -208,10 +208,12 @@ def test_slope_zero_is_the_flat_seabed_to_the_bit(name, dimension):
 
 
 def test_the_seabed_line_under_the_pipe():
-    """The laid pipe lies on the plane x = (z - z0) tan(alpha), and the
-    seabed's normal reaction over each laid node balances the pipe's weight
-    per length's normal share, w cos(alpha), over the laid stretch (its
-    nodes' reactions summed over their length, touchdown's node apart)."""
+    """The laid pipe lies on the plane x = (z - z0) tan(alpha), touchdown
+    too (the summary's ``tdp_x``, and ``seabed_depth_at_tdp`` the water
+    depth less it), and the seabed's normal reaction over each laid node
+    balances the pipe's weight per length's normal share, w cos(alpha), over
+    the laid stretch (its nodes' reactions summed over their length,
+    touchdown's node apart)."""
     case = _case("j125_2d", 6.0, 150.0)
     r = pf.solve(case)
     cols = r.columns
@@ -219,6 +221,11 @@ def test_the_seabed_line_under_the_pipe():
     laid = np.asarray(cols["contact"]) == "seabed"
     x, z = np.asarray(cols["x"]), np.asarray(cols["z"])
     assert np.abs(x[laid] - (z[laid] - 150.0) * tan_a).max() < 1e-9
+    sm = r.summary
+    assert sm["tdp_x"] == pytest.approx((sm["tdp_z"] - 150.0) * tan_a, abs=1e-9)
+    assert abs(sm["tdp_x"]) > 1.0  # (touchdown off the origin's level: the plane matters)
+    assert sm["seabed_depth_at_tdp"] == pytest.approx(
+        case.environment.water_depth - sm["tdp_x"], abs=1e-9)
     s = np.asarray(cols["s"])
     k = np.flatnonzero(laid)[1:-2]  # inner laid nodes, away from touchdown's reaction
     w, _ = weights(case)

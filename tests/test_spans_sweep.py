@@ -6,6 +6,7 @@ import pytest
 
 import pipelay_fast as pf
 from pipelay_fast.input.case import load_case
+from pipelay_fast.output.io import read_units
 from pipelay_fast.output.spans import SPAN_UNITS
 from pipelay_fast.study.dataset import read_spans, read_summary
 from pipelay_fast.study.runner import run_sweep
@@ -38,6 +39,15 @@ def test_the_sweep_writes_each_case_s_spans(profile_sweep):
         np.testing.assert_allclose(mine[column].to_numpy(), direct.spans[column].to_numpy(),
                                    rtol=1e-9, atol=1e-12, err_msg=column)
     assert row["max_span_length"] == pytest.approx(mine["length"].max(), rel=1e-12)
+    # the units in the schema: the partition's, and the summary's span columns
+    (path,) = profile_sweep.glob("spans/scene=J125P/*.parquet")
+    assert read_units(path) == {"case_id": "", **SPAN_UNITS}
+    (path,) = profile_sweep.glob("summary/scene=J125P/*.parquet")
+    units = read_units(path)
+    assert {k: units[k] for k in ("tdp_x", "seabed_depth_at_tdp", "n_spans", "max_span_length",
+                                  "max_span_gap")} == {"tdp_x": "m", "seabed_depth_at_tdp": "m",
+                                                       "n_spans": "-", "max_span_length": "m",
+                                                       "max_span_gap": "m"}
 
 
 def test_a_rigid_seabed_sweep_writes_no_spans(tmp_path):

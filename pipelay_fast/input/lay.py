@@ -47,9 +47,9 @@ class Stinger:
     The geometry is checked up front: a concave-up stinger (a > 0) would hold
     the pipe at its ends only, not along the one contiguous stretch the model
     solves for; the upper end must lie above the tip (z_U > z_L, x_U > x_L;
-    with a <= 0 the whole stinger is then above its tip, which the case
-    checks against the seabed, :func:`.surface.check_vessel`); and the
-    stinger may turn the pipe by at most 90 deg between its ends (tangent angle
+    with a <= 0 the whole stinger is then above its tip; the case checks
+    it against the seabed along its length, :func:`.surface.check_vessel`);
+    and the stinger may turn the pipe by at most 90 deg between its ends (tangent angle
     at the tip minus that at the upper end): more, and the stinger overhangs,
     its tip pointing back under the pipe that comes from the vessel. The
     bending strain of a pipe conforming to it is checked with the pipe

@@ -15,9 +15,16 @@ what puts the seabed there. A point exactly on the surface: the top is
 refused (the pipe's upper end must hang above the seabed, or there is no
 lay), a tip or a roller is accepted (a support resting on the seabed still
 holds the pipe from below; the pipe then touches down where it leaves it).
-A quadratic stinger between its tip and upper end is not checked point by
-point: concave down (or straight) against a plane, it lies above the plane
-where both its ends do (against a profile's hump it may not).
+A quadratic stinger is also checked along its length, strictly between its
+ends (:func:`_dip`): concave down or straight, turned or not, it lies above
+its chord between any two of its points, and the surface is monotone
+between two knots of a profile (its interpolant's) and along a plane, so on
+a stretch [p, q] with neither end below the surface the clearance is at
+least min(x(p), x(q)) - max(x_b(p), x_b(q)) (x(z) the stinger's height).
+Stretches where that bound is negative are halved until it is not, a point
+of the curve below the surface is found, or the stretch is shorter than the
+round-off of its z (``limits.ROUNDOFF``): exact to round-off, whatever the
+profile's humps under the stinger.
 
 :func:`check_water` refuses a seabed that reaches the still water level
 (x_b >= d) at a z of the modelled pipe, which only the engine knows (the
@@ -32,6 +39,7 @@ import math
 
 import numpy as np
 
+from .limits import ROUNDOFF
 from .profile import bed_heights, bed_knots
 
 
@@ -82,10 +90,61 @@ def _points(case):
     return points
 
 
+def _dip(case) -> tuple[float, float, float] | None:
+    """(z, x, x_b) [m], seabed frame, of a point of the quadratic stinger's
+    curve strictly between its ends that lies below the surface (the
+    lowest such point sampled, the module docstring's halving), or None;
+    its ends are checked as points (:func:`_points`)."""
+    curve, bed, depth = case.lay.curve, case.seabed, case.environment.water_depth
+    if curve is None:
+        return None
+    z_l, z_u = float(curve.lower[1]), float(curve.upper[1])
+    knots = [] if bed.profile is None else [z for z, _d in bed.profile if z_l < z < z_u]
+    edges = np.array([z_l, *knots, z_u])
+    p, q = edges[:-1], edges[1:]
+    shortest = ROUNDOFF * max(abs(z_l), abs(z_u))
+    while p.size:
+        z = np.concatenate([p, q])
+        x, x_b = np.asarray(curve.height(z), dtype=float), heights(bed, depth, z)
+        k = int(np.argmin(x - x_b))
+        if x[k] < x_b[k]:
+            return float(z[k]), float(x[k]), float(x_b[k])
+        n = p.size
+        bound = np.minimum(x[:n], x[n:]) - np.maximum(x_b[:n], x_b[n:])
+        keep = (bound < 0.0) & (q - p > shortest)
+        p, q = p[keep], q[keep]
+        middle = 0.5 * (p + q)
+        p, q = np.concatenate([p, middle]), np.concatenate([middle, q])
+    return None
+
+
+def _refuse(case, head: str, x_b: float, z: float, shift: float) -> None:
+    """Raise the ValueError of :func:`check_vessel`: ``head`` (the key, its
+    value as given and what it does), then where the seabed is, at ``x_b``
+    [m] and ``z`` [m] in the seabed frame, and the frame."""
+    frame = case.given_lay.frame
+    cause = _cause(case)
+    puts = "put" if " and " in cause else "puts"
+    where = (f"{cause} {puts} the seabed at x = {x_b - shift:.6g} m" if cause
+             else "the seabed is at x = 0 m")
+    if case.seabed.slope_deg != 0.0 or case.seabed.profile is not None:
+        where += f" at z = {z:.6g} m"
+    raise ValueError(f"{head} the seabed: {where} in the {frame} frame (lay.frame = {frame!r})")
+
+
+def _trim_words(given) -> str:
+    """How the trim turned the vessel's geometry, as given ('' untrimmed)."""
+    if given.trim_deg == 0.0:
+        return ""
+    return (f", turned by lay.trim_deg = {given.trim_deg!r} deg about lay.trim_pivot = "
+            f"{list(given.trim_pivot)}")
+
+
 def check_vessel(case) -> None:
     """Refuse (ValueError) a ``case`` whose vessel's top, stinger tip or a
-    roller lies below the seabed's surface, the top on it as well (the
-    module docstring), naming the key and its value as given."""
+    roller lies below the seabed's surface, the top on it as well, or whose
+    quadratic stinger passes below it between its ends (the module
+    docstring), naming the keys and their values as given."""
     given, depth = case.given_lay, case.environment.water_depth
     shift = depth if given.frame == "waterline" else 0.0  # seabed frame -> given frame
     points = _points(case)
@@ -93,19 +152,18 @@ def check_vessel(case) -> None:
     for (key, value, (x, z), strict), x_b in zip(points, surface.tolist(), strict=True):
         if not (x < x_b or (strict and x <= x_b)):
             continue
-        turned = ""
-        if given.trim_deg != 0.0:
-            turned = (f", turned by lay.trim_deg = {given.trim_deg!r} deg about lay.trim_pivot "
-                      f"= {list(given.trim_pivot)} to {[float(x) - shift, float(z)]},")
+        turned = _trim_words(given)
+        if turned:
+            turned += f" to {[float(x) - shift, float(z)]},"
         verb = "is not above" if strict else "is below"
-        cause = _cause(case)
-        puts = "put" if " and " in cause else "puts"
-        where = (f"{cause} {puts} the seabed at x = {x_b - shift:.6g} m" if cause
-                 else "the seabed is at x = 0 m")
-        if case.seabed.slope_deg != 0.0 or case.seabed.profile is not None:
-            where += f" at z = {float(z):.6g} m"
-        raise ValueError(f"{key} = {value}{turned} {verb} the seabed: {where} in the "
-                         f"{given.frame} frame (lay.frame = {given.frame!r})")
+        _refuse(case, f"{key} = {value}{turned} {verb}", x_b, float(z), shift)
+    dip = _dip(case)
+    if dip is not None:
+        z, x, x_b = dip
+        st = given.stinger
+        _refuse(case, f"lay.stinger.a = {st.a!r} with lay.stinger.lower = {list(st.lower)} and "
+                f"lay.stinger.upper = {list(st.upper)}{_trim_words(given)} passes, between its "
+                f"ends, at x = {x - shift:.6g} m, below", x_b, z, shift)
 
 
 def check_water(case, z) -> None:
