@@ -30,8 +30,9 @@ import sys
 from pathlib import Path
 
 from ._version import __version__
-from .api.notice import compile_notice
+from .api.notice import compile_notice, notice_given, scenes_cached
 from .api.solve import solve
+from .engine.model import scene_of
 from .input.case import load_case
 from .input.errors import SolveError
 from .input.examples import example_description, example_names, example_path
@@ -175,11 +176,12 @@ def _named(path: Path, err: Exception) -> str:
     return message if message.startswith((str(path), repr(str(path)))) else f"{path}: {message}"
 
 
-def _compile_notice(quiet: bool) -> None:
-    """On stderr, that the kernels are about to compile (a new environment's
-    first run, :func:`pipelay_fast.api.notice.compile_notice`), unless
-    ``quiet``; either way the solves of this process do not log it again."""
-    notice = compile_notice()
+def _compile_notice(quiet: bool, case) -> None:
+    """On stderr, that ``case``'s kernels are about to compile (a new
+    environment's first run, or a family of kernels not yet in the cache:
+    :func:`pipelay_fast.api.notice.compile_notice`), unless ``quiet``;
+    either way the solves of this process do not log it again."""
+    notice = compile_notice(scenes_cached(scene_of(case)))
     if notice is not None and not quiet:
         print(notice, file=sys.stderr, flush=True)
 
@@ -189,7 +191,7 @@ def _solve(args: argparse.Namespace) -> int:
 
     try:
         case = load_case(str(args.case))  # a bundled example's name, too
-        _compile_notice(args.quiet)
+        _compile_notice(args.quiet, case)
         result = solve(case)
     except OSError as err:
         return _error(f"cannot read {args.case}: {err.strerror or err}", EXIT_USAGE)
@@ -304,7 +306,8 @@ def _sweep(args: argparse.Namespace) -> int:
         print(f"sweep {sweep.name}: {len(cases)} cases -> {out}")
         print(counts.to_string())
         return EXIT_OK
-    _compile_notice(args.quiet)
+    if args.quiet:
+        notice_given()  # the sweep logs the notice for its own families otherwise
     try:
         report = run_sweep(sweep, out, workers=args.workers, backend=args.backend,
                            scheduler=args.scheduler, chunk_size=args.chunk_size,
@@ -352,7 +355,7 @@ def _plot(args: argparse.Namespace) -> int:
         else:
             out = args.out or Path(f"{source.stem}.png")
             case = load_case(str(source))
-            _compile_notice(False)
+            _compile_notice(False, case)
             plot_result(solve(case), out)
     except OSError as err:
         return _error(f"cannot read {source} or write {args.out}: {err.strerror or err}",

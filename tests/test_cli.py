@@ -113,7 +113,7 @@ def test_a_first_run_says_the_kernels_compile(tmp_path, capsys, monkeypatch):
     assert _jit.kernels_cached()
 
     for cached, quiet, said in ((False, False, True), (True, False, False), (False, True, False)):
-        monkeypatch.setattr(_jit, "kernels_cached", lambda cached=cached: cached)
+        monkeypatch.setattr(_jit, "kernels_cached", lambda family=None, cached=cached: cached)
         monkeypatch.setattr(notice, "_given", False)  # a new process
         assert main(["solve", str(J125), *(["--quiet"] if quiet else [])]) == 0
         assert ("compiling the numerical kernels" in capsys.readouterr().err) == said

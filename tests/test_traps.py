@@ -144,6 +144,36 @@ def test_the_cli_prints_the_notice_and_the_api_does_not_repeat_it(new_process, c
     assert notices(caplog) == []
 
 
+def test_another_familys_cache_does_not_silence_the_notice(monkeypatch, caplog, capsys):
+    """J-lay's family (no stinger) in the cache; an S-lay compiles another
+    Newton kernel (:func:`pipelay_fast.engine.model.scene_of`), so it is told."""
+    from pipelay_fast.engine.model import scene_of
+    from pipelay_fast.kernels.scene import tag
+
+    j125, s67 = pf.load_case("j125"), pf.load_case("s67")
+    assert tag(scene_of(j125)) != tag(scene_of(s67))
+    cached = {tag(scene_of(j125))}  # kernels_cached(None): any family's
+    monkeypatch.setattr(notice._jit, "kernels_cached",
+                        lambda family=None: bool(cached) if family is None else family in cached)
+    caplog.set_level(logging.WARNING, logger="pipelay_fast")
+    for case, told in ((j125, []), (s67, [notice.COMPILE_NOTICE])):
+        monkeypatch.setattr(notice, "_given", False)
+        notice.announce_compile(notice.scenes_cached(scene_of(case)))
+        assert notices(caplog) == told
+    monkeypatch.setattr(notice, "_given", False)
+    assert cli.main(["solve", "--quiet", "s67"]) == 0  # quiet: not printed
+    assert notices(caplog) == [notice.COMPILE_NOTICE] and capsys.readouterr().err == ""
+
+
+def test_a_quiet_cli_sweep_gives_no_notice(new_process, caplog, capsys, tmp_path):
+    caplog.set_level(logging.WARNING, logger="pipelay_fast")
+    sweep = tmp_path / "quick.toml"
+    sweep.write_text('case = "j125"\n[set]\n"solver.element_length" = 8.0\n'
+                     '[vary]\ncurrent_speed = [0.0]\n')
+    assert cli.main(["sweep", str(sweep), "--quiet", "--out", str(tmp_path / "out")]) == 0
+    assert notices(caplog) == [] and capsys.readouterr().err == ""
+
+
 # --------------------------------------------------------------------------- errors name their file
 
 

@@ -17,8 +17,10 @@ import logging
 from collections.abc import Callable
 
 from ..kernels import _jit
+from ..kernels.scene import tag
 
-__all__ = ["COMPILE_NOTICE", "LOGGER", "announce_compile", "compile_notice", "notice_given"]
+__all__ = ["COMPILE_NOTICE", "LOGGER", "announce_compile", "compile_notice", "notice_given",
+           "scenes_cached"]
 
 LOGGER = logging.getLogger("pipelay_fast")
 
@@ -40,6 +42,15 @@ def compile_notice(kernels_cached: Callable[[], bool] | None = None) -> str | No
         return None
     _given = True
     return None if (kernels_cached or _jit.kernels_cached)() else COMPILE_NOTICE
+
+
+def scenes_cached(*scenes) -> Callable[[], bool]:
+    """A test for :func:`compile_notice`: whether numba's cache holds the
+    Newton kernel of every one of ``scenes`` (:class:`..kernels.scene.Scene`,
+    the families :func:`pipelay_fast.engine.model.scene_of` picks), the
+    kernels a solve or a sweep of them runs. Another family's cache does not
+    count: it would not be loaded."""
+    return lambda: all(_jit.kernels_cached(tag(scene)) for scene in scenes)
 
 
 def notice_given() -> None:

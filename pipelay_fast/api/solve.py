@@ -19,12 +19,10 @@ from ..engine.state import Problem
 from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import strain_beyond_line
-from ..kernels import _jit
-from ..kernels.scene import tag
 from ..output.results import Result, build_profile, build_rollers, build_summary
 from ..output.sensitivity import sensitivity_table
 from ..output.spans import span_table
-from .notice import announce_compile
+from .notice import announce_compile, scenes_cached
 
 
 def solve(case: Case, *, warm: Result | None = None,
@@ -76,7 +74,7 @@ def solve(case: Case, *, warm: Result | None = None,
     :func:`pipelay_fast.engine.model.scene_of`) are not in numba's cache
     logs that they compile (:mod:`pipelay_fast.api.notice`).
     """
-    announce_compile(lambda: _jit.kernels_cached(tag(scene_of(case))))
+    announce_compile(scenes_cached(scene_of(case)))
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
                          f"{type(warm).__name__}")

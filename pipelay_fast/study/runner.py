@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from tqdm import tqdm
 
-from ..api.notice import announce_compile, notice_given
+from ..api.notice import announce_compile, notice_given, scenes_cached
 from ..api.solve import solve
 from ..api.target import solve_for
 from ..engine.model import dimension_of, scene_of, shared_scenes
@@ -163,8 +163,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int = 2, backend: str = "loky",
         first, scenes = 0, sweep_scenes(tasks)
         if tasks and workers > 1 and not all(kernels_cached(tag(s)) for s in scenes.values()):
             tasks, first = compile_first(tasks)
-        if tasks:
-            announce_compile()  # here, once, rather than in each worker
+        if tasks:  # here, once, rather than in each worker
+            announce_compile(scenes_cached(*scenes.values()))
         with (progress_bar(len(todo), enabled=progress) as bar,
               _backend(backend, workers, scheduler)):
             args = (sweep.name, profiles, warm_start, sweep.sensitivities, scenes)
