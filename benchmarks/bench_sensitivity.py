@@ -7,9 +7,11 @@
    that compiles, timed apart) of a solve, of the sensitivity table with no
    key (the solution's own refinement, shared by the keys) and with every
    key; the cost of a key is (with every key - with none) / keys, and its
-   ratio to the solve's time is of the same run. Then the table's parts
-   (PARTS: the neighbours' cases, guesses, meshes, Newton calls and
-   post-processing, the base's included), each as its time per key over
+   ratio to the solve's time is of the same run (wall clock; and by the
+   process's CPU time, which a loaded machine's waits disturb less). Then
+   the table's parts (PARTS and KERNEL_PARTS: the neighbours' cases,
+   guesses, meshes and post-processing, the residual, response and
+   completion kernels; the base's included), each as its time per key over
    the solve's, timed in further runs.
 2. Step size: the sensitivities of S67 2D at relative steps 1e-2 .. 1e-6
    against the reference (3).
@@ -81,20 +83,23 @@ def keys_of(case) -> list[str]:
 
 
 # the parts of a sensitivity table timed apart (module, function): the
-# neighbours' cases, their first guesses, their meshes, their residuals, the
+# neighbours' cases, their first guesses, their meshes and their
+# post-processing; and the kernels ES._kernels gives for the scene (each a
+# copy compiled for it, which wrapping the module's kernels would bypass, its
+# whole-scene copy compiled and timed instead): the neighbours' residuals, the
 # linear responses (one factorisation for every neighbour), their completion
-# (2D's kernels: a 3D case's are not timed) and their post-processing
 PARTS = {"case": (Case, "with_number"), "guess": (S, "guess_sizes"),
-         "mesh": (ES, "regraded_problem"), "residual": (ES, "residual_2d"),
-         "response": (ES, "responses_2d"), "finish": (ES, "finish_2d"),
-         "post-processing": (S, "_side")}
+         "mesh": (ES, "regraded_problem"), "post-processing": (S, "_side")}
+KERNEL_PARTS = ("residual", "response", "finish")  # ES._kernels' order
 
 
 @contextmanager
 def timed_parts(spent: dict):
-    """Add the seconds spent in each of PARTS into ``spent`` (the mesh's
-    include the guess a side makes itself) while in the block."""
+    """Add the seconds spent in each of PARTS and KERNEL_PARTS into
+    ``spent`` (the mesh's include the guess a side makes itself) while in
+    the block."""
     saved = {part: getattr(owner, name) for part, (owner, name) in PARTS.items()}
+    kernels = ES._kernels
 
     def timer(part, function):
         def timed(*args, **kwargs):
@@ -105,13 +110,19 @@ def timed_parts(spent: dict):
                 spent[part] = spent.get(part, 0.0) + time.perf_counter() - t0
         return timed
 
+    def timed_kernels(pb):
+        return tuple(timer(part, kernel)
+                     for part, kernel in zip(KERNEL_PARTS, kernels(pb), strict=True))
+
     try:
         for part, (owner, name) in PARTS.items():
             setattr(owner, name, timer(part, saved[part]))
+        ES._kernels = timed_kernels
         yield spent
     finally:
         for part, (owner, name) in PARTS.items():
             setattr(owner, name, saved[part])
+        ES._kernels = kernels
 
 
 def cost(name: str, repeats: int) -> dict:
@@ -123,29 +134,34 @@ def cost(name: str, repeats: int) -> dict:
     t0 = time.perf_counter()
     result = pf.solve(case, sensitivities=keys)  # warm-up: compiles
     warm_up = time.perf_counter() - t0
-    solve, base, every = [], [], []
+    solve, base, every, cpu = [], [], [], []
     for _ in range(repeats):
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         result = pf.solve(case)
-        t1 = time.perf_counter()
+        c1, t1 = time.process_time(), time.perf_counter()
         S.sensitivity_table(case, result.state, [], result.functional)
-        t2 = time.perf_counter()
+        c2, t2 = time.process_time(), time.perf_counter()
         table = S.sensitivity_table(case, result.state, keys,
                                     result.functional)
-        t3 = time.perf_counter()
+        c3, t3 = time.process_time(), time.perf_counter()
         solve.append(t1 - t0)
         base.append(t2 - t1)
         every.append(t3 - t2)
+        cpu.append((c1 - c0, c2 - c1, c3 - c2))
     spent = {}
     with timed_parts(spent):
         for _ in range(repeats):
             S.sensitivity_table(case, result.state, keys, result.functional)
     t_solve, t_base, t_every = (statistics.median(v) for v in (solve, base, every))
     per_key = (t_every - t_base) / len(keys)
-    parts = {part: spent.get(part, 0.0) / len(keys) / sum(solve) for part in PARTS}
+    # the same from the process's CPU time, less disturbed by a loaded machine's waits
+    c_solve, c_base, c_every = (statistics.median(v) for v in zip(*cpu, strict=True))
+    parts = {part: spent.get(part, 0.0) / len(keys) / sum(solve)
+             for part in (*PARTS, *KERNEL_PARTS)}
     return {"case": name, "keys": keys, "warm_up_s": warm_up, "solve_s": t_solve,
             "base_s": t_base, "every_key_s": t_every, "per_key_s": per_key,
             "per_key_ratio": per_key / t_solve,
+            "per_key_ratio_cpu": (c_every - c_base) / len(keys) / c_solve,
             "per_key_ratio_with_base": t_every / len(keys) / t_solve,
             "parts_per_key_ratio": parts,
             "solve_iterations": result.summary["n_iterations"],
@@ -225,16 +241,19 @@ def step_study() -> dict:
 def _markdown(costs, study, agree) -> str:
     lines = ["## Cost (median, same run)", "",
              "| case | keys | solve [ms] | base [ms] | per key [ms] | per key / solve "
-             "| with base share | solve its |",
-             "|---|---|---|---|---|---|---|---|"]
+             "| per key / solve, CPU | with base share | solve its |",
+             "|---|---|---|---|---|---|---|---|---|"]
     lines.extend(f"| {c['case']} | {len(c['keys'])} | {1e3 * c['solve_s']:.1f} | "
                  f"{1e3 * c['base_s']:.1f} | {1e3 * c['per_key_s']:.1f} | "
-                 f"{c['per_key_ratio']:.2f} | {c['per_key_ratio_with_base']:.2f} | "
+                 f"{c['per_key_ratio']:.2f} | {c['per_key_ratio_cpu']:.2f} | "
+                 f"{c['per_key_ratio_with_base']:.2f} | "
                  f"{c['solve_iterations']} |" for c in costs)
     lines += ["", "## A key's parts (with the base's), per key / solve", "",
-              "| case | " + " | ".join(PARTS) + " |", "|---" * (1 + len(PARTS)) + "|"]
-    lines.extend(f"| {c['case']} | " + " | ".join(f"{c['parts_per_key_ratio'][part]:.3f}"
-                                                  for part in PARTS) + " |" for c in costs)
+              "| case | " + " | ".join(costs[0]["parts_per_key_ratio"]) + " |",
+              "|---" * (1 + len(costs[0]["parts_per_key_ratio"])) + "|"]
+    lines.extend(f"| {c['case']} | " + " | ".join(f"{share:.3f}" for share
+                                                  in c["parts_per_key_ratio"].values()) + " |"
+                 for c in costs)
     lines += ["", "## Step-size study (S67 2D): largest relative difference to the reference",
               "", "| step | " + " | ".join(next(iter(study.values()))) + " |",
               "|---" * (1 + len(next(iter(study.values())))) + "|"]

@@ -410,14 +410,14 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     new.path.warm, new.path.warm_path = pb.path.warm, pb.path.warm_path
     new.settings.tolerance = pb.settings.tolerance
     # the new mesh follows the same boundaries, each on the node graded onto it
-    def at(k):
-        return -1 if k < 0 else int(np.argmin(np.abs(s - (pb.s[k] + extra))))
+    followed = np.array([pb.td_node, pb.lo_node, *pb.bnodes.tolist()])
+    nearest = np.argmin(np.abs(s[:, None] - (pb.s[followed] + extra)), axis=0)
+    td, lo, *nodes = np.where(followed < 0, -1, nearest).tolist()
     new.contacts.bed_active[:] = 0
-    new.contacts.bed_active[1:at(pb.td_node) + 1] = 1
-    if pb.lo_node >= 0:
+    new.contacts.bed_active[1:td + 1] = 1
+    if lo >= 0:
         new.contacts.st_active[:] = 0
-        new.contacts.st_active[at(pb.lo_node):-1] = 1
-    nodes = [at(int(k)) for k in pb.bnodes]
+        new.contacts.st_active[lo:-1] = 1
     if keep_rates and grading and nodes == pb.bnodes.tolist():
         new.mesh.follow_rates(nodes, pb.mesh.s_b)
         new.mesh.zone_b, new.mesh.grade_b = pb.mesh.zone_b, pb.mesh.grade_b

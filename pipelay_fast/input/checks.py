@@ -132,6 +132,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -337,11 +338,20 @@ def collapse_pressure(pipe, checks: Checks) -> float:
     p^3 - p_el p^2 - (p_p^2 + p_el p_p f0 D/t) p + p_el p_p^2 = 0, has three
     real roots; p_c is the one below both p_el and p_p (the cubic is positive
     at 0 and negative at min(p_el, p_p)), found by bisection down to
-    neighbouring floats (some 60 halvings of a cubic: no cache).
+    neighbouring floats (some 60 halvings of a cubic), once per pipe and
+    checks: memoised by the values it reads (every section of every
+    neighbour a sensitivity post-processes shares them).
     """
-    d, t, fy = pipe.outer_diameter, pipe.wall_thickness, pipe.smys * checks.alpha_U
-    youngs_modulus, poisson_ratio = pipe.youngs_modulus, pipe.poisson_ratio
-    fabrication_factor, ovality = checks.fabrication_factor, checks.ovality
+    return _collapse_root(pipe.outer_diameter, pipe.wall_thickness, pipe.smys * checks.alpha_U,
+                          pipe.youngs_modulus, pipe.poisson_ratio, checks.fabrication_factor,
+                          checks.ovality)
+
+
+@lru_cache
+def _collapse_root(d, t, fy, youngs_modulus, poisson_ratio, fabrication_factor, ovality):
+    """:func:`collapse_pressure`'s root [Pa] of the outer diameter ``d`` and
+    wall ``t`` [m], the factored yield stress ``fy`` and Young's modulus
+    [Pa], Poisson's ratio, the fabrication factor and the ovality f0 [-]."""
     p_el = 2.0 * youngs_modulus * (t / d) ** 3 / (1.0 - poisson_ratio**2)
     p_p = fy * fabrication_factor * 2.0 * t / d
     c1 = p_p**2 + p_el * p_p * ovality * d / t
@@ -366,17 +376,18 @@ def design_load_effects(checks: Checks, combination, moment, tension, functional
     vectors ``moment`` (shape (n, 3)) and effective tensions ``tension``;
     ``functional``: the same of the functional load case (weight and tension
     alone), whose difference from the total is the environmental share. None:
-    all functional (factored by gamma_F gamma_c)."""
-    gamma_f, gamma_e = combination
+    all functional (factored by gamma_F gamma_c). gamma_F and gamma_E may be
+    arrays of shape (c, 1), c combinations at once: the effects are then (c, n)."""
+    gamma_f, gamma_e = (np.asarray(gamma, dtype=float) for gamma in combination)
     on_functional = gamma_f * checks.gamma_c
     moment = np.asarray(moment, dtype=float)
     tension = np.asarray(tension, dtype=float)
     if functional is None:
-        return on_functional * np.linalg.norm(moment, axis=1), on_functional * tension
+        return on_functional * np.linalg.norm(moment, axis=-1), on_functional * tension
     m_f, t_f = (np.asarray(v, dtype=float) for v in functional)
-    m_sd = on_functional * m_f + gamma_e * (moment - m_f)
+    m_sd = on_functional[..., None] * m_f + gamma_e[..., None] * (moment - m_f)
     s_sd = on_functional * t_f + gamma_e * (tension - t_f)
-    return np.linalg.norm(m_sd, axis=1), s_sd
+    return np.linalg.norm(m_sd, axis=-1), s_sd
 
 
 def lcc_axial_ratio(pipe, checks: Checks, design_tension):

@@ -105,7 +105,11 @@ def instance(path, value, cls):
 
 
 def vectorised(x, func):
-    """Evaluate ``func`` on ``x`` as a float array; a scalar in gives a scalar out."""
+    """Evaluate ``func`` on ``x`` as a float array; a scalar in gives a scalar out
+    (a float in is evaluated as a NumPy float: the same arithmetic as a 0-d
+    array's, without building one)."""
+    if isinstance(x, float):
+        return func(np.float64(x))[()]
     return func(np.asarray(x, dtype=np.float64))[()]
 
 

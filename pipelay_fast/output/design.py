@@ -174,12 +174,11 @@ def lcc_sections(case, cols: dict, functional: dict | None = None):
         functional = None
     moments, tension = _moment_vectors(cols), cols["effective_tension"]
     p_e, p_i = case.external_pressure(cols["x"]), case.internal_pressure(cols["x"])
-    utilisation, ratio = [], []
-    for combination in checks.load_combinations:
-        m_sd, s_sd = design_load_effects(checks, combination, moments, tension, functional)
-        utilisation.append(lcc_utilisation(case.pipe, checks, m_sd, s_sd, p_e, p_i))
-        ratio.append(lcc_axial_ratio(case.pipe, checks, s_sd))
-    utilisation, ratio = np.array(utilisation), np.array(ratio)
+    gamma = np.array(checks.load_combinations, dtype=float)  # (combinations, 2): all at once
+    m_sd, s_sd = design_load_effects(checks, (gamma[:, :1], gamma[:, 1:]), moments, tension,
+                                     functional)
+    utilisation = lcc_utilisation(case.pipe, checks, m_sd, s_sd, p_e, p_i)
+    ratio = lcc_axial_ratio(case.pipe, checks, s_sd)
     governing = np.argmax(utilisation, axis=0)
     at = np.arange(cols["s"].size)
     return utilisation[governing, at], ratio[governing, at]
