@@ -12,8 +12,8 @@ from ..kernels.tuning import BACKTRACK, MIN_ELEMENT_SHARE, ROUNDOFF, SHORT_LAID_
 
 # --- round-off -----------------------------------------------------------------
 # Relative difference [-] below which two arc lengths, mesh lengths or element
-# counts are the same: the kernels' round-off (its derivation there), one for
-# the solver.
+# counts are the same: the package's round-off (:mod:`pipelay_fast.input.limits`,
+# its derivation there).
 REL_ROUNDOFF = ROUNDOFF
 
 # --- boundary layers -------------------------------------------------------------

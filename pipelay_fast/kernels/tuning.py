@@ -8,20 +8,21 @@ engine's are :mod:`pipelay_fast.engine.tuning`'s, the input layer's
 
 from __future__ import annotations
 
+from ..input.limits import ROUNDOFF
+
 # --- round-off --------------------------------------------------------------------
 # Double precision's machine epsilon, 2^-52 (not a choice).
 EPS = 2.220446049250313e-16
 # (A parameter in [0, 1] found by Newton has no tolerance and no step cap:
 # :mod:`.roots` runs Newton, guarded by bisection, to round-off.)
-# Relative difference [-] below which two of the solver's numbers are the
-# same (kernels and engine, :mod:`pipelay_fast.engine.tuning` uses it too):
-# they are sums of up to ~1e5 terms (arc lengths, element counts of a graded
-# stretch, positions of order 1e3 m), 1e5 * EPS = 2e-11 of their size, with
-# a margin of 50. Where (:func:`.contact.friction_commit`) a friction spring
-# within this share of its mobilising displacement slides; (:func:`.grading.graded_tables`)
-# two anchors closer than this many metres are one, and a stretch's element
-# count phi is rounded up from phi - ROUNDOFF.
-ROUNDOFF = 1e-9
+# The package's round-off ROUNDOFF (:mod:`pipelay_fast.input.limits`, its
+# derivation there: sums of up to ~1e5 terms): the relative difference [-]
+# below which two of the solver's numbers are the same (kernels and engine,
+# :mod:`pipelay_fast.engine.tuning` uses it too). Where
+# (:func:`.contact.friction_commit`) a friction spring within this share of
+# its mobilising displacement slides; (:func:`.grading.graded_tables`) two
+# anchors closer than this many metres are one, and a stretch's element count
+# phi is rounded up from phi - ROUNDOFF.
 
 # --- the Newton iteration (:mod:`.newton`) --------------------------------------------
 # A residual within ROUNDOFF_RATIO times its round-off floor is converged
