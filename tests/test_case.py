@@ -519,7 +519,7 @@ BAD_INPUTS = [
     ({"solver.laid_length": 0.0}, "solver.laid_length"),
     ({"solver.grading": "no"}, "solver.grading"),
     ({"solver.tolerance": 0.0}, "solver.tolerance"),
-    ({"solver.tolerance": 0.1}, "solver.tolerance"),
+    ({"solver.tolerance": 1.0}, "solver.tolerance"),
     ({"solver.max_iterations": 0}, "solver.max_iterations"),
     ({"solver.max_iterations": 5.5}, "solver.max_iterations"),
     ({"solver.max_load_steps": True}, "solver.max_load_steps"),
@@ -539,6 +539,14 @@ def test_bad_input_is_refused_naming_the_key(changes, key):
         load_case(changed(s67_tables(), changes))
     assert key in str(info.value)
 
+
+
+def test_tolerance_is_a_share_below_one():
+    """solver.tolerance is a share of the reference force: any value in (0, 1)
+    is a tolerance (0.999 taken as given), 1 and above are refused."""
+    assert load_case(changed(s67_tables(), {"solver.tolerance": 0.999})).solver.tolerance == 0.999
+    with pytest.raises(ValueError, match="solver.tolerance = 1.5"):
+        load_case(changed(s67_tables(), {"solver.tolerance": 1.5}))
 
 J_LAY_BAD_INPUTS = [
     ({"lay.top": None}, "lay.top"),

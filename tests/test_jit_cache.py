@@ -131,6 +131,20 @@ def test_every_module_with_kernels_is_hashed():
     assert uses_jit and uses_jit <= {str(Path(p).resolve()) for p in _jit.kernel_sources()}
 
 
+def test_the_input_modules_the_kernels_import_are_hashed():
+    """A kernel bakes in the constants it takes from the input layer
+    (kernels/tuning.py's ROUNDOFF is input/limits.py's): each module a kernel
+    module imports from ``..input`` is among the hashed sources, so an edit
+    there expires the cache too."""
+    kernels = PACKAGE / "kernels"
+    taken = {m for path in kernels.glob("*.py")
+             for m in re.findall(r"^from \.\.input\.(\w+) import", path.read_text(),
+                                 flags=re.MULTILINE)}
+    assert "limits" in taken
+    hashed = {str(Path(p).resolve()) for p in _jit.kernel_sources()}
+    assert {str((PACKAGE / "input" / f"{m}.py").resolve()) for m in taken} <= hashed
+
+
 # two kernels under the project's policy: an entry and the callee it calls
 TWO_KERNELS = """
 from pipelay_fast.kernels._jit import jit

@@ -8,12 +8,18 @@ the input layer's limits :mod:`pipelay_fast.input.limits`'.
 
 from __future__ import annotations
 
-from ..kernels.tuning import BACKTRACK, MIN_ELEMENT_SHARE, ROUNDOFF, SHORT_LAID_SHARE
+from ..kernels.tuning import (
+    BACKTRACK,
+    LINE_SEARCH_TRIALS,
+    MIN_ELEMENT_SHARE,
+    ROUNDOFF,
+    SHORT_LAID_SHARE,
+)
 
 # --- round-off -----------------------------------------------------------------
 # Relative difference [-] below which two arc lengths, mesh lengths or element
-# counts are the same: the kernels' round-off (its derivation there), one for
-# the solver.
+# counts are the same: the package's round-off (:mod:`pipelay_fast.input.limits`,
+# its derivation there).
 REL_ROUNDOFF = ROUNDOFF
 
 # --- boundary layers -------------------------------------------------------------
@@ -40,13 +46,13 @@ BOUNDARY_STEP_LAYER = 0.2
 # part 2). A converged step multiplies the next by LOAD_STEP_FACTOR, a failed
 # one divides the step it took (bisection: a cut step is the half of the
 # failed one that starts from the last converged state, and growth undoes one
-# cut). A step cut below SMALLEST_LOAD_STEP fails the solve (LOAD_STEP halved
-# 12 times: the homotopy's floor, measured on the random cases,
-# bench_contact.py part 6), and so does a path that takes
-# solver.max_load_steps steps.
+# cut). The step control is a line search on the load: a step cut below
+# SMALLEST_LOAD_STEP, LOAD_STEP halved as often as the Newton step's line
+# search halves its step (LINE_SEARCH_TRIALS - 1 times, :mod:`.step`: 2^-13),
+# fails the solve, and so does a path that takes solver.max_load_steps steps.
 LOAD_STEP = 0.25
 LOAD_STEP_FACTOR = 1.0 / BACKTRACK  # (the kernels' halving: one bisection factor)
-SMALLEST_LOAD_STEP = 1e-4
+SMALLEST_LOAD_STEP = LOAD_STEP * BACKTRACK ** (LINE_SEARCH_TRIALS - 1)
 # A predicted start of a load step (a warm start's neighbour's increment, or
 # the path's secant) may take at most this many times the iterations of the
 # path's hardest converged call before the step is solved again from the last

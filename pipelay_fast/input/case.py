@@ -96,7 +96,10 @@ class Solver:
     laid_length : float or None
         Length of pipe modelled on the seabed [m]; None: the solver picks.
     tolerance : float
-        Relative convergence tolerance [-], in (0, 1e-2); default 1e-8.
+        Relative convergence tolerance [-], in (0, 1); default 1e-8: Newton
+        has converged when its weighted residual (forces by a reference
+        force, moments by it times an element length) is below it, so a
+        tolerance of 1 would take any state as the answer.
     max_iterations, max_load_steps : int
         Newton iterations per step, and load steps per load path [-] (the
         homotopy from the first guess, the current's path); defaults 100
@@ -145,8 +148,9 @@ class Solver:
         if self.min_element_length is not None and self.min_element_length > self.element_length:
             fail("solver.min_element_length", self.min_element_length,
                  f"must not exceed solver.element_length = {self.element_length!r}")
-        if self.tolerance >= 1e-2:
-            fail("solver.tolerance", self.tolerance, "must be below 1e-2")
+        if self.tolerance >= 1.0:
+            fail("solver.tolerance", self.tolerance, "must be below 1: a share of the "
+                 "reference force, at 1 any state would be converged")
         assign(self, "grading", flag("solver.grading", self.grading))
         assign(self, "max_iterations", integer("solver.max_iterations", self.max_iterations, 1))
         assign(self, "max_load_steps", integer("solver.max_load_steps", self.max_load_steps, 1))

@@ -39,12 +39,19 @@ from dataclasses import dataclass
 import numpy as np
 
 # The input layer's tuning constants.
-# Relative difference [-] below which two numbers that a few float operations
-# make from the user's are the same (1e-12 = 4500 ulps of 2.2e-16): a stinger's
+# The package's round-off: the relative difference [-] below which two of its
+# numbers are the same, from the user's numbers to the kernels' (one value for
+# every layer; :mod:`pipelay_fast.kernels.tuning` takes it from here). The
+# solver's numbers are sums of up to ~1e5 terms (arc lengths, element counts of
+# a graded stretch, positions of order 1e3 m), 1e5 * EPS = 2e-11 of their size,
+# with a margin of 50; those a few float operations make from the user's are
+# within it too (a few ulps of 2.2e-16; sin(0) of a heading in degrees is
+# 1.2e-16), and 1e-9 of a position of 1e3 m is a micrometre. Here: a stinger's
 # end against lay.top, a count of roller spacings, a unit current direction's
-# lateral component (planar below it: sin(0) of a heading in degrees is 1.2e-16),
-# a root of a cubic in t in [0, 1] (np.roots, :func:`pipelay_fast.study.sensitivity.hermite_root`).
-ROUNDOFF = 1e-12
+# lateral component (planar below it), a root of a cubic in t in [0, 1]
+# (np.roots, :func:`pipelay_fast.study.sensitivity.hermite_root`), a sweep
+# range's count of steps.
+ROUNDOFF = 1e-9
 # The most a stinger may turn the pipe between its ends [deg]: beyond it the
 # stinger overhangs, its tip pointing back under the pipe from the vessel.
 MAX_STINGER_TURN = 90.0

@@ -24,9 +24,10 @@ Every kernel is compiled with :func:`jit`, never with a bare ``numba.njit``:
 Numba checks a cached kernel against its own source file only, not against the
 callees and constants it took from other modules. So, when this module is
 imported (before any kernel is compiled or loaded), :func:`expire_stale_cache`
-hashes the sources of every module that defines kernels (:func:`kernel_sources`)
-with numba's version, compares the digest with the stamp file
-:data:`STAMP_NAME` in the cache directory numba will use for them, and on a
+hashes the sources of every module that defines kernels and of the input
+modules they take constants from (:func:`kernel_sources`) with numba's
+version, compares the digest with the stamp file :data:`STAMP_NAME` in the
+cache directory numba will use for them, and on a
 difference deletes those modules' cache files (``*.nbi``, ``*.nbc``) and writes
 the new stamp. An edited kernel module therefore never runs stale machine code;
 the cost is one recompilation after each edit, and about a millisecond per
@@ -209,9 +210,18 @@ def phase(func):
 
 
 def kernel_sources() -> list[str]:
-    """The modules of ``kernels/``, this one included: all the sources the kernels compile from."""
+    """The modules of ``kernels/``, this one included, then the input modules
+    they import from (``from ..input.<module> import``: the round-off of
+    ``input/limits.py``): all the sources the kernels compile from."""
     names = sorted(n for n in os.listdir(KERNEL_DIR) if n.endswith(".py"))
-    return [os.path.join(KERNEL_DIR, n) for n in names]
+    paths = [os.path.join(KERNEL_DIR, n) for n in names]
+    taken = set()
+    for path in paths:
+        with open(path) as f:
+            for line in f:
+                if line.startswith("from ..input."):
+                    taken.add(line.split()[1].rsplit(".", 1)[1])
+    return paths + [os.path.join(_PACKAGE_DIR, "input", f"{m}.py") for m in sorted(taken)]
 
 
 def sources_digest(paths) -> str:

@@ -8,20 +8,21 @@ engine's are :mod:`pipelay_fast.engine.tuning`'s, the input layer's
 
 from __future__ import annotations
 
+from ..input.limits import ROUNDOFF
+
 # --- round-off --------------------------------------------------------------------
 # Double precision's machine epsilon, 2^-52 (not a choice).
 EPS = 2.220446049250313e-16
 # (A parameter in [0, 1] found by Newton has no tolerance and no step cap:
 # :mod:`.roots` runs Newton, guarded by bisection, to round-off.)
-# Relative difference [-] below which two of the solver's numbers are the
-# same (kernels and engine, :mod:`pipelay_fast.engine.tuning` uses it too):
-# they are sums of up to ~1e5 terms (arc lengths, element counts of a graded
-# stretch, positions of order 1e3 m), 1e5 * EPS = 2e-11 of their size, with
-# a margin of 50. Where (:func:`.contact.friction_commit`) a friction spring
-# within this share of its mobilising displacement slides; (:func:`.grading.graded_tables`)
-# two anchors closer than this many metres are one, and a stretch's element
-# count phi is rounded up from phi - ROUNDOFF.
-ROUNDOFF = 1e-9
+# The package's round-off ROUNDOFF (:mod:`pipelay_fast.input.limits`, its
+# derivation there: sums of up to ~1e5 terms): the relative difference [-]
+# below which two of the solver's numbers are the same (kernels and engine,
+# :mod:`pipelay_fast.engine.tuning` uses it too). Where
+# (:func:`.contact.friction_commit`) a friction spring within this share of
+# its mobilising displacement slides; (:func:`.grading.graded_tables`) two
+# anchors closer than this many metres are one, and a stretch's element count
+# phi is rounded up from phi - ROUNDOFF.
 
 # --- the Newton iteration (:mod:`.newton`) --------------------------------------------
 # A residual within ROUNDOFF_RATIO times its round-off floor is converged
@@ -74,8 +75,11 @@ SPAN_GROWTH = 1.0 / BACKTRACK
 LATERAL_HYSTERESIS = 0.05
 
 # --- loads (:mod:`.loads`) ---------------------------------------------------------------
-# The power-law current is continued by a quadratic below POWER_FLOOR times
-# the depth (:func:`.loads.current_speed`). Measured on bench_contact's 3D
-# grid against the power law itself (with a secant tangent): the peak stress
-# moved 3.8e-4 at 1e-3, 3.4e-6 at 1e-6, 2.7e-8 at 1e-9 (the tolerance's).
-POWER_FLOOR = 1e-9
+# The power law V0 (x/d)^p of a current has an infinite slope at the seabed;
+# below POWER_FLOOR times the depth d it is continued by a quadratic
+# (:func:`.loads.current_speed`). The floor is the round-off: a height within
+# ROUNDOFF d of the seabed is the seabed to the solver (positions of order d),
+# so the power law holds wherever a node can be told from the seabed. (Against
+# the power law itself, bench_contact's 3D grid: the peak stress moves 2.7e-8
+# at this floor, 3.4e-6 at 1e-6.)
+POWER_FLOOR = ROUNDOFF
