@@ -55,15 +55,7 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     for j in range(ab.shape[1]):
         for i in range(ab.shape[0]):
             w.ab0[i, j] = ab[i, j]
-    for i in range(n):
-        du[i] = -w.g[i] * scale[i]
-    for j in range(n):
-        if not cmask[j]:
-            continue
-        dj = w.delta[j] / scale[j]
-        for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
-            if not cmask[r]:
-                du[r] -= ab[kv + r - j, j] * dj
+    _prescribed(w, w.g, ab, du, 1.0, kl, ku)
     for j in range(n):
         if not cmask[j]:
             continue
@@ -83,11 +75,49 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
         for j in range(nb):
             rhs[i, 1 + j] = 0.0 if cmask[i] else w.cols[j, i] * scale[i]
     band_solve_many(ab, kl, ku, w.ipiv, rhs, 1 + nb)
+    if not _border_solve(w, nb):
+        return False
     for i in range(n):
         du[i] = rhs[i, 0]
-    # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz; each
-    # row is local (a node's, an element's, the top's): the products run
-    # over its nonzero span (a roller stinger has a bordered unknown a roller)
+    for i in range(n):
+        w.du_free[i] = du[i] * scale[i]
+    _to_global(nd, w.du_free, phi_r, phi_rp)
+    return True
+
+
+@phase
+def _prescribed(w, g, ab, out, share, kl, ku):
+    """The scaled right-hand side of the free rows, -S G - K_fc S^-1 delta_c
+    with the prescribed increments ``share`` delta_c (``ab`` the scaled
+    tangent before its constrained rows and columns are replaced), into
+    ``out``; its constrained rows are left as they are."""
+    kv = kl + ku
+    n = g.shape[0]
+    for i in range(n):
+        out[i] = -g[i] * w.scale[i]
+    for j in range(n):
+        if not w.cmask[j]:
+            continue
+        dj = share * w.delta[j] / w.scale[j]
+        for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
+            if not w.cmask[r]:
+                out[r] -= ab[kv + r - j, j] * dj
+
+
+@phase
+def _border_solve(w, nb):
+    """The bordered unknowns' steps ``w.dz`` from the band's solutions in
+    ``w.rhs`` (column 0 the step y0 at dz = 0, column 1 + j the border
+    column Y_j) and the border residuals ``w.res_b``, and column 0 made the
+    step y0 - Y dz. False when the Schur complement is singular.
+
+    The border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz;
+    each row is local (a node's, an element's, the top's): the products run
+    over its nonzero span (a roller stinger has a bordered unknown a
+    roller)."""
+    n = w.rhs.shape[0]
+    rhs = w.rhs
+    scale = w.scale
     for i2 in range(nb):
         lo = 0
         while lo < n and w.rows[i2, lo] == 0.0:
@@ -97,7 +127,7 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
             hi -= 1
         acc = 0.0
         for k in range(lo, hi):
-            acc += w.rows[i2, k] * scale[k] * du[k]
+            acc += w.rows[i2, k] * scale[k] * rhs[k, 0]
         w.rh[i2] = acc + w.res_b[i2]
         for j in range(nb):
             acc = 0.0
@@ -108,11 +138,57 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
         return False
     for j in range(nb):
         for i in range(n):
-            du[i] -= w.dz[j] * rhs[i, 1 + j]
-    for i in range(n):
-        w.du_free[i] = du[i] * scale[i]
-    _to_global(nd, w.du_free, phi_r, phi_rp)
+            rhs[i, 0] -= w.dz[j] * rhs[i, 1 + j]
     return True
+
+
+@jit(_nrt=False)
+def simplified_norm(nd, w, nb, share, href):
+    """The norm of the simplified Newton correction K^-1 G(trial) at a trial
+    state (the old tangent's factors, still in ``w.ab``, ``w.ipiv``; the
+    trial's residual ``w.g_trial`` in the nodal frames and its border
+    residuals in ``w.res_b``; the constraints' remaining increments
+    ``share`` delta_c), by :func:`step_norm`; inf when the border is
+    singular. It is the Newton step the next iteration would take at the
+    trial, less the change of the tangent: the error-oriented merit
+    (Deuflhard, Newton Methods for Nonlinear Problems, 2004, Sec. 3.3).
+    A kernel: the line search's two loops call it."""
+    ndn = 2 * nd + 1
+    kl = 2 * ndn - 1
+    n = w.g.shape[0]
+    col = w.rhs[:, 0]
+    _prescribed(w, w.g_trial, w.ab0, col, share, kl, kl)
+    for j in range(n):
+        if w.cmask[j]:
+            col[j] = share * w.delta[j] / w.scale[j]
+    band_solve_many(w.ab, kl, kl, w.ipiv, w.rhs, 1)
+    if not _border_solve(w, nb):
+        return math.inf
+    return step_norm(nd, w, nb, href)
+
+
+@jit(_nrt=False)
+def step_norm(nd, w, nb, href):
+    """The size of a step (column 0 of ``w.rhs``, the unknowns scaled by
+    ``w.scale``, and the bordered ``w.dz``) [-]: its positions over href, its
+    slopes as they are, its multipliers and the bottom tension over the
+    multipliers' scale EI / href^2 (``w.scale``), the boundaries' arc
+    lengths over href; the root of the sum of squares."""
+    ndn = 2 * nd + 1
+    n = w.rhs.shape[0]
+    ssq = 0.0
+    for i in range(n):
+        slot = i % ndn
+        v = w.rhs[i, 0]  # a multiplier over its scale
+        if slot < nd:
+            v *= w.scale[i] / href
+        elif slot < 2 * nd:
+            v *= w.scale[i]
+        ssq += v * v
+    for j in range(nb):
+        v = w.dz[j] / w.scale[2 * nd] if w.kind[j] == 0 else w.dz[j] / href
+        ssq += v * v
+    return math.sqrt(ssq)
 
 
 @jit(_nrt=False)
