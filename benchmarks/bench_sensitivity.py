@@ -74,10 +74,12 @@ def keys_of(case) -> list[str]:
 
 
 # the parts of a sensitivity table timed apart (module, function): the
-# neighbours' cases, their first guesses, their meshes, their Newton calls and
-# their post-processing
+# neighbours' cases, their first guesses, their meshes, their residuals, the
+# linear responses (one factorisation for every neighbour), their completion
+# (2D's kernels: a 3D case's are not timed) and their post-processing
 PARTS = {"case": (Case, "with_number"), "guess": (S, "guess_sizes"),
-         "mesh": (ES, "regraded_problem"), "newton": (ES, "run_newton"),
+         "mesh": (ES, "regraded_problem"), "residual": (ES, "residual_2d"),
+         "response": (ES, "responses_2d"), "finish": (ES, "finish_2d"),
          "post-processing": (S, "_side")}
 
 
@@ -139,7 +141,6 @@ def cost(name: str, repeats: int) -> dict:
             "per_key_ratio": per_key / t_solve,
             "per_key_ratio_with_base": t_every / len(keys) / t_solve,
             "parts_per_key_ratio": parts,
-            "newton_iterations": table.attrs["iterations"],
             "solve_iterations": result.summary["n_iterations"],
             "nan_reasons": sorted({r.split(": ", 1)[1][:90] for r in table["reason"] if r})}
 
@@ -212,12 +213,12 @@ def step_study() -> dict:
 def _markdown(costs, study, agree) -> str:
     lines = ["## Cost (median, same run)", "",
              "| case | keys | solve [ms] | base [ms] | per key [ms] | per key / solve "
-             "| with base share | Newton its (key: both sides) | solve its |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "| with base share | solve its |",
+             "|---|---|---|---|---|---|---|---|"]
     lines.extend(f"| {c['case']} | {len(c['keys'])} | {1e3 * c['solve_s']:.1f} | "
                  f"{1e3 * c['base_s']:.1f} | {1e3 * c['per_key_s']:.1f} | "
                  f"{c['per_key_ratio']:.2f} | {c['per_key_ratio_with_base']:.2f} | "
-                 f"{c['newton_iterations']} | {c['solve_iterations']} |" for c in costs)
+                 f"{c['solve_iterations']} |" for c in costs)
     lines += ["", "## A key's parts (with the base's), per key / solve", "",
               "| case | " + " | ".join(PARTS) + " |", "|---" * (1 + len(PARTS)) + "|"]
     lines.extend(f"| {c['case']} | " + " | ".join(f"{c['parts_per_key_ratio'][part]:.3f}"

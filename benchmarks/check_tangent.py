@@ -56,19 +56,17 @@ from pipelay_fast.engine.solver import solve_problem
 from pipelay_fast.kernels import layout as L
 from pipelay_fast.kernels._jit import jit
 from pipelay_fast.kernels.constraints import (
-    _constraint_set,
     _has_boundaries,
     _nodal_frames,
     _onto_curves,
     mesh_lengths,
 )
-from pipelay_fast.kernels.contact import lateral_hold
 from pipelay_fast.kernels.newton import _work
+from pipelay_fast.kernels.response import _evaluated
 from pipelay_fast.kernels.system import (
     _evaluate,
     _to_global,
     _to_nodal_residual,
-    _to_nodal_system,
 )
 from pipelay_fast.kernels.types import Ends, Mesh, Settings, Supports
 
@@ -88,15 +86,7 @@ def _kernels(nd):
         """The system the kernel solves at ``u``: dense K (nodal frames) into
         ``kd``, G into ``g``, the border's columns, rows, residuals,
         derivatives and kinds, the constrained unknowns. Returns nb."""
-        w = _work(nd, u.shape[0], sup.phi_r.shape[0], mesh.s_el.shape[0], mesh.bnodes.shape[0],
-                  model.props, settings.href)
-        if _has_boundaries(mesh):
-            mesh_lengths(mesh.s_a, mesh.s_b, mesh.s_bd, mesh.s_el)
-        lateral_hold(nd, mesh.s_el, u, sup, ends.top_node, sup.y_held)
-        _nodal_frames(nd, u, mesh, sup, ends)
-        te_top, m_td = _evaluate(nd, u, mesh, model, sup, ends, w, w.g, True)
-        nb, _nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
-        _constraint_set(nd, u, mesh, sup, ends, w, settings.href)
+        w, nb = _evaluated(nd, u, mesh, model, sup, ends, settings, True)
         n = u.shape[0]
         kl = 4 * nd + 1
         kv = 2 * kl

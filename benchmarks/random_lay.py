@@ -252,15 +252,47 @@ def reference(case: pf.Case) -> dict:
         if lay.top_angle == "pinned":  # the engine's pin: the tension jumps by M_U^2 / (2 EI)
             u = 2.0 * st.a * st.upper[1] + _b(st)
             jump = 0.5 * ei * (2.0 * st.a / (1.0 + u * u) ** 1.5) ** 2
-        if "T_top" in tension:
-            tension["T_top"] -= jump
-        r = slay_elastica(ei, w_sub, w_dry, depth, st.a, st.lower, st.upper, **tension)
+        on = dict(tension, T_top=tension["T_top"] - jump) if "T_top" in tension else tension
+        try:
+            r = slay_elastica(ei, w_sub, w_dry, depth, st.a, st.lower, st.upper, **on)
+        except (RuntimeError, ValueError) as err:  # no lift-off nor tip regime
+            r = _clear_of_stinger(case, err, ei, w_sub, w_dry, **tension)
+            out = {"top_tension": r["top_tension"], "bottom_tension": r["bottom_tension"],
+                   "sagbend_max_moment": r["sagbend_moment"] or r["max_moment"],
+                   "regime": "clear"}
+            out["max_strain"] = ref_strain(case, r, ei, ea)
+            return out
         out = {"top_tension": r["top_tension"] + jump, "bottom_tension": r["bottom_tension"],
                "sagbend_max_moment": (r["sagbend_max_moment"] if r["regime"] == "liftoff"
                                       else _sag_below_tip(r, st.lower[1])),
                "overbend_max_moment": r["overbend_max_moment"], "regime": r["regime"]}
     out["max_strain"] = ref_strain(case, r, ei, ea)
     return out
+
+
+def _clear_of_stinger(case: pf.Case, err: Exception, ei, w_sub, w_dry, **tension) -> dict:
+    """An S-lay whose pipe touches the stinger only at its upper end, the top:
+    the J-lay elastica from touchdown to the stinger's upper end, held there
+    along the stinger's tangent (the firing line) or pinned, accepted when it
+    lies above the stinger's curve over the whole curve (its tip included).
+    Re-raises ``err``, the S-lay reference's refusal, otherwise."""
+    lay, st = case.lay, case.lay.stinger
+    (x_l, z_l), (x_u, z_u) = st.lower, st.upper
+    angle = None
+    if lay.top_angle != "pinned":
+        angle = (lay.top_angle if lay.top_angle is not None
+                 else math.degrees(math.atan(2.0 * st.a * z_u + _b(st))))
+    try:
+        r = jlay_elastica(ei, w_sub, w_dry, case.environment.water_depth, x_u, z_u,
+                          top_angle_deg=angle, **tension)
+    except (RuntimeError, ValueError):
+        raise err from None
+    z, x = np.asarray(r["z"], dtype=float), np.asarray(r["x"], dtype=float)
+    over = (z >= z_l) & (z < z_u - 1e-6 * (z_u - z_l))
+    curve = (st.a * z + _b(st)) * z + (x_l - (st.a * z_l + _b(st)) * z_l)
+    if not over.any() or np.any(x[over] < curve[over]):
+        raise err
+    return r
 
 
 def _sag_below_tip(r: dict, z_tip: float) -> float:

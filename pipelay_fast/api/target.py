@@ -31,7 +31,6 @@ __all__ = ["TargetError", "TARGET_RTOL", "solve_for", "target_columns", "unit_te
 TARGET_RTOL = 1e-6  # the target is met to this share of its value (or of the bound values)
 STOP_SHARE = 0.01  # the root find stops at a trial within this share of rtol
 COARSE_SHARE = 1e-4  # the warm trials' root find stops within this share of the goal
-POLISH_DOUBLINGS = 12  # step doublings from the warm root to bracket the cold one
 
 
 class TargetError(ValueError):
@@ -203,22 +202,25 @@ def _root(miss, lo: float, hi: float, tol: float) -> float:
 
 def _polish(trials: _Trials, near: float, lo: float, hi: float, tol: float) -> float:
     """The root of the cold miss next to ``near``, the warm trials' root: a
-    secant step from the warm trials' slope, doubled until the cold miss
-    changes sign, then brentq on the cold miss within ``tol``."""
+    secant step from the warm trials' slope (a flat slope: straight to the
+    upper bound), doubled until the cold miss changes sign, then brentq on
+    the cold miss within ``tol``; a step that reaches a bound without a
+    change of sign ends the search (TargetError)."""
     f0 = trials.cold_miss(near)
     if abs(f0) <= tol:
         return near
     (v1, r1), (v2, r2) = sorted(trials.warm.items(), key=lambda item: abs(item[0] - near))[:2]
     slope = (r1.summary[trials.column] - r2.summary[trials.column]) / (v1 - v2)
-    # (a flat slope: the first step such that the last doubling spans the bounds)
-    step = -f0 / slope if slope != 0.0 else (hi - lo) * BACKTRACK ** (POLISH_DOUBLINGS - 1)
-    for _ in range(POLISH_DOUBLINGS):
+    step = -f0 / slope if slope != 0.0 else hi - lo
+    while True:
         other = min(max(near + step, lo), hi)
         f1 = trials.cold_miss(other)
         if abs(f1) <= tol:
             return other
         if f0 * f1 < 0.0:
             return _root(trials.cold_miss, min(near, other), max(near, other), tol)
+        if other in (lo, hi):
+            break
         step /= BACKTRACK  # (doubled: the solver's bisection factor)
     raise TargetError(f"target {trials.column}: no root of the cold solves found next to "
                       f"{trials.vary} = {near!r} (the column jumps there: a change of regime?)")

@@ -30,6 +30,7 @@ from scipy.integrate import solve_bvp
 from scipy.optimize import brentq
 
 from ..input.case import Case
+from . import tuning as T
 
 # points along the span on which the shape is tabulated against arc length
 _TABLE = 2001
@@ -89,10 +90,13 @@ class BeamSpan(_Tabled):
         return self.w1 / self.h * (0.5 * span * span - lam * span * math.tanh(0.5 * span / lam))
 
     def _span(self) -> float:
-        """The root L of y(L) = x_top (bracketed by the two limits' spans)."""
-        cable = self.lam + math.sqrt(2.0 * self.h * self.x_top / self.w1)
-        beam = (24.0 * self.ei * self.x_top / self.w1) ** 0.25
-        top = 2.0 * max(cable, beam)
+        """The root L of y(L) = x_top. As tanh <= 1, y(L) >= (w/h) (L^2/2 - lam L),
+        which reaches x_top at L = lam + sqrt(lam^2 + 2 h x_top / w): the
+        bracket's upper end (the root itself where tanh rounds to 1 there)."""
+        lam = self.lam
+        top = lam + math.sqrt(lam * lam + 2.0 * self.h * self.x_top / self.w1)
+        if self._height(top) <= self.x_top:
+            return top
         return brentq(lambda L: self._height(L) - self.x_top, 0.0, top)
 
     def _y(self, xi):
@@ -138,8 +142,10 @@ class ElasticaSpan(_Tabled):
     reaction), EI theta'' = h sin(theta) - V cos(theta), V' = w(x), the
     weight's step at the surface spread over ``step`` [m] (an element's
     length: a mesh does not resolve it more finely). Solved by collocation
-    (scipy's solve_bvp) from ``start`` (a :class:`BeamSpan`, the
-    small-slope shape); ``ok`` False when that fails.
+    (scipy's solve_bvp to tuning.ELASTICA_TOL, on a first mesh of
+    tuning.ELASTICA_NODES nodes, within scipy's cap on nodes) from
+    ``start`` (a :class:`BeamSpan`, the small-slope shape); ``ok`` False
+    when that fails.
     Duck-types :class:`.catenary.Catenary` for :func:`.guess.shape`."""
 
     tan0 = 0.0
@@ -153,7 +159,7 @@ class ElasticaSpan(_Tabled):
         ratio, depth, width = self.w2 / self.w1, self.depth / ell, step / ell
         free_h = h is None
         h_of = (lambda p: p[1]) if free_h else (lambda p, v=h / f0: v)
-        tau = np.linspace(0.0, 1.0, 41)
+        tau = np.linspace(0.0, 1.0, T.ELASTICA_NODES)
         s0 = tau * start.length
         x0, z0, th0, _ = start.at(s0)
         k0 = start.curvature(s0) * ell
@@ -174,7 +180,7 @@ class ElasticaSpan(_Tabled):
                 top.append(te - top_tension / f0)
             return np.array([ya[0], ya[1], ya[2], ya[3], *top])
 
-        sol = solve_bvp(fun, bc, tau, y0, p=p0, tol=1e-4, max_nodes=5000)
+        sol = solve_bvp(fun, bc, tau, y0, p=p0, tol=T.ELASTICA_TOL)  # (scipy's node cap)
         self.ok = bool(sol.success)
         p = sol.p
         self.h = float(h_of(p) * f0)
@@ -215,19 +221,21 @@ def bending_guessed(case: Case, cat) -> bool:
             and bending_dominated(ei, math.sqrt(ei / cat.h), cat.w1))
 
 
-def bending_span(case: Case, cat):
-    """A bending-dominated J-lay's free span (:func:`bending_guessed`):
-    the planar heavy elastica (:class:`ElasticaSpan`) started from the
-    small-slope beam-column (:class:`BeamSpan`) on the catenary
-    ``cat``'s tension; when the elastica is not found, that beam-column
-    (pinned top) or ``cat``. On the same height and tension a pinned top's
-    effective tension is the catenary's (M = 0 there), so h is ``cat``'s
-    unless a top angle and the top tension are given."""
+def bending_span(case: Case, cat, held: float | None = None):
+    """A bending-dominated lay's free span (:func:`bending_guessed`): the
+    planar heavy elastica (:class:`ElasticaSpan`) started from the
+    small-slope beam-column (:class:`BeamSpan`) on the catenary ``cat``'s
+    tension; when the elastica is not found, that beam-column (pinned top)
+    or ``cat``. The top is the J-lay's, or, with ``held`` [rad], held at
+    that angle (an S-lay's lift-off, tangent to the stinger). On the same
+    height and tension a pinned top's effective tension is the catenary's
+    (M = 0 there), so h is ``cat``'s unless a J-lay's top angle and its top
+    tension are given."""
     lay = case.lay
     beam = BeamSpan(cat.h, cat.w1, cat.w2, cat.depth, cat.x_top, case.pipe.bending_stiffness)
-    pinned = lay.top_angle in (None, "pinned")
-    angle = None if pinned else math.radians(lay.top_angle)
-    free_h = not pinned and lay.bottom_tension is None
+    pinned = held is None and lay.top_angle in (None, "pinned")
+    angle = held if held is not None or pinned else math.radians(lay.top_angle)
+    free_h = held is None and not pinned and lay.bottom_tension is None
     span = ElasticaSpan(beam, angle, None if free_h else cat.h,
                         lay.top_tension if free_h else None, case.solver.element_length)
     if span.ok:

@@ -30,7 +30,7 @@ from ..kernels.layout import B_LO, B_PT
 from . import tuning as T
 from .mesh import graded_nodes
 from .state import interpolate_state
-from .supports import line_span, surface_heights
+from .supports import line_height, line_span, surface_heights
 
 if TYPE_CHECKING:
     from ..input.case import Case
@@ -59,6 +59,10 @@ def follow_boundaries(case: Case, pb: Problem, s_focus: float):
     pb.contacts.st_active[:] = 0
     pb.contacts.st_active[kl:-1] = 1
     follow_nodes(case, pb, (k, kl, -1))
+    # lifting off at the upper end: held there alone (tip_regime's switch), but where the
+    # regimes part (a pinned top's EI kappa_U falls to 0 across the pin while conforming)
+    if at_upper_end(pb) and pb.ends.pin_jump == 0.0:
+        conform_from(case, pb, -1)
 
 
 def follow_nodes(case: Case, pb: Problem, nodes, share_overlaps: bool = True):
@@ -240,6 +244,51 @@ def tip_released(pb: Problem) -> bool:
     return pb.tip_node >= 0 and pb.tip[0] == 0.0
 
 
+# :func:`tip_regime`'s switches at the curve's upper end (negative: no kernel status)
+TO_UPPER_END = -1  # the contact on the curve shrank to its upper end
+ONTO_STINGER = -2  # clear of the curve, the pipe lies below it
+
+
+def at_upper_end(pb: Problem) -> bool:
+    """Whether lift-off (or re-contact above a bearing tip) lies within the top's
+    element, or h_min, of the top (the map squeezes the elements between them)."""
+    k = pb.lo_node
+    return k >= 0 and pb.s[-1] - pb.s[k] <= max(pb.s[-1] - pb.s[-2], pb.stats["h_min"])
+
+
+def below_stinger(pb: Problem) -> int:
+    """Clear of the stinger (:attr:`.Problem.clear_of_stinger`): the lowest
+    node over the curve's z range, the top and the node over the tip
+    excepted, that lies below the curve by more than round-off (a contact
+    the answer is missing); -1 none."""
+    nd, ndn = pb.nd, pb.ndn
+    kind, g = pb.curve_support
+    z_tip, z_top = line_span(kind, g)
+    x, z = pb.u[0:-ndn:ndn], pb.u[nd - 1:-ndn:ndn]
+    over = (z > z_tip) & (z < z_top)
+    over[:pb.tip_node + 1] = False
+    gap = x - line_height(kind, g, z)[0]
+    below = np.flatnonzero(over & (gap < -T.REL_ROUNDOFF * pb.settings.href))
+    return int(below[0]) if below.size else -1
+
+
+def conform_from(case: Case, pb: Problem, k: int):
+    """The regime switches at the stinger's upper end: the pipe conforms to
+    the curve from node ``k`` (lift-off, or re-contact above a bearing tip)
+    up to the top, or, ``k`` -1, the curve holds it at its upper end alone,
+    the top, as the tip's point holds it at the curve's lower end: its
+    contact set empty and lift-off no unknown, a bearing tip keeping its
+    node (the gap span reaching the top). To that regime as lift-off reaches
+    the top (:func:`at_upper_end`), back from it where the pipe lies below
+    the curve, from there (:func:`below_stinger`). A pinned top, held along
+    the curve's tangent while the pipe conforms up to it, is a pin clear of
+    the stinger (:meth:`.Problem.kernel_supports`)."""
+    pb.contacts.st_active[:] = 0
+    if k >= 0:
+        pb.contacts.st_active[k:-1] = 1
+    follow_nodes(case, pb, (pb.td_node, k, *pb.bnodes[B_PT:].tolist()))
+
+
 def tip_regime(pb: Problem, status: int, can_switch: bool) -> int:
     """The regime at the stinger's tip after a Newton call that ended with the
     kernel's ``status``: PAST_TIP (the pipe is to bear on the tip), SPAN_CLOSED
@@ -250,7 +299,12 @@ def tip_regime(pb: Problem, status: int, can_switch: bool) -> int:
     its complementarity released (:func:`tip_released`), or a tip whose branch
     cycles (TIP_CYCLE), lifts off above it. ``can_switch``: the solve may
     still switch (it lifts off somewhere, and has switched fewer than
-    MAX_TIP_SWITCHES times, :mod:`.tuning`); if not, ``status`` stands."""
+    MAX_TIP_SWITCHES times, :mod:`.tuning`); if not, ``status`` stands.
+
+    Then at the curve's upper end: a call that fails with lift-off (or
+    re-contact) there (:func:`at_upper_end`) asks TO_UPPER_END, the contact
+    shrunk to the end point; an answer clear of the stinger that lies below
+    its curve asks ONTO_STINGER (:func:`conform_from`)."""
     if not can_switch:
         return status
     if status == L.OK and passes_below_tip(pb):
@@ -259,6 +313,10 @@ def tip_regime(pb: Problem, status: int, can_switch: bool) -> int:
         return L.SPAN_CLOSED
     if status == L.TIP_CYCLE and pb.tip_node >= 0:
         return L.SPAN_CLOSED
+    if status not in (L.OK, L.PAST_TIP, L.SPAN_CLOSED) and at_upper_end(pb):
+        return TO_UPPER_END
+    if status == L.OK and pb.clear_of_stinger and below_stinger(pb) >= 0:
+        return ONTO_STINGER
     return status
 
 

@@ -1,9 +1,10 @@
 """Newton on one mesh, and the load paths that lead there when it fails.
 
 :func:`run_newton` calls the Newton kernel once; :func:`newton_in_regime`
-repeats it across the switches between lifting off and bearing on the
-stinger's tip; :func:`continuation` is the one adaptive-step routine (step,
-cut, grow) that every load path uses: the homotopy that removes the first
+repeats it across the switches of regime at the stinger's ends (lifting
+off or bearing on its tip, conforming to it or held at its upper end
+alone); :func:`continuation` is the one adaptive-step routine (step, cut,
+grow) that every load path uses: the homotopy that removes the first
 guess's out-of-balance force (:func:`newton_with_fallback`) and the current's
 path, which seabed friction makes path dependent (:func:`apply_current`).
 """
@@ -21,12 +22,19 @@ from ..kernels.newton import newton_2d, newton_3d
 from ..kernels.types import Mesh, Settings
 from . import tuning as T
 from .boundaries import (
+    ONTO_STINGER,
+    TO_UPPER_END,
     bear_on_tip,
+    below_stinger,
+    conform_from,
     lift_off_above_tip,
     tip_regime,
     touchdown_spans,
 )
 from .state import Problem, restore, snapshot
+
+# the statuses at which a solve switches regime (:func:`.boundaries.tip_regime`)
+_SWITCHES = (L.PAST_TIP, L.SPAN_CLOSED, TO_UPPER_END, ONTO_STINGER)
 
 
 class ShortLaid(Exception):
@@ -123,7 +131,10 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     answer passes below the tip, and, with a node over the tip, when the
     answer leaves that node unloaded (:func:`.boundaries.tip_released`) or
     the tip's branch cycles with no progress (TIP_CYCLE): the pipe then lifts off
-    above the tip. ``predicted``: the state was moved towards the answer
+    above the tip; and at the curve's upper end, between conforming to the
+    curve and being held at its end point alone (TO_UPPER_END, ONTO_STINGER,
+    :func:`.boundaries.conform_from`; from the call's start when its iterate
+    ran away, NOT_FINITE or SINGULAR). ``predicted``: the state was moved towards the answer
     (a predicted start, :func:`continuation`); it does not switch, but
     returns the status that asks for a switch, for the caller to solve the
     step from its own start. ``maxit``: each call's iterations at most
@@ -133,17 +144,25 @@ def newton_in_regime(case: Case, pb: Problem, g_off, budget: IterationBudget, wh
     """
     spent = 0  # iterations of the calls that ended in a switch of regime
     for switches in range(T.MAX_TIP_SWITCHES + 1):
-        can_switch = pb.lo_node >= 0 and switches < T.MAX_TIP_SWITCHES
+        can_switch = ((pb.lo_node >= 0 or pb.clear_of_stinger)
+                      and switches < T.MAX_TIP_SWITCHES)
+        start = snapshot(pb)
         status, react, info = _budgeted_newton(case, pb, g_off, budget, where,
                                               switch=can_switch or predicted, maxit=maxit)
-        status = tip_regime(pb, status, can_switch)
-        if status not in (L.PAST_TIP, L.SPAN_CLOSED) or predicted:
+        stopped, status = status, tip_regime(pb, status, can_switch)
+        if status not in _SWITCHES or predicted:
             break
         spent += int(info[I_ITER])
         if status == L.PAST_TIP:
             bear_on_tip(case, pb, float(info[I_PAST]))
-        else:
+        elif status == L.SPAN_CLOSED:
             lift_off_above_tip(case, pb)
+        elif status == ONTO_STINGER:
+            conform_from(case, pb, below_stinger(pb))
+        else:  # from the call's start if its iterate ran away
+            if stopped in (L.NOT_FINITE, L.SINGULAR):
+                restore(pb, start)
+            conform_from(case, pb, -1)
     return status, react, info, int(info[I_ITER]) + spent
 
 
@@ -153,7 +172,8 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
     from 0 to 1, each step a Newton solve (:func:`newton_in_regime`) from the
     last converged state, with the step rule of tuning.LOAD_STEP,
     LOAD_STEP_FACTOR and SMALLEST_LOAD_STEP: a step that fails is undone and
-    cut, one that converges grows for the next, up to LOAD_STEP.
+    the step it took (shorter than the one asked where the path's end clips
+    it) cut, one that converges grows for the next, up to LOAD_STEP.
 
     ``load(level, predict)`` puts the problem at that load level and returns
     Newton's residual offset (ndof,); with ``predict`` it may also move the
@@ -218,7 +238,9 @@ def continuation(case: Case, pb: Problem, budget: IterationBudget, load, *, name
                 converged(level, react)
             continue
         restore(pb, saved)
-        step /= T.LOAD_STEP_FACTOR
+        # the step taken, not the one asked: a step clipped at the path's end
+        # and cut from the one asked would be tried again at the same level
+        step = (trial - level) / T.LOAD_STEP_FACTOR
         if step < T.SMALLEST_LOAD_STEP:
             _fail(case, where, info, status, f"; load step cut below {T.SMALLEST_LOAD_STEP:g}")
     return react, stats
@@ -277,36 +299,9 @@ def newton_with_fallback(case: Case, pb: Problem, budget: IterationBudget | None
         react, stats = continuation(case, pb, budget, homotopy(pb),
                                     name="the homotopy from the first guess, load factor",
                                     converged=lambda _level, _react: _free_touchdown(pb))
-    except SolveError as err:
-        note = _at_upper_end(pb)
-        if not note:
-            raise
-        raise SolveError(f"{err}{note}") from err
     finally:
         pb.settings.top_target = None
     return react, {"iterations": stats["iterations"] + iters, "load_steps": stats["load_steps"]}
-
-
-def _at_upper_end(pb: Problem) -> str:
-    """The reason to add to a solve's refusal when it stopped with lift-off
-    (or, bearing on the tip, re-contact above it) within the top's element,
-    or the finest element h_min, of the top, the stinger's upper end: the
-    answer then leaves (or regains) the stinger above it, touching it only
-    at the top (and the tip), a configuration the contact boundaries do not
-    model (e.g. a straight ramp whose elastica would meet the ramp's angle
-    with no moment above its upper end). "" otherwise."""
-    k = pb.lo_node
-    # on the top's element, or within the finest element h_min of the top
-    # (the map squeezes the elements between a boundary and the top)
-    if k < 0 or pb.s[-1] - pb.s[k] > max(pb.s[-1] - pb.s[-2], pb.stats["h_min"]):
-        return ""
-    what = ("re-contact with the stinger above its tip" if pb.tip_node >= 0
-            else "lift-off from the stinger")
-    return (f"; {what} ran to the stinger's upper end (lay.stinger.upper, the top): an "
-            "answer touching the stinger only at the top"
-            f"{' and the tip' if pb.tip_node >= 0 else ''} is a configuration the solver "
-            "does not model (the stinger's slope, lay.stinger.a and its ends, and the "
-            "tension decide where the pipe leaves it)")
 
 
 def _free_touchdown(pb: Problem):

@@ -15,8 +15,8 @@ the bending boundary layers, which shift touchdown by about sqrt(EI/h).
 
 from __future__ import annotations
 
-import functools
 import math
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -256,6 +256,9 @@ def _slay_span(case: Case, bottom_tension=None):
     def under(x_td):
         z_lo, h, past = slay_liftoff(case, bottom_tension, x_td, tan0)
         cat = Catenary(h, w1, w2, depth - x_td, float(st.height(z_lo)) - x_td, tan0)
+        if past is None and not sloped and bending_guessed(case, cat):
+            # bending-dominated: the elastica, tangent to the stinger at lift-off
+            cat = bending_span(case, cat, math.atan(float(st.slope(z_lo))))
         return float(seabed_height(case, z_lo - cat.span)), (z_lo, cat, past)
 
     x_td = 0.0
@@ -426,7 +429,9 @@ def _onto_slope(case: Case, g: Guess, s, x, z, th, z_tdp):
     return x, z, th
 
 
-@functools.lru_cache(maxsize=256)
+_GUIDES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def guide_case(case: Case) -> Case:
     """A roller stinger's guide: the case with its rollers replaced by a
     quadratic stinger x = x_U + m (z - z_U) + a (z - z_U)^2 from ``lay.top``
@@ -445,8 +450,17 @@ def guide_case(case: Case) -> Case:
     above them); both measured on random roller stingers,
     benchmarks/bench_rollers.py part 3. Its heights are in the seabed frame
     (``lay.frame`` the default) and trimmed (no ``lay.trim_deg``), as the
-    engine reads them. Raises ValueError as
+    engine reads them; built once while ``case`` lives (the solve and its
+    warm starts ask for it again). Raises ValueError as
     :meth:`pipelay_fast.input.case.Case.with_changes` does."""
+    guide = _GUIDES.get(case)
+    if guide is None:
+        guide = _GUIDES[case] = _guide(case)
+    return guide
+
+
+def _guide(case: Case) -> Case:
+    """:func:`guide_case`, built."""
     lay = case.lay
     pts = lay.roller_positions()
     x_u, z_u = lay.top

@@ -155,13 +155,14 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     """A roller stinger's problem from the answer ``guide`` of its guide case
     (the quadratic stinger through its rollers, :func:`.guess.guide_case`):
     the same length of pipe, a node over each roller (the guide answer's
-    material point nearest it, tuning.ROLLER_PROJECTIONS projections on its
-    tangent from the nearest node; ungraded there), graded at the answer's
-    touchdown, the state interpolated. The rollers it passes on or below
-    bear (Newton's first step lifts the pipe onto those it passes below:
-    from this equilibrium the reactions mean something; measured against
-    moving the rollers onto their places in load steps:
-    benchmarks/bench_rollers.py)."""
+    material point nearest it: projections on its tangent from the nearest
+    node, each taken while it moves the point less than the last, so to
+    round-off; ungraded there), graded at the answer's touchdown, the state
+    interpolated. The rollers it passes on (its gap within round-off of
+    h_min: the guide's tip) or below bear (Newton's first step lifts the
+    pipe onto those it passes below: from this equilibrium the reactions
+    mean something; measured against moving the rollers onto their places
+    in load steps: benchmarks/bench_rollers.py)."""
     nd, ndn = guide.nd, guide.ndn
     rollers = case.lay.roller_positions()
     stats = dict(guide.stats)
@@ -175,12 +176,18 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     d2 = ((u[0::ndn][None, :] - rollers[:, :1]) ** 2
           + (u[nd - 1::ndn][None, :] - rollers[:, 1:]) ** 2)
     s_r = guide.s[np.argmin(d2, axis=1)]
-    for _ in range(T.ROLLER_PROJECTIONS):
+    last = np.full(s_r.size, np.inf)  # each roller's last step [m]
+    while True:  # (Gauss-Newton on the foot of the normal, to round-off)
         u_r = interpolate_state(guide.s, u, nd, s_r)
         xp, zp = u_r[nd::ndn], u_r[2 * nd - 1::ndn]
         along = ((rollers[:, 0] - u_r[0::ndn]) * xp
                  + (rollers[:, 1] - u_r[nd - 1::ndn]) * zp) / np.hypot(xp, zp)
-        s_r = np.clip(s_r + along, s_t, total)
+        moved = np.clip(s_r + along, s_t, total)
+        step = np.abs(moved - s_r)
+        shorter = step < last
+        if not shorter.any():
+            break
+        s_r, last = np.where(shorter, moved, s_r), np.where(shorter, step, last)
     source = "the guide's answer (the quadratic stinger through the rollers)"
     s = graded_nodes(total, [s_t, total], h_max, h_min, grading=case.solver.grading,
                      check=lambda n: check_mesh_size(case, n, total, s_t, source), nodes=s_r)
@@ -195,7 +202,7 @@ def roller_problem(case: Case, guide: Problem) -> Problem:
     follow_nodes(case, pb, nodes, share_overlaps=not case.solver.grading)
     if case.solver.grading:  # graded at touchdown, the grading moving with it
         _follow_grading(pb, nodes, total, [s_t, total], s_r)
-    pb.contacts.points[:, L.PT_BEAR] = (roller_gaps(pb) <= T.ROLLER_ON * h_min).astype(float)
+    pb.contacts.points[:, L.PT_BEAR] = (roller_gaps(pb) <= T.REL_ROUNDOFF * h_min).astype(float)
     return pb
 
 
@@ -312,8 +319,9 @@ def _problem(case: Case, nd, s, u, tb, fref, stats, knots) -> Problem:
     props, table = build_props(case)
     fric = np.zeros((nn, L.N_FRIC))
     anchor_friction(fric, u, nd, s, props)
+    pin = pinned and st is not None  # held along the stinger's tangent, conforming
     ends = EndConditions(fix_mask, fix_val, np.zeros(nn * ndn), slide_dof, top, top_target,
-                         angle)
+                         angle, base + nd if pin else -1, pin_jump(case) if pin else 0.0)
     section = section_array(s, sections_of(case))
     return make_problem(nd=nd, s=s, props=props, table=table, section=section, u=u, ends=ends,
                         fref=fref, href=stats["h_max"], points=_points(case, curve), curve=curve,
@@ -344,7 +352,7 @@ def _points(case: Case, curve) -> np.ndarray:
 
 def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
            laid: float | None = None, grading: bool = False,
-           total: float | None = None) -> Problem:
+           total: float | None = None, keep_rates: bool = False) -> Problem:
     """A mesh with nodes at ``s_tdp`` and ``stinger_foci`` [m], graded there, the
     state interpolated onto it.
 
@@ -355,6 +363,10 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
     for boundaries that are still to be found) or, with ``grading`` (graded at
     boundaries found), as its grading moves with them
     (:meth:`Problem.follow_rates`), the zones kept for the current's path.
+    With ``keep_rates`` (and ``grading``), ``pb``'s map's rates are kept where
+    the boundaries fall on ``pb``'s nodes (``pb`` graded at the same
+    boundaries with other sizes: the rates differ by the change of the
+    sizes, a second-order change of the nodes' moves).
     """
     nd, ndn = pb.nd, pb.ndn
     extra = 0.0 if total is None else total - pb.s[-1]
@@ -404,9 +416,13 @@ def remesh(case: Case, pb: Problem, s_tdp: float, stinger_foci=(),
         new.contacts.st_active[:] = 0
         new.contacts.st_active[at(pb.lo_node):-1] = 1
     nodes = [at(int(k)) for k in pb.bnodes]
-    follow_nodes(case, new, nodes, share_overlaps=not grading)
-    if grading:
-        _follow_grading(new, nodes, total, foci, over)
+    if keep_rates and grading and nodes == pb.bnodes.tolist():
+        new.mesh.follow_rates(nodes, pb.mesh.s_b)
+        new.mesh.zone_b, new.mesh.grade_b = pb.mesh.zone_b, pb.mesh.grade_b
+    else:
+        follow_nodes(case, new, nodes, share_overlaps=not grading)
+        if grading:
+            _follow_grading(new, nodes, total, foci, over)
     # a bearing point keeps bearing (the node over it moves with the pipe)
     new.contacts.points[:, L.PT_BEAR:L.PT_R + 1] = pb.contacts.points[:, L.PT_BEAR:L.PT_R + 1]
     return new

@@ -337,7 +337,8 @@ def _solution(pb: Problem, react, stats: dict, s_t: float, s_l: float | None) ->
         lo_node=pb.lo_node, tip=tip, roller_nodes=pb.roller_nodes,
         roller_gaps=roller_gaps(pb) if rollers else np.zeros(0),
         last_roller=last_roller_in_contact(pb) if rollers else None,
-        s_tdp=s_t, s_liftoff=s_l, stats=stats)
+        s_tdp=s_t, s_liftoff=s_l, stats=stats,
+        top_jump=0.0 if pb.clear_of_stinger else pb.ends.pin_jump)
 
 
 __all__ = ["Problem", "SolveError", "Solution", "solve_problem"]

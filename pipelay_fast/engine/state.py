@@ -112,7 +112,10 @@ class EndConditions:
     unknown when the top tension is given (-1: none); ``top_node`` and
     ``top_target`` [N]: the node whose effective tension is held, and its
     value (0: none); ``slide_angle`` [rad]: the angle above horizontal of
-    the seabed the lower end slides along, the bottom tension's direction.
+    the seabed the lower end slides along, the bottom tension's direction;
+    ``pin_slope``, ``pin_jump`` [N]: a pinned S-lay top's slope row, held along
+    the stinger's tangent, and Te's jump across the pin (:func:`.model.pin_jump`;
+    -1, 0: not pinned), while the pipe conforms up to it (not clear of the stinger).
     """
 
     fix_mask: np.ndarray
@@ -122,6 +125,8 @@ class EndConditions:
     top_node: int
     top_target: float
     slide_angle: float = 0.0
+    pin_slope: int = -1
+    pin_jump: float = 0.0
 
 
 @dataclass
@@ -199,10 +204,18 @@ class Problem:
         return Model(self.props, self.table, self.settings.factors, self.section, self.bed)
 
     def kernel_supports(self) -> Supports:
-        """The Newton kernel's constraints and contacts (arrays shared, not copied)."""
+        """The kernel's constraints and contacts (shared; clear of the stinger a pin is free)."""
         c, e = self.contacts, self.ends
-        return Supports(e.fix_mask, e.fix_val, c.phi_r, c.phi_rp, c.kind, c.geom, c.active,
+        fix_mask = (np.where(np.arange(e.fix_mask.size) == e.pin_slope, 0, e.fix_mask)
+                    if e.pin_slope >= 0 and self.clear_of_stinger else e.fix_mask)
+        return Supports(fix_mask, e.fix_val, c.phi_r, c.phi_rp, c.kind, c.geom, c.active,
                         c.fric, c.y_held)
+
+    @property
+    def clear_of_stinger(self) -> bool:
+        """The quadratic stinger holds the pipe at its upper end, the top (and
+        its tip) alone: no lift-off (:func:`.boundaries.conform_from`)."""
+        return self.has_curve and self.lo_node < 0 and not self.contacts.st_active.any()
 
     @property
     def curve_support(self) -> tuple:
@@ -219,6 +232,7 @@ class Problem:
         and the load path's top-tension target (:class:`Settings`)."""
         e = self.ends
         target = e.top_target if self.settings.top_target is None else self.settings.top_target
+        target += e.pin_jump if target > 0.0 and self.clear_of_stinger else 0.0  # no jump
         return Ends(e.f_node, g_off, self.tb, e.slide_dof, e.top_node, float(target),
                     float(e.slide_angle))
 
@@ -373,7 +387,8 @@ class Solution:
     ``roller_gaps`` (n_rollers,) [m]: the pipe's clearance over each;
     ``last_roller``: the last roller it bears on (-1: none; None without
     rollers); ``s_tdp``, ``s_liftoff`` [m]: touchdown and lift-off (None:
-    the top); ``stats``: the solve's counts and time.
+    the top); ``stats``: the solve's counts and time; ``top_jump`` [N]: Te's
+    jump across the top (:class:`EndConditions`).
     """
 
     nd: int
@@ -396,6 +411,7 @@ class Solution:
     s_tdp: float
     s_liftoff: float | None
     stats: dict
+    top_jump: float = 0.0
 
     @property
     def ndn(self) -> int:
@@ -442,9 +458,8 @@ def make_problem(*, nd: int, s, props, table, section, u, ends: EndConditions, f
                    np.zeros((0, 3)) if bed is None else np.ascontiguousarray(bed, dtype=float))
 
 
-# what a snapshot copies: the unknowns, the contacts' arrays, the mesh's
-# nodes and boundaries; and the map, whose arrays are replaced, never written
-# in place (a switch of regime at the tip replaces it), so kept as they are
+# what a snapshot copies: the unknowns, the contacts' arrays, the mesh's nodes and
+# boundaries; and the map, whose arrays a switch of regime replaces, never writes, as is
 STATE = ("u", "tb", "bed_active", "st_active", "points", "fric", "phi_r", "phi_rp", "s",
          "s_bd")
 MAP = ("bnodes", "s_a", "s_b", "zone_b", "grade_b")
@@ -459,8 +474,7 @@ def _owner(pb: Problem, part: str):
 def snapshot(pb: Problem):
     """The state (``STATE``, copied) and the mesh's map onto its boundaries
     (``MAP``, as it is)."""
-    return ([getattr(_owner(pb, part), name).copy() for part, name in zip(_STATE_PARTS, STATE,
-                                                                          strict=True)]
+    return ([getattr(_owner(pb, p), n).copy() for p, n in zip(_STATE_PARTS, STATE, strict=True)]
             + [getattr(pb.mesh, name) for name in MAP])
 
 

@@ -38,11 +38,12 @@ BOUNDARY_STEP_LAYER = 0.2
 # step is larger: friction is path dependent, and half steps follow another
 # slip path on fine meshes (measured: S125 3D, benchmarks/bench_contact.py
 # part 2). A converged step multiplies the next by LOAD_STEP_FACTOR, a failed
-# one divides it (bisection: a cut step is the half of the failed one that
-# starts from the last converged state, and growth undoes one cut). A step cut
-# below SMALLEST_LOAD_STEP fails the solve (LOAD_STEP halved 12 times: the
-# homotopy's floor, measured on the random cases, bench_contact.py part 6),
-# and so does a path that takes solver.max_load_steps steps.
+# one divides the step it took (bisection: a cut step is the half of the
+# failed one that starts from the last converged state, and growth undoes one
+# cut). A step cut below SMALLEST_LOAD_STEP fails the solve (LOAD_STEP halved
+# 12 times: the homotopy's floor, measured on the random cases,
+# bench_contact.py part 6), and so does a path that takes
+# solver.max_load_steps steps.
 LOAD_STEP = 0.25
 LOAD_STEP_FACTOR = 1.0 / BACKTRACK  # (the kernels' halving: one bisection factor)
 SMALLEST_LOAD_STEP = 1e-4
@@ -52,9 +53,9 @@ SMALLEST_LOAD_STEP = 1e-4
 # converged state (measured: the random 3D cases, bench_contact.py part 6).
 PREDICTED_CAP = 2
 
-# --- the regime at the stinger's tip (:mod:`.boundaries`) -------------------------
-# Switches between bearing on the tip and lifting off in one Newton solve: one
-# each way.
+# --- the regime at the stinger's ends (:mod:`.boundaries`) ------------------------
+# Switches of regime in one Newton solve (between bearing on the tip and lifting
+# off, or between conforming to the curve and held at its upper end): one each way.
 MAX_TIP_SWITCHES = 2
 
 # --- meshes ----------------------------------------------------------------------
@@ -81,11 +82,6 @@ HOLD_SPLIT = MIN_ELEMENT_SHARE
 # boundaries are (regrading moves them by its own discretisation): measured,
 # cold iterations and answers on the quick grid, bench_contact.py parts 1 to 3.
 LOOSE_TOLERANCE = 1e-3
-# The roller problem: the material point over each roller found by this many
-# projections on the guide answer's tangent from the nearest node; a roller
-# bears at the start within ROLLER_ON h_min of the pipe (:mod:`.problem`).
-ROLLER_PROJECTIONS = 2
-ROLLER_ON = 1e-6
 
 # --- laid pipe (:func:`.solver.laid_short`, :func:`.solver.more_laid`) ----------------
 # The laid pipe a mesh models behind touchdown: at least one flexural length
@@ -127,6 +123,17 @@ GUESS_LIFTOFF_ERROR = 0.05
 # lifting off it converges in 15 iterations. The value 1 itself is not
 # measured.
 TIP_PAST_REACH = 1.0
+# The bending-dominated J-lay's guess (:class:`.beam.ElasticaSpan`): the
+# elastica's collocation (scipy's solve_bvp) runs to ELASTICA_TOL from a first
+# mesh of ELASTICA_NODES nodes, within scipy's cap of 1000 nodes (the 31
+# elasticas below take 51 to 283). Measured on the 29 bending-dominated
+# J-lays of benchmarks/bench_random.py seed 1 and the 2 of bench_contact.py
+# part 6: from 21 or 41 nodes all 29 are found, from 11 one is not (1:2d-332),
+# from 5 two; at scipy's default 1e-3 all 29 solve (3 more iterations in all)
+# but part 6's case 26 takes 389 Newton iterations instead of 44 (its current
+# path with friction follows the start).
+ELASTICA_TOL = 1e-4
+ELASTICA_NODES = 41
 # A roller stinger's guide (the quadratic through its rollers) on elements this
 # many times the case's: its answer is only a start (measured:
 # benchmarks/bench_rollers.py parts 1 and 3).

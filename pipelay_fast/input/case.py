@@ -162,7 +162,7 @@ class Solver:
 # --------------------------------------------------------------------------- case
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, weakref_slot=True)
 class Case:
     """One static pipelay case: the tables of a case file, validated.
 

@@ -130,7 +130,6 @@ criterion's equation numbers; the lower end of its range, 15 <= D/t2, and
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 
@@ -338,17 +337,11 @@ def collapse_pressure(pipe, checks: Checks) -> float:
     p^3 - p_el p^2 - (p_p^2 + p_el p_p f0 D/t) p + p_el p_p^2 = 0, has three
     real roots; p_c is the one below both p_el and p_p (the cubic is positive
     at 0 and negative at min(p_el, p_p)), found by bisection down to
-    neighbouring floats.
+    neighbouring floats (some 60 halvings of a cubic: no cache).
     """
-    return _collapse_pressure(pipe.outer_diameter, pipe.wall_thickness,
-                              pipe.smys * checks.alpha_U, pipe.youngs_modulus,
-                              pipe.poisson_ratio, checks.fabrication_factor, checks.ovality)
-
-
-@functools.lru_cache(maxsize=256)
-def _collapse_pressure(d, t, fy, youngs_modulus, poisson_ratio, fabrication_factor, ovality):
-    """:func:`collapse_pressure` of its numbers (cached: every solve of a
-    sweep checks the same pipe)."""
+    d, t, fy = pipe.outer_diameter, pipe.wall_thickness, pipe.smys * checks.alpha_U
+    youngs_modulus, poisson_ratio = pipe.youngs_modulus, pipe.poisson_ratio
+    fabrication_factor, ovality = checks.fabrication_factor, checks.ovality
     p_el = 2.0 * youngs_modulus * (t / d) ** 3 / (1.0 - poisson_ratio**2)
     p_p = fy * fabrication_factor * 2.0 * t / d
     c1 = p_p**2 + p_el * p_p * ovality * d / t

@@ -185,13 +185,16 @@ def phase(func):
     numba's IR level (``inline="always"``), so it compiles as part of the
     kernel instead of as a library of its own. Each compiled kernel costs
     numba a fixed share of compile time (its own LLVM module, optimised
-    again with every callee linked in), so the Newton kernel's phases are
-    not kernels of their own (``benchmarks/bench_compile.py``). Inlining has
-    a cost of its own: numba deep-copies each of the inlined function's
+    again with every callee linked in), so the Newton kernel's small phases
+    are not kernels of their own (``benchmarks/bench_compile.py``). Inlining
+    has a cost of its own: numba deep-copies each of the inlined function's
     blocks with the function's whole scope, a cost that grows as blocks
-    times variables, so a phase is to be small and a large function is not
-    inlined (:func:`.newton._newton_kernel` makes the Newton kernel a
-    closure instead)."""
+    times variables, and LLVM optimises the caller as one function of the
+    size of all its phases. So a phase is to be small, and a large function
+    is a kernel even with one caller (the Newton kernel's nodal frames,
+    constraint set, border, test, condensed solve, step's start, line search
+    and free residual, ``jit(by_dimension=True)``;
+    :func:`.newton._newton_kernel` makes the Newton kernel a closure)."""
     return jit(func, inline="always")
 
 

@@ -26,7 +26,7 @@ from .supports import in_curve_coords, support_angle
 from .system import _to_global
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     """The Newton step by condensation and the bordered solve (module
     docstring), ``nb`` bordered unknowns.
@@ -41,13 +41,33 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     ``w.du_free`` [m, -, N]. False when singular."""
     ndn = 2 * nd + 1
     kl = 2 * ndn - 1
+    n = w.g.shape[0]
+    if not _condense_factor(nd, w):
+        return False
+    # the step and the border columns solved together, the band read once
+    # (column 0 the step y0, column 1 + j the border column Y_j)
+    rhs = w.rhs
+    _condensed_rhs(nd, w, w.g, w.delta, 1.0, w.du)
+    _border_columns(w, nb, rhs, 1)
+    for i in range(n):
+        rhs[i, 0] = w.du[i]
+    band_solve_many(w.ab, kl, kl, w.ipiv, rhs, 1 + nb)
+    return _border_solve(nd, w, nb, rhs, phi_r, phi_rp)
+
+
+@phase
+def _condense_factor(nd, w):
+    """The tangent ``w.ab`` scaled (``w.scale``), kept in ``w.ab0``, its
+    constrained rows and columns (``w.cmask``) made identity, factored in
+    place (pivots ``w.ipiv``). False when singular."""
+    ndn = 2 * nd + 1
+    kl = 2 * ndn - 1
     ku = kl
     kv = kl + ku
     n = w.g.shape[0]
     ab = w.ab
     scale = w.scale
     cmask = w.cmask
-    du = w.du
     for j in range(n):
         sj = scale[j]
         for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
@@ -55,7 +75,6 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     for j in range(ab.shape[1]):
         for i in range(ab.shape[0]):
             w.ab0[i, j] = ab[i, j]
-    _prescribed(w, w.g, ab, du, 1.0, kl, ku)
     for j in range(n):
         if not cmask[j]:
             continue
@@ -64,60 +83,71 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
         for c in range(max(0, j - kl), min(n - 1, j + ku) + 1):
             ab[kv + j - c, c] = 0.0
         ab[kv, j] = 1.0
-        du[j] = w.delta[j] / scale[j]
-    if band_factor(ab, kl, ku, w.ipiv) != 0:
-        return False
-    # the step and the border columns solved together, the band read once
-    # (column 0 the step y0, column 1 + j the border column Y_j)
-    rhs = w.rhs
+    return band_factor(ab, kl, ku, w.ipiv) == 0
+
+
+@phase
+def _condensed_rhs(nd, w, g, delta, share, du):
+    """The condensed right-hand side of residual ``g`` with the constrained
+    unknowns' increments ``share`` x ``delta`` (nodal frames) into ``du`` (scaled):
+    -G_f - K_fc delta_c on the free rows, delta_c on the constrained
+    (K the scaled tangent ``w.ab0``)."""
+    ndn = 2 * nd + 1
+    kl = 2 * ndn - 1
+    kv = 2 * kl
+    n = g.shape[0]
+    scale = w.scale
+    cmask = w.cmask
     for i in range(n):
-        rhs[i, 0] = du[i]
+        du[i] = -g[i] * scale[i]
+    for j in range(n):
+        if not cmask[j]:
+            continue
+        dj = share * delta[j] / scale[j]
+        for r in range(max(0, j - kl), min(n - 1, j + kl) + 1):
+            if not cmask[r]:
+                du[r] -= w.ab0[kv + r - j, j] * dj
+    for j in range(n):
+        if cmask[j]:
+            du[j] = share * delta[j] / scale[j]
+
+
+@phase
+def _border_columns(w, nb, rhs, first):
+    """The border columns dG/dz, scaled and 0 on the constrained rows, into
+    columns ``first`` .. ``first + nb - 1`` of ``rhs``."""
+    for i in range(w.g.shape[0]):
         for j in range(nb):
-            rhs[i, 1 + j] = 0.0 if cmask[i] else w.cols[j, i] * scale[i]
-    band_solve_many(ab, kl, ku, w.ipiv, rhs, 1 + nb)
-    if not _border_solve(w, nb):
+            rhs[i, first + j] = 0.0 if w.cmask[i] else w.cols[j, i] * w.scale[i]
+
+
+@phase
+def _border_solve(nd, w, nb, rhs, phi_r, phi_rp):
+    """From the solved step y0 (``rhs`` column 0) and border columns Y_j
+    (columns 1 + j): the border steps ``w.dz`` and the step y0 - Y dz
+    (:func:`_schur`), the scaled step ``w.du`` and the step in the global
+    frame ``w.du_free``. False when the Schur complement is singular."""
+    n = w.g.shape[0]
+    if not _schur(w, nb, rhs):
         return False
     for i in range(n):
-        du[i] = rhs[i, 0]
+        w.du[i] = rhs[i, 0]
     for i in range(n):
-        w.du_free[i] = du[i] * scale[i]
+        w.du_free[i] = w.du[i] * w.scale[i]
     _to_global(nd, w.du_free, phi_r, phi_rp)
     return True
 
 
 @phase
-def _prescribed(w, g, ab, out, share, kl, ku):
-    """The scaled right-hand side of the free rows, -S G - K_fc S^-1 delta_c
-    with the prescribed increments ``share`` delta_c (``ab`` the scaled
-    tangent before its constrained rows and columns are replaced), into
-    ``out``; its constrained rows are left as they are."""
-    kv = kl + ku
-    n = g.shape[0]
-    for i in range(n):
-        out[i] = -g[i] * w.scale[i]
-    for j in range(n):
-        if not w.cmask[j]:
-            continue
-        dj = share * w.delta[j] / w.scale[j]
-        for r in range(max(0, j - ku), min(n - 1, j + kl) + 1):
-            if not w.cmask[r]:
-                out[r] -= ab[kv + r - j, j] * dj
-
-
-@phase
-def _border_solve(w, nb):
-    """The bordered unknowns' steps ``w.dz`` from the band's solutions in
-    ``w.rhs`` (column 0 the step y0 at dz = 0, column 1 + j the border
-    column Y_j) and the border residuals ``w.res_b``, and column 0 made the
-    step y0 - Y dz. False when the Schur complement is singular.
-
-    The border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz;
-    each row is local (a node's, an element's, the top's): the products run
-    over its nonzero span (a roller stinger has a bordered unknown a
-    roller)."""
-    n = w.rhs.shape[0]
-    rhs = w.rhs
+def _schur(w, nb, rhs):
+    """The border steps ``w.dz`` by the Schur complement of the border
+    equations res + rows . du + d_b dz = 0 (``w.res_b``) with du = y0 - Y dz
+    (y0 ``rhs`` column 0, Y_j column 1 + j), and column 0 made y0 - Y dz.
+    False when the Schur complement is singular."""
+    n = w.g.shape[0]
     scale = w.scale
+    # each row is local (a node's, an element's, the top's): the products run
+    # over its nonzero span (a roller stinger has a bordered unknown a roller)
     for i2 in range(nb):
         lo = 0
         while lo < n and w.rows[i2, lo] == 0.0:
@@ -155,14 +185,10 @@ def simplified_norm(nd, w, nb, share, href):
     A kernel: the line search's two loops call it."""
     ndn = 2 * nd + 1
     kl = 2 * ndn - 1
-    n = w.g.shape[0]
     col = w.rhs[:, 0]
-    _prescribed(w, w.g_trial, w.ab0, col, share, kl, kl)
-    for j in range(n):
-        if w.cmask[j]:
-            col[j] = share * w.delta[j] / w.scale[j]
+    _condensed_rhs(nd, w, w.g_trial, w.delta, share, col)
     band_solve_many(w.ab, kl, kl, w.ipiv, w.rhs, 1)
-    if not _border_solve(w, nb):
+    if not _schur(w, nb, w.rhs):
         return math.inf
     return step_norm(nd, w, nb, href)
 

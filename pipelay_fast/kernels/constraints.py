@@ -53,7 +53,7 @@ from .supports import (
 )
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _nodal_frames(nd, u, mesh, sup, ends):
     """The nodal frames of the iteration: none on the contacts of a support
     held in curve coordinates (with one, every node's frame but the top's is
@@ -106,7 +106,7 @@ def _local_value(nd, u, node, slot, phi_r, phi_rp):
     return s * u[p] + c * u[q]
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _constraint_set(nd, u, mesh, sup, ends, w, href):
     """The constrained unknowns (``w.cmask``) and their prescribed
     increments (``w.delta``, nodal frames): fixed ends, the seabed contacts

@@ -263,7 +263,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.empty((n, 1 + n_border)))
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _test(nd, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, changed):
     """The residuals the test reads and the test. Returns (the free rows'
     largest weighted residual and sum of squares, the top tension's relative
@@ -293,7 +293,7 @@ def _test(nd, u, mesh, ends, w, settings, te_top, max_delta, want_tangent, chang
     return res_max, res_ssq, top_res, bnd_res, converged
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _free_residual(nd, u, sup, w, out):
     """The residual G of an iteration's evaluation (``w.g``, nodal frames)
     with its constrained rows (``w.cmask``) zeroed, back in the global frame

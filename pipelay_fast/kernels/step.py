@@ -76,7 +76,7 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     return False
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     """Where the step starts and how far it may go. Saves the state, the
     boundaries' and the nodes' arc lengths (``w.u_old``, ``w.bnd_old``,
@@ -166,7 +166,7 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     return merit0, alpha, -1
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0, nb):
     """The step taken from ``w.u_old``; returns (accepted, the last trial's
     merit); u, the bottom tension and the mesh left at the step taken.

@@ -304,7 +304,7 @@ def _frame_turn(nd, ab, kl, g, u, mesh, sup):
         ab[kv + p - q2, q2] -= g_t * d_q
 
 
-@phase
+@jit(by_dimension=True, _nrt=False)
 def _border(nd, u, mesh, sup, ends, w, te_top):
     """The bordered unknowns' rows (their equations' gradients),
     columns (dG/dz) and residuals: the bottom tension (its equation the top

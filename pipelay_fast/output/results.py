@@ -10,11 +10,11 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import weakref
 
 import numpy as np
 import pandas as pd
 
-from ..engine.model import pin_jump
 from ..engine.state import Solution
 from ..input.case import Case
 from ..input.frame import vessel_note
@@ -58,9 +58,9 @@ SUMMARY_UNITS = {
 
 def case_id(case: Case) -> str:
     """Stable 16-hex-digit id of a case's inputs (the name is not an input):
-    :func:`tables_id` of ``case.to_dict()``, remembered for the last
-    KNOWN_IDS cases (a sweep names its cases from their tables and tells
-    it, :func:`remember_case_id`: their summaries then cost no second id)."""
+    :func:`tables_id` of ``case.to_dict()``, remembered while the case
+    lives (a sweep names its cases from their tables and tells it,
+    :func:`remember_case_id`: their summaries then cost no second id)."""
     cid = _known_ids.get(case)
     if cid is None:
         cid = tables_id(case.to_dict())
@@ -68,16 +68,13 @@ def case_id(case: Case) -> str:
     return cid
 
 
-KNOWN_IDS = 4096
-_known_ids: dict = {}
+_known_ids: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def remember_case_id(case: Case, cid: str):
-    """Record ``cid`` as the :func:`case_id` of ``case`` (the oldest of more
-    than KNOWN_IDS forgotten)."""
+    """Record ``cid`` as the :func:`case_id` of ``case``, for as long as
+    ``case`` lives."""
     _known_ids[case] = cid
-    if len(_known_ids) > KNOWN_IDS:
-        del _known_ids[next(iter(_known_ids))]
 
 
 def tables_id(tables: dict) -> str:
@@ -292,7 +289,7 @@ def build_profile(case: Case, sol: Solution) -> dict:
     pipe = case.pipe
     ei = pipe.bending_stiffness
     r, rp, kvec, t3 = nodal_fields(nd, s, u, sol.y_held)
-    jump = pin_jump(case)
+    jump = sol.top_jump
     if jump:  # a pinned S-lay top: the pin's own values, past the moment's fall
         kvec[-1] = 0.0
     torque = sol.torque

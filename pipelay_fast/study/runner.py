@@ -434,8 +434,10 @@ def _backend(backend: str, workers: int, scheduler: str | None):
 # --------------------------------------------------------------------------- progress
 
 
-# seconds between redraws: on a terminal, and in a log (a file or a pipe)
-REDRAW_TTY, REDRAW_LOG = 0.1, 10.0
+# seconds between redraws in a log (a file or a pipe): tqdm's longest
+# interval between redraws (its maxinterval), so that a log line comes as
+# often as a bar that stalls would redraw; on a terminal tqdm's own default
+REDRAW_LOG = 10.0
 # a log's bar: plain characters, a fixed width and height (a pseudo-terminal of
 # 0 x 0, as some CI runners give, would make tqdm hide it)
 LOG_STYLE = {"ascii": True, "ncols": 80, "nrows": 20}
@@ -446,16 +448,16 @@ def progress_bar(total: int, *, enabled: bool = True, stream=None) -> tqdm:
     ``failed=N`` (set with ``set_postfix(failed=N, refresh=False)`` before
     ``update``).
 
-    On a terminal it is redrawn in place, every 0.1 s at most. Elsewhere (a log
-    file, a pipe) each redraw is a line of its own, one every 10 s at most
-    besides the first and the last.
+    On a terminal it is redrawn in place, at tqdm's default interval. Elsewhere
+    (a log file, a pipe) each redraw is a line of its own, one every
+    REDRAW_LOG seconds at most besides the first and the last.
     """
     stream = stream or sys.stderr
     tty = _terminal(stream)
     return (tqdm if tty else _LogBar)(
         total=total, unit=" cases", file=stream, disable=not enabled or total == 0,
-        mininterval=REDRAW_TTY if tty else REDRAW_LOG, postfix={"failed": 0},
-        dynamic_ncols=tty, **({} if tty else LOG_STYLE))
+        postfix={"failed": 0}, dynamic_ncols=tty,
+        **({} if tty else {"mininterval": REDRAW_LOG, **LOG_STYLE}))
 
 
 def _terminal(stream) -> bool:
