@@ -130,6 +130,7 @@ from .system import (
     _weighted_max,
 )
 from .tuning import ROUNDOFF_RATIO, RUNAWAY
+from .watchdog import watch_step, watch_work
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
@@ -363,6 +364,9 @@ def _newton_kernel(nd):
         moved = False  # the last step moved the boundaries and lowered the merit
         trial_converged = False  # the last trial passed the test on its own constraints
         residual_only = settings.maxit == 0  # (the module docstring)
+        wd = watch_work(u, mesh, sup)
+        watching = False  # the last step was tentative (:mod:`.watchdog`)
+        watch = True  # a step may be tentative (not the search again of an undone one)
         for it in range(1, max(settings.maxit, 1) + 1):
             # ---- evaluate (after a converged trial, the residual alone first)
             want_tangent = not (trial_converged or residual_only)
@@ -420,8 +424,17 @@ def _newton_kernel(nd):
                         _take_step(nd, alpha, u, w.u_old, w.du_free, sup, ends.tb, ends.tb[0],
                                    dtb, _has_boundaries(mesh), mesh, w)
                 break
-            accepted, m1 = _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb,
-                                        alpha, merit0, nb)
+            tb0 = ends.tb[0]
+            accepted, m1, tentative = _line_search(nd, u, mesh, model, sup, ends, w, settings,
+                                                   hold, dtb, alpha, merit0, nb,
+                                                   watch and not watching)
+            watch, watching, changed = watch_step(wd, w, u, mesh, sup, ends, watching,
+                                                  tentative, accepted, m1, merit0, alpha, tb0,
+                                                  changed, settings.tol)
+            if not watch:  # the pair undone: the first step searched again, unheld
+                moved = True
+                trial_converged = False
+                continue
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)

@@ -167,9 +167,14 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
 
 
 @jit(by_dimension=True, _nrt=False)
-def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0, nb):
+def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0, nb,
+                 watch):
     """The step taken from ``w.u_old``; returns (accepted, the last trial's
-    merit); u, the bottom tension and the mesh left at the step taken.
+    merit, tentative); u, the bottom tension and the mesh left at the step
+    taken. With ``watch``, a step that moves the boundaries (not ``hold``)
+    whose first trial fails :func:`_accepts` but is finite is taken whole,
+    tentatively (:mod:`.watchdog`: the Newton kernel judges it with the
+    step after it).
 
     A trial is measured by two merits of the Newton step (:func:`_accepts`):
     the weighted residual, and the simplified Newton correction
@@ -221,11 +226,13 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
         if _accepts(m1, merit0, n1, norm0, alpha, settings.tol):
             accepted = True
             break
+        if _ls == 0 and watch and has_bnd and not hold and np.isfinite(m1):
+            return True, m1, True
         alpha *= BACKTRACK
     if not accepted:
         _take_step(nd, alpha0, u, w.u_old, w.du_free, sup, ends.tb, tb_old, dtb, has_bnd,
                    mesh, w)
-    return accepted, m1
+    return accepted, m1, False
 
 
 @jit(by_dimension=True, _nrt=False)
