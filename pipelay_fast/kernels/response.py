@@ -51,7 +51,7 @@ from .constraints import (
 )
 from .contact import lateral_hold
 from .newton import _friction_answer, _work
-from .system import _evaluate, _solves_tb, _to_nodal_residual, _to_nodal_system
+from .system import _border_residuals, _evaluate, _to_nodal_residual, _to_nodal_system
 
 
 @phase
@@ -73,16 +73,7 @@ def _evaluated(nd, u, mesh, model, sup, ends, settings, want_tangent):
         nb, _nb_fixed = _to_nodal_system(nd, u, mesh, sup, ends, w, te_top, m_td)
     else:
         _to_nodal_residual(nd, u, mesh, sup, w, m_td)
-        nb = 0
-        if _solves_tb(ends):
-            w.res_b[nb] = te_top - ends.top_target
-            w.kind[nb] = 0
-            nb += 1
-        for b in range(mesh.bnodes.shape[0]):
-            if mesh.bnodes[b] >= 0:
-                w.res_b[nb] = w.res_bnd[b]
-                w.kind[nb] = 2 + b
-                nb += 1
+        nb = _border_residuals(mesh, ends, w, te_top)
     _constraint_set(nd, u, mesh, sup, ends, w, settings.href)
     return w, nb
 

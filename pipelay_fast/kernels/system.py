@@ -351,6 +351,25 @@ def _border(nd, u, mesh, sup, ends, w, te_top):
     return nb, nb_fixed
 
 
+@phase
+def _border_residuals(mesh, ends, w, te_top):
+    """:func:`_border`'s residuals ``w.res_b`` and unknowns ``w.kind`` alone, in
+    its order (the top tension's equation, then each boundary's, from
+    ``w.res_bnd`` as :func:`_to_nodal_residual` leaves it), without its rows
+    and columns. Returns their count."""
+    nb = 0
+    if _solves_tb(ends):
+        w.res_b[nb] = te_top - ends.top_target
+        w.kind[nb] = 0
+        nb += 1
+    for b in range(mesh.bnodes.shape[0]):
+        if mesh.bnodes[b] >= 0:
+            w.res_b[nb] = w.res_bnd[b]
+            w.kind[nb] = 2 + b
+            nb += 1
+    return nb
+
+
 @jit(_nrt=False)
 def _to_global(nd, du_local, phi_r, phi_rp):
     """Rotate an increment from the nodal frames back to the global frame."""
