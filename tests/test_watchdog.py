@@ -1,6 +1,8 @@
-"""The line search's watchdog (kernels/watchdog.py): a pair that fails is
-undone to the state saved before its tentative step, the mesh's element
-lengths recomputed from the restored boundaries; Armijo's test on the pair."""
+"""The line search's watchdog (kernels/watchdog.py): a window that fails
+Armijo's test at a state that moves the boundaries is undone to the state
+saved before its tentative step, the mesh's element lengths recomputed
+from the restored boundaries; one that fails while the iteration holds the
+boundaries goes on untouched; Armijo's bound on the window."""
 
 from __future__ import annotations
 
@@ -8,7 +10,14 @@ from collections import namedtuple
 
 import numpy as np
 
-from pipelay_fast.kernels.watchdog import pair_passes, watch_step, watch_work
+from pipelay_fast.kernels.watchdog import (
+    NONE,
+    RESTORED,
+    watch_judge,
+    watch_step,
+    watch_work,
+    window_passes,
+)
 
 Mesh = namedtuple("Mesh", "s_a s_b s_bd s_el bnodes")
 Sup = namedtuple("Sup", "fric geom")
@@ -25,7 +34,16 @@ def _state(rng):
     return mesh, sup
 
 
-def test_failed_pair_restores_the_state_before_its_tentative_step():
+def _moved(u, mesh, sup, ends):
+    """The window's steps and the contacts' updates move everything."""
+    u += 1.0
+    mesh.s_bd[:] = [12.0, 41.0]
+    sup.fric[:] = 0.0
+    sup.geom[:] = 0.0
+    ends.tb[0] = 8e4
+
+
+def test_failed_window_restores_the_state_before_its_tentative_step():
     rng = np.random.default_rng(3)
     mesh, sup = _state(rng)
     u = rng.normal(size=35)
@@ -34,37 +52,55 @@ def test_failed_pair_restores_the_state_before_its_tentative_step():
     w = Work(u.copy(), mesh.s_bd.copy())
     wd = watch_work(u, mesh, sup)
     # a tentative step from merit 1.0 (alpha 1), a point had changed branch
-    watch, watching, changed = watch_step(wd, w, u, mesh, sup, ends, False, True, True, 50.0,
-                                          1.0, 1.0, 7.5e4, True, 1e-6)
-    assert (watch, watching, changed) == (True, True, True)
-    # the step and the contacts' update move everything
-    u += 1.0
-    mesh.s_bd[:] = [12.0, 41.0]
-    sup.fric[:] = 0.0
-    sup.geom[:] = 0.0
-    ends.tb[0] = 8e4
-    # the second step ends above (1 - 1e-4) of the merit before the pair
-    watch, watching, changed = watch_step(wd, w, u, mesh, sup, ends, True, False, True,
-                                          0.99999, 50.0, 1.0, 8e4, False, 1e-6)
-    assert (watch, watching, changed) == (False, False, True)
+    window = watch_step(wd, w, sup, NONE, True, 1.0, 1.0, 7.5e4, True)
+    assert window == 0
+    _moved(u, mesh, sup, ends)
+    # right after the tentative step the window is not judged
+    assert watch_judge(wd, u, mesh, sup, ends, 0, 50.0, False, False, 1e-6) == (0, False)
+    window = watch_step(wd, w, sup, window, False, 50.0, 1.0, 8e4, False)
+    assert window == 1
+    # above (1 - 1e-4) of the merit before the tentative step, not held: undone
+    window, changed = watch_judge(wd, u, mesh, sup, ends, window, 0.99999, False, False, 1e-6)
+    assert (window, changed) == (RESTORED, True)
     for got, want in zip((u, mesh.s_bd, sup.fric, sup.geom), before, strict=True):
         np.testing.assert_array_equal(got, want)
     assert ends.tb[0] == 7.5e4
     # element lengths: 10 m apart, plus the first element's share of s_bd[0] = 10
     np.testing.assert_allclose(mesh.s_el, [20.0, 10.0, 10.0, 10.0, 10.0, 10.0])
+    # the step searched again is counted outside any window
+    assert watch_step(wd, w, sup, RESTORED, False, 1.0, 1.0, 7.5e4, False) == NONE
 
 
-def test_pair_passes_armijo_against_the_merit_before_both():
+def test_window_goes_on_while_the_boundaries_are_held_and_closes_when_it_passes():
+    rng = np.random.default_rng(5)
+    mesh, sup = _state(rng)
+    u = rng.normal(size=35)
+    ends = Ends(np.array([7.5e4]))
+    w = Work(u.copy(), mesh.s_bd.copy())
+    wd = watch_work(u, mesh, sup)
+    window = watch_step(wd, w, sup, NONE, True, 2.0, 0.5, 7.5e4, False)
+    window = watch_step(wd, w, sup, window, False, 9.0, 1.0, 7.5e4, False)
+    _moved(u, mesh, sup, ends)
+    after = (u.copy(), mesh.s_bd.copy(), sup.fric.copy(), sup.geom.copy(), ends.tb.copy())
+    # failing, held (the pipe's correction on the moved mesh goes on): untouched
+    assert watch_judge(wd, u, mesh, sup, ends, window, 3.0, True, True, 1e-6) == (1, True)
+    window = watch_step(wd, w, sup, window, False, 3.0, 1.0, 8e4, True)
+    assert window == 2
+    # passing: closed, untouched
+    assert watch_judge(wd, u, mesh, sup, ends, window, 1.0, False, False, 1e-6) == (NONE, False)
+    for got, want in zip((u, mesh.s_bd, sup.fric, sup.geom, ends.tb), after, strict=True):
+        np.testing.assert_array_equal(got, want)
+
+
+def test_window_passes_armijo_against_the_merit_before_the_tentative_step():
     rng = np.random.default_rng(4)
     mesh, sup = _state(rng)
     u = np.zeros(35)
     wd = watch_work(u, mesh, sup)
     w = Work(u.copy(), mesh.s_bd.copy())
-    watch_step(wd, w, u, mesh, sup, Ends(np.zeros(1)), False, True, True, 9.0, 2.0, 0.5, 0.0,
-               False, 1e-6)
+    watch_step(wd, w, sup, NONE, True, 2.0, 0.5, 0.0, False)
     # merit before 2.0, alpha 0.5: the bound is (1 - 0.5e-4) * 2.0
-    assert pair_passes(wd, True, 2.0 * (1.0 - 0.5e-4), 1e-6)
-    assert not pair_passes(wd, True, 2.0 * (1.0 - 0.4e-4), 1e-6)
-    assert not pair_passes(wd, False, 1.0, 1e-6)  # the second step's search failed
-    assert pair_passes(wd, True, 1e-12, 1e-6)  # at the tolerance's floor (tol^2)
-    assert not pair_passes(wd, True, 3.0, 1e-6)
+    assert window_passes(wd, 2.0 * (1.0 - 0.5e-4), 1e-6)
+    assert not window_passes(wd, 2.0 * (1.0 - 0.4e-4), 1e-6)
+    assert window_passes(wd, 1e-12, 1e-6)  # at the tolerance's floor (tol^2)
+    assert not window_passes(wd, 3.0, 1e-6)

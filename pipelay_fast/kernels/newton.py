@@ -15,7 +15,9 @@ in order:
    gets its increment prescribed, the free ones are solved from the band
    system, the bordered unknowns by a Schur complement, and the reactions
    are read back from the constrained rows;
-3. step (:mod:`.step`): its limits, then a line search on the merit;
+3. step (:mod:`.step`): its limits, then a line search on the merit (a
+   step that moves the boundaries taken tentatively and judged with the
+   held steps that correct it, :mod:`.watchdog`);
 4. update the contacts: the friction springs' normal forces, the rigid
    points' branches by their complementarity (:mod:`.constraints`).
 
@@ -117,7 +119,7 @@ from .layout import (
     ROW_CURVE,
     SUP_NONE,
 )
-from .step import _hold_boundaries, _line_search, _start_step, _take_step, at_tolerance
+from .step import _hold_boundaries, _line_search, _start_step, _take_step, at_tolerance, merit
 from .supports import in_curve_coords
 from .system import (
     _evaluate,
@@ -130,7 +132,7 @@ from .system import (
     _weighted_max,
 )
 from .tuning import ROUNDOFF_RATIO, RUNAWAY
-from .watchdog import watch_step, watch_work
+from .watchdog import NONE, RESTORED, watch_judge, watch_step, watch_work
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
@@ -365,8 +367,7 @@ def _newton_kernel(nd):
         trial_converged = False  # the last trial passed the test on its own constraints
         residual_only = settings.maxit == 0  # (the module docstring)
         wd = watch_work(u, mesh, sup)
-        watching = False  # the last step was tentative (:mod:`.watchdog`)
-        watch = True  # a step may be tentative (not the search again of an undone one)
+        window = NONE  # a tentative step's window (:mod:`.watchdog`)
         for it in range(1, max(settings.maxit, 1) + 1):
             # ---- evaluate (after a converged trial, the residual alone first)
             want_tangent = not (trial_converged or residual_only)
@@ -406,6 +407,13 @@ def _newton_kernel(nd):
             # ---- condense and solve
             hold = (settings.hold and not moved
                     and _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res))
+            window, changed = watch_judge(wd, u, mesh, sup, ends, window,
+                                          merit(mesh, w, settings, False, res_ssq, top_res),
+                                          hold, changed, settings.tol)
+            if window == RESTORED:  # the tentative step searched again, unheld
+                moved = True
+                trial_converged = False
+                continue
             if hold:
                 nb = nb_fixed
             if not _condensed_solve(nd, w, nb, sup.phi_r, sup.phi_rp):
@@ -426,15 +434,8 @@ def _newton_kernel(nd):
                 break
             tb0 = ends.tb[0]
             accepted, m1, tentative = _line_search(nd, u, mesh, model, sup, ends, w, settings,
-                                                   hold, dtb, alpha, merit0, nb,
-                                                   watch and not watching)
-            watch, watching, changed = watch_step(wd, w, u, mesh, sup, ends, watching,
-                                                  tentative, accepted, m1, merit0, alpha, tb0,
-                                                  changed, settings.tol)
-            if not watch:  # the pair undone: the first step searched again, unheld
-                moved = True
-                trial_converged = False
-                continue
+                                                   hold, dtb, alpha, merit0, nb, window == NONE)
+            window = watch_step(wd, w, sup, window, tentative, merit0, alpha, tb0, changed)
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)

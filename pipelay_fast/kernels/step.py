@@ -76,6 +76,19 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     return False
 
 
+@phase
+def merit(mesh, w, settings, hold, res_ssq, top_res):
+    """The merit of the evaluated state (the module docstring): the free
+    rows' sum of squares ``res_ssq``, the top tension's relative residual
+    ``top_res`` and the boundaries' scaled equations ``w.res_bnd`` (unless
+    ``hold``), squared."""
+    m = res_ssq + top_res * top_res
+    for b in range(mesh.bnodes.shape[0]):
+        if mesh.bnodes[b] >= 0 and not hold:
+            m += (w.res_bnd[b] / _bnd_scale(b, settings.fref, settings.href)) ** 2
+    return m
+
+
 @jit(by_dimension=True, _nrt=False)
 def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     """Where the step starts and how far it may go. Saves the state, the
@@ -84,7 +97,7 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     step the contact boundaries allow, the status that stops the call, -1
     none). The merit: the free rows' sum of squares ``res_ssq``, the top
     tension's ``top_res`` and the boundaries' equations ``w.res_bnd``
-    (unless ``hold``).
+    (unless ``hold``; :func:`merit`).
 
     A boundary stays inside its zone (no element there shrinks below a
     tenth) and moves at most ``settings.bstep`` [m]; touchdown stays on the
@@ -99,10 +112,8 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     step)."""
     for i in range(u.shape[0]):
         w.u_old[i] = u[i]
-    merit0 = res_ssq + top_res * top_res
+    merit0 = merit(mesh, w, settings, hold, res_ssq, top_res)
     for b in range(mesh.bnodes.shape[0]):
-        if mesh.bnodes[b] >= 0 and not hold:
-            merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, settings.href)) ** 2
         w.bnd_old[b] = mesh.s_bd[b]
     node_arcs(mesh.s_el, w.s_old)
     href = settings.href
@@ -174,7 +185,7 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     taken. With ``watch``, a step that moves the boundaries (not ``hold``)
     whose first trial fails :func:`_accepts` but is finite is taken whole,
     tentatively (:mod:`.watchdog`: the Newton kernel judges it with the
-    step after it).
+    steps after it).
 
     A trial is measured by two merits of the Newton step (:func:`_accepts`):
     the weighted residual, and the simplified Newton correction

@@ -1,15 +1,30 @@
 """The watchdog of the line search (Nocedal and Wright, Numerical
 Optimization, 2006, Sec. 15.5): a step that moves the contact boundaries
-and fails Armijo's test is taken tentatively, the state before it saved;
-the next step is taken, and the pair is judged by Armijo's test against the
-merit before both. A pair that fails is undone (the state restored) and the
-first step is searched again without the watchdog.
+and fails Armijo's test is taken tentatively, the state before it saved.
+Its window is the step after it and the held steps that follow (the pipe
+brought back to balance on the mesh the boundaries moved, as a
+second-order correction restores the constraints after a step). The
+window is judged at the start of each iteration after its first step, by
+Armijo's test of the merit there (with the boundaries' equations, whether
+or not the iteration holds them) against the merit before the tentative
+step: passed, it closes; failed while the iteration holds the boundaries,
+the correction goes on; failed otherwise (the pipe as near balance as the
+boundaries are), the state is restored and the tentative step searched
+again without the watchdog.
 
 Why: a step that moves the boundaries moves the mesh under the pipe, and the
 weighted residual rises across it in the stiff rows of the boundaries'
-zones (x1e2 to x1e7) although the step after it, with the boundaries right,
-brings the residual to the tolerance: the residual after one step is not a
-distance to the answer there, after two it is.
+zones although the held steps after it, with the boundaries where the step
+put them, bring the pipe back to balance: the residual after the step is
+not a distance to the answer there, after its correction it is. A Newton
+step from so far out of balance leaves a residual of the order of the one
+before the pair (the square of its start, times the problem's curvature),
+so the correction may take more than one step.
+
+The window's state, ``window`` in the Newton kernel: -1 none open (the next
+step may be tentative); 0 the tentative step just taken; k > 0 k steps
+taken after it; RESTORED the state just restored (the next step is
+searched without the watchdog).
 """
 
 from __future__ import annotations
@@ -29,6 +44,9 @@ from .tuning import ARMIJO
 # tentative step, its fraction alpha, the bottom tension [N] before it, and
 # whether a rigid point had changed branch before it (1.0 or 0.0).
 Watch = namedtuple("Watch", "u s_bd fric geom x")
+
+NONE = -1
+RESTORED = -2
 
 
 @jit(_nrt=True)
@@ -54,11 +72,11 @@ def watch_save(wd, w, sup, merit0, alpha, tb0, changed):
 
 
 @jit(_nrt=False)
-def pair_passes(wd, accepted, m1, tol):
-    """Whether the pair (tentative step, the step after it, ending at merit
-    ``m1``, ``accepted`` by its own line search) passes Armijo's test
-    against the merit before the tentative step, or ends at the tolerance."""
-    return accepted and (m1 <= (1.0 - ARMIJO * wd.x[1]) * wd.x[0] or at_tolerance(m1, tol))
+def window_passes(wd, merit, tol):
+    """Whether a state of merit ``merit`` (the boundaries' equations in it)
+    passes Armijo's test against the merit before the tentative step, at
+    its fraction alpha, or is at the tolerance's floor."""
+    return merit <= (1.0 - ARMIJO * wd.x[1]) * wd.x[0] or at_tolerance(merit, tol)
 
 
 @jit(_nrt=False)
@@ -75,21 +93,34 @@ def watch_restore(wd, u, mesh, sup, ends):
 
 
 @jit(_nrt=False)
-def watch_step(wd, w, u, mesh, sup, ends, watching, tentative, accepted, m1, merit0, alpha,
-               tb0, changed, tol):
-    """After a line search: the second step of a pair (``watching``) judged,
-    the pair undone when it fails; a ``tentative`` step's state before it
-    saved. Returns (whether the next step may be tentative: False after an
-    undone pair; whether the next step is a pair's second; whether a rigid
-    point changed branch, restored with the state)."""
-    if watching:
-        if not pair_passes(wd, accepted, m1, tol):
-            return False, False, watch_restore(wd, u, mesh, sup, ends)
-        return True, False, changed
+def watch_judge(wd, u, mesh, sup, ends, window, merit, hold, changed, tol):
+    """At the start of an iteration, its state's ``merit`` (the boundaries'
+    equations in it) and whether it holds the boundaries (``hold``): an open
+    window with a step taken after its tentative one judged. Returns (the
+    window's state: NONE passed, ``window`` going on, RESTORED failed and
+    the state restored; whether a rigid point changed branch, restored with
+    the state)."""
+    if window <= 0:
+        return window, changed
+    if window_passes(wd, merit, tol):
+        return NONE, changed
+    if hold:
+        return window, changed
+    return RESTORED, watch_restore(wd, u, mesh, sup, ends)
+
+
+@jit(_nrt=False)
+def watch_step(wd, w, sup, window, tentative, merit0, alpha, tb0, changed):
+    """After a line search: a ``tentative`` step's state before it saved
+    (``merit0``, ``alpha``, the bottom tension ``tb0`` [N] before it,
+    ``changed``), or a step of an open window counted. Returns the window's
+    state (:func:`watch_judge`)."""
     if tentative:
         watch_save(wd, w, sup, merit0, alpha, tb0, changed)
-        return True, True, changed
-    return True, False, changed
+        return 0
+    if window >= 0:
+        return window + 1
+    return NONE
 
 
 @jit(_nrt=False)
