@@ -119,7 +119,7 @@ from .layout import (
     ROW_CURVE,
     SUP_NONE,
 )
-from .step import _hold_boundaries, _line_search, _start_step, _take_step, at_tolerance, merit
+from .step import _hold_boundaries, _line_search, _start_step, _take_step, at_tolerance
 from .supports import in_curve_coords
 from .system import (
     _evaluate,
@@ -132,7 +132,7 @@ from .system import (
     _weighted_max,
 )
 from .tuning import ROUNDOFF_RATIO, RUNAWAY
-from .watchdog import NONE, RESTORED, watch_judge, watch_step, watch_work
+from .watchdog import NONE, RESTORED, watch_step, watch_work
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
@@ -407,13 +407,6 @@ def _newton_kernel(nd):
             # ---- condense and solve
             hold = (settings.hold and not moved
                     and _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res))
-            window, changed = watch_judge(wd, u, mesh, sup, ends, window,
-                                          merit(mesh, w, settings, False, res_ssq, top_res),
-                                          hold, changed, settings.tol)
-            if window == RESTORED:  # the tentative step searched again, unheld
-                moved = True
-                trial_converged = False
-                continue
             if hold:
                 nb = nb_fixed
             if not _condensed_solve(nd, w, nb, sup.phi_r, sup.phi_rp):
@@ -435,7 +428,12 @@ def _newton_kernel(nd):
             tb0 = ends.tb[0]
             accepted, m1, tentative = _line_search(nd, u, mesh, model, sup, ends, w, settings,
                                                    hold, dtb, alpha, merit0, nb, window == NONE)
-            window = watch_step(wd, w, sup, window, tentative, merit0, alpha, tb0, changed)
+            window, changed = watch_step(wd, w, u, mesh, sup, ends, window, tentative, hold,
+                                         accepted, m1, merit0, alpha, tb0, changed, settings.tol)
+            if window == RESTORED:  # the tentative step searched again, unheld
+                moved = True
+                trial_converged = False
+                continue
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)

@@ -76,19 +76,6 @@ def _hold_boundaries(nd, u, mesh, sup, w, settings, bnd_res):
     return False
 
 
-@phase
-def merit(mesh, w, settings, hold, res_ssq, top_res):
-    """The merit of the evaluated state (the module docstring): the free
-    rows' sum of squares ``res_ssq``, the top tension's relative residual
-    ``top_res`` and the boundaries' scaled equations ``w.res_bnd`` (unless
-    ``hold``), squared."""
-    m = res_ssq + top_res * top_res
-    for b in range(mesh.bnodes.shape[0]):
-        if mesh.bnodes[b] >= 0 and not hold:
-            m += (w.res_bnd[b] / _bnd_scale(b, settings.fref, settings.href)) ** 2
-    return m
-
-
 @jit(by_dimension=True, _nrt=False)
 def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     """Where the step starts and how far it may go. Saves the state, the
@@ -97,7 +84,7 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     step the contact boundaries allow, the status that stops the call, -1
     none). The merit: the free rows' sum of squares ``res_ssq``, the top
     tension's ``top_res`` and the boundaries' equations ``w.res_bnd``
-    (unless ``hold``; :func:`merit`).
+    (unless ``hold``).
 
     A boundary stays inside its zone (no element there shrinks below a
     tenth) and moves at most ``settings.bstep`` [m]; touchdown stays on the
@@ -112,8 +99,10 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
     step)."""
     for i in range(u.shape[0]):
         w.u_old[i] = u[i]
-    merit0 = merit(mesh, w, settings, hold, res_ssq, top_res)
+    merit0 = res_ssq + top_res * top_res
     for b in range(mesh.bnodes.shape[0]):
+        if mesh.bnodes[b] >= 0 and not hold:
+            merit0 += (w.res_bnd[b] / _bnd_scale(b, settings.fref, settings.href)) ** 2
         w.bnd_old[b] = mesh.s_bd[b]
     node_arcs(mesh.s_el, w.s_old)
     href = settings.href

@@ -40,7 +40,7 @@ RUNAWAY = 1e6
 # Numerical Optimization, 2006, Sec. 3.1) of the error-oriented merit, the
 # norm of the simplified Newton correction (Deuflhard, Newton Methods for
 # Nonlinear Problems, 2004, Sec. 3.3; :func:`.step._accepts`), and of the
-# weighted residual over a watchdog's pair of steps (:mod:`.watchdog`), the step
+# weighted residual over a watchdog's window of steps (:mod:`.watchdog`), the step
 # halved (BACKTRACK; the friction cut's forward search grows it by the
 # inverse, :func:`.step._line_search`) up to LINE_SEARCH_TRIALS trials
 # (down to 2^-11 of it; a trial of non-finite merit is halved like any other).

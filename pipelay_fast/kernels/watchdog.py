@@ -1,16 +1,15 @@
 """The watchdog of the line search (Nocedal and Wright, Numerical
 Optimization, 2006, Sec. 15.5): a step that moves the contact boundaries
 and fails Armijo's test is taken tentatively, the state before it saved.
-Its window is the step after it and the held steps that follow (the pipe
-brought back to balance on the mesh the boundaries moved, as a
-second-order correction restores the constraints after a step). The
-window is judged at the start of each iteration after its first step, by
-Armijo's test of the merit there (with the boundaries' equations, whether
-or not the iteration holds them) against the merit before the tentative
-step: passed, it closes; failed while the iteration holds the boundaries,
-the correction goes on; failed otherwise (the pipe as near balance as the
-boundaries are), the state is restored and the tentative step searched
-again without the watchdog.
+Its window is the step after it and, while they do not pass, the held
+steps that follow (the pipe brought back to balance on the mesh the
+boundaries moved, as a second-order correction restores the constraints
+after a step). Each step of the window is judged by Armijo's test of the
+merit its line search ends at against the merit before the tentative
+step: passed (and accepted by its own line search), the window closes;
+failed, a held step's correction goes on; failed otherwise (an unheld
+step, or a step its own line search did not accept), the state is
+restored and the tentative step searched again without the watchdog.
 
 Why: a step that moves the boundaries moves the mesh under the pipe, and the
 weighted residual rises across it in the stiff rows of the boundaries'
@@ -18,13 +17,13 @@ zones although the held steps after it, with the boundaries where the step
 put them, bring the pipe back to balance: the residual after the step is
 not a distance to the answer there, after its correction it is. A Newton
 step from so far out of balance leaves a residual of the order of the one
-before the pair (the square of its start, times the problem's curvature),
-so the correction may take more than one step.
+before the tentative step (the square of its start, times the problem's
+curvature), so the correction may take more than one step.
 
-The window's state, ``window`` in the Newton kernel: -1 none open (the next
-step may be tentative); 0 the tentative step just taken; k > 0 k steps
-taken after it; RESTORED the state just restored (the next step is
-searched without the watchdog).
+The window's state, ``window`` in the Newton kernel: NONE (the next step
+may be tentative); k >= 0 the number of steps taken after the tentative
+one; RESTORED the state just restored (the next step is searched without
+the watchdog).
 """
 
 from __future__ import annotations
@@ -72,11 +71,12 @@ def watch_save(wd, w, sup, merit0, alpha, tb0, changed):
 
 
 @jit(_nrt=False)
-def window_passes(wd, merit, tol):
-    """Whether a state of merit ``merit`` (the boundaries' equations in it)
-    passes Armijo's test against the merit before the tentative step, at
-    its fraction alpha, or is at the tolerance's floor."""
-    return merit <= (1.0 - ARMIJO * wd.x[1]) * wd.x[0] or at_tolerance(merit, tol)
+def window_passes(wd, accepted, m1, tol):
+    """Whether a step of the window, ``accepted`` by its own line search
+    and ending at merit ``m1``, passes Armijo's test against the merit
+    before the tentative step, at its fraction alpha, or ends at the
+    tolerance's floor."""
+    return accepted and (m1 <= (1.0 - ARMIJO * wd.x[1]) * wd.x[0] or at_tolerance(m1, tol))
 
 
 @jit(_nrt=False)
@@ -93,34 +93,22 @@ def watch_restore(wd, u, mesh, sup, ends):
 
 
 @jit(_nrt=False)
-def watch_judge(wd, u, mesh, sup, ends, window, merit, hold, changed, tol):
-    """At the start of an iteration, its state's ``merit`` (the boundaries'
-    equations in it) and whether it holds the boundaries (``hold``): an open
-    window with a step taken after its tentative one judged. Returns (the
-    window's state: NONE passed, ``window`` going on, RESTORED failed and
-    the state restored; whether a rigid point changed branch, restored with
-    the state)."""
-    if window <= 0:
-        return window, changed
-    if window_passes(wd, merit, tol):
-        return NONE, changed
-    if hold:
-        return window, changed
-    return RESTORED, watch_restore(wd, u, mesh, sup, ends)
-
-
-@jit(_nrt=False)
-def watch_step(wd, w, sup, window, tentative, merit0, alpha, tb0, changed):
-    """After a line search: a ``tentative`` step's state before it saved
-    (``merit0``, ``alpha``, the bottom tension ``tb0`` [N] before it,
-    ``changed``), or a step of an open window counted. Returns the window's
-    state (:func:`watch_judge`)."""
+def watch_step(wd, w, u, mesh, sup, ends, window, tentative, hold, accepted, m1, merit0, alpha,
+               tb0, changed, tol):
+    """After a line search (its step ``hold`` or not, ``accepted``, ending at
+    merit ``m1``): a ``tentative`` step's state before it saved (``merit0``,
+    ``alpha``, the bottom tension ``tb0`` [N] before it, ``changed``), or a
+    step of an open window judged. Returns (the window's state: NONE, the
+    steps taken after the tentative one, RESTORED; whether a rigid point
+    changed branch, restored with the state)."""
     if tentative:
         watch_save(wd, w, sup, merit0, alpha, tb0, changed)
-        return 0
-    if window >= 0:
-        return window + 1
-    return NONE
+        return 0, changed
+    if window < 0 or window_passes(wd, accepted, m1, tol):
+        return NONE, changed
+    if hold and accepted:
+        return window + 1, changed
+    return RESTORED, watch_restore(wd, u, mesh, sup, ends)
 
 
 @jit(_nrt=False)
