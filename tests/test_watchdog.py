@@ -1,8 +1,9 @@
-"""The line search's watchdog (kernels/watchdog.py): a window whose unheld
-step fails Armijo's test is undone to the state saved before its tentative
-step, the mesh's element lengths recomputed from the restored boundaries;
-one whose held step fails goes on untouched (the correction of the pipe on
-the moved mesh); Armijo's bound on the window."""
+"""The line search's watchdog (kernels/watchdog.py): a window one of whose
+steps its own line search does not accept is undone to the state saved
+before its tentative step, the mesh's element lengths recomputed from the
+restored boundaries; one whose steps are accepted but stay above Armijo's
+bound goes on untouched, held or not, and closes at the first below it;
+Armijo's bound on the window."""
 
 from __future__ import annotations
 
@@ -10,7 +11,14 @@ from collections import namedtuple
 
 import numpy as np
 
-from pipelay_fast.kernels.watchdog import NONE, RESTORED, watch_step, watch_work, window_passes
+from pipelay_fast.kernels.watchdog import (
+    NONE,
+    RESTORED,
+    tentative_held,
+    watch_step,
+    watch_work,
+    window_passes,
+)
 
 Mesh = namedtuple("Mesh", "s_a s_b s_bd s_el bnodes")
 Sup = namedtuple("Sup", "fric geom")
@@ -56,9 +64,14 @@ def test_failed_window_restores_the_state_before_its_tentative_step():
                                  1.0, 7.5e4, True, TOL)
     assert (window, changed) == (0, True)
     _moved(u, mesh, sup, ends)
-    # an unheld step ends above (1 - 1e-4) of the merit before the tentative one
+    # a step accepted by its own search but above (1 - 1e-4) of the merit
+    # before the tentative one: the window goes on
     window, changed = _step(wd, w, u, mesh, sup, ends, window, False, True, 0.99999)
+    assert (window, changed) == (1, False)
+    # a step its own line search did not accept undoes the window
+    window, changed = _step(wd, w, u, mesh, sup, ends, window, False, False, 0.5)
     assert (window, changed) == (RESTORED, True)
+    assert not tentative_held(wd)
     for got, want in zip((u, mesh.s_bd, sup.fric, sup.geom), before, strict=True):
         np.testing.assert_array_equal(got, want)
     assert ends.tb[0] == 7.5e4
@@ -68,26 +81,35 @@ def test_failed_window_restores_the_state_before_its_tentative_step():
     assert _step(wd, w, u, mesh, sup, ends, RESTORED, False, False, 9.0) == (NONE, False)
 
 
-def test_window_goes_on_through_held_steps_and_closes_when_one_passes():
+def test_window_goes_on_through_converging_steps_and_closes_when_one_passes():
     rng = np.random.default_rng(5)
     mesh, sup = _state(rng)
     u = rng.normal(size=35)
     ends = Ends(np.array([7.5e4]))
     w = Work(u.copy(), mesh.s_bd.copy())
     wd = watch_work(u, mesh, sup)
-    window, _ = watch_step(wd, w, u, mesh, sup, ends, NONE, True, False, True, 9.0, 2.0, 0.5,
+    # a held tentative step
+    window, _ = watch_step(wd, w, u, mesh, sup, ends, NONE, True, True, True, 9.0, 2.0, 0.5,
                            7.5e4, False, TOL)
+    assert tentative_held(wd)
     _moved(u, mesh, sup, ends)
     after = (u.copy(), mesh.s_bd.copy(), sup.fric.copy(), sup.geom.copy(), ends.tb.copy())
-    # held steps above the bound: the correction goes on, the state untouched
+    # steps above the bound, held or not: the window goes on, the state untouched
     assert _step(wd, w, u, mesh, sup, ends, window, True, True, 3.0, True) == (1, True)
-    assert _step(wd, w, u, mesh, sup, ends, 1, True, True, 2.5) == (2, False)
+    assert _step(wd, w, u, mesh, sup, ends, 1, False, True, 2.5) == (2, False)
+    # a step of the window taken whole (tentative) from merit 2.5: the
+    # window goes on, its reference still the merit 2.0 before the first
+    assert watch_step(wd, w, u, mesh, sup, ends, 2, True, False, True, 40.0, 2.5, 1.0, 8e4,
+                      False, TOL) == (3, False)
+    assert not window_passes(wd, True, 2.4, TOL) and window_passes(wd, True, 1.9, TOL)
+    window = 2
     # a held step that passes closes the window, untouched
-    assert _step(wd, w, u, mesh, sup, ends, 2, True, True, 1.0) == (NONE, False)
+    assert _step(wd, w, u, mesh, sup, ends, window, True, True, 1.0) == (NONE, False)
     for got, want in zip((u, mesh.s_bd, sup.fric, sup.geom, ends.tb), after, strict=True):
         np.testing.assert_array_equal(got, want)
     # a held step its own line search did not accept undoes the window
     assert _step(wd, w, u, mesh, sup, ends, 2, True, False, 3.0)[0] == RESTORED
+    assert tentative_held(wd)
 
 
 def test_window_passes_armijo_against_the_merit_before_the_tentative_step():

@@ -16,8 +16,8 @@ in order:
    system, the bordered unknowns by a Schur complement, and the reactions
    are read back from the constrained rows;
 3. step (:mod:`.step`): its limits, then a line search on the merit (a
-   step that moves the boundaries taken tentatively and judged with the
-   held steps that correct it, :mod:`.watchdog`);
+   step on a mesh whose boundaries are unknowns that fails it taken
+   tentatively and judged by the iteration after it, :mod:`.watchdog`);
 4. update the contacts: the friction springs' normal forces, the rigid
    points' branches by their complementarity (:mod:`.constraints`).
 
@@ -133,7 +133,7 @@ from .system import (
     _weighted_max,
 )
 from .tuning import ROUNDOFF_RATIO, RUNAWAY
-from .watchdog import NONE, RESTORED, watch_step, watch_work
+from .watchdog import NONE, RESTORED, tentative_held, watch_step, watch_work
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
@@ -371,8 +371,7 @@ def _newton_kernel(nd):
         moved = False  # the last step moved the boundaries and lowered the merit
         trial_converged = False  # the last trial passed the test on its own constraints
         residual_only = settings.maxit == 0  # (the module docstring)
-        wd = watch_work(u, mesh, sup)
-        window = NONE  # a tentative step's window (:mod:`.watchdog`)
+        wd, window = watch_work(u, mesh, sup), NONE  # a tentative step's window (.watchdog)
         for it in range(1, max(settings.maxit, 1) + 1):
             # ---- evaluate (after a converged trial, the residual alone first)
             want_tangent = not (trial_converged or residual_only)
@@ -432,11 +431,11 @@ def _newton_kernel(nd):
                 break
             tb0 = ends.tb[0]
             accepted, m1, tentative = _line_search(nd, u, mesh, model, sup, ends, w, settings,
-                                                   hold, dtb, alpha, merit0, nb, window == NONE)
+                                                   hold, dtb, alpha, merit0, nb, window != RESTORED)
             window, changed = watch_step(wd, w, u, mesh, sup, ends, window, tentative, hold,
                                          accepted, m1, merit0, alpha, tb0, changed, settings.tol)
-            if window == RESTORED:  # the tentative step searched again, unheld
-                moved = True
+            if window == RESTORED:  # the tentative step searched again, held as it was
+                moved = not tentative_held(wd)
                 trial_converged = False
                 continue
             moved = not hold and accepted and m1 < merit0

@@ -176,10 +176,10 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
                  watch):
     """The step taken from ``w.u_old``; returns (accepted, the last trial's
     merit, tentative); u, the bottom tension and the mesh left at the step
-    taken. With ``watch``, a step that moves the boundaries (not ``hold``)
-    whose first trial fails :func:`_accepts` but is finite is taken whole,
-    tentatively (:mod:`.watchdog`: the Newton kernel judges it with the
-    steps after it).
+    taken. With ``watch``, a step on a mesh whose boundaries are unknowns
+    (held or not) whose first trial fails :func:`_accepts` but is finite is
+    taken whole, tentatively (:mod:`.watchdog`: the Newton kernel judges it
+    with the steps after it).
 
     A trial is measured by two merits of the Newton step (:func:`_accepts`):
     the weighted residual, and the simplified Newton correction
@@ -232,7 +232,7 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
         if _accepts(m1, merit0, n1, norm0, alpha, settings.tol):
             accepted = True
             break
-        if _ls == 0 and watch and has_bnd and not hold and np.isfinite(m1):
+        if _ls == 0 and watch and has_bnd and np.isfinite(m1):
             return True, m1, True
         alpha *= BACKTRACK
     if not accepted:
