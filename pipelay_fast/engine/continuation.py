@@ -17,10 +17,10 @@ from ..input.case import Case
 from ..input.errors import SolveError
 from ..input.limits import IterationBudget
 from ..kernels import layout as L
-from ..kernels import newton
 from ..kernels.layout import I_DELTA, I_ITER, I_PAST, I_RES, I_TOP_RES, I_TOP_TE, N_INFO
+from ..kernels.newton import newton_2d, newton_3d
+from ..kernels.scene import in_scene
 from ..kernels.types import Mesh, Settings
-from . import cobuild
 from . import tuning as T
 from .boundaries import (
     ONTO_STINGER,
@@ -72,10 +72,9 @@ def run_newton(pb: Problem, g_off, tol, maxit):
     settings = Settings(float(tol), float(pb.settings.fref), float(pb.settings.href), int(maxit),
                         not pb.settings.in_balance, boundary_step(pb))
     pb.settings.in_balance = False
-    args = (pb.u, mesh, pb.model(), pb.kernel_supports(), pb.kernel_ends(g_off), settings,
-            react, info)
-    with cobuild.alongside(newton.__name__, f"newton_{pb.nd}d", pb.scene, args) as kernel:
-        status = kernel(*args)
+    kernel = in_scene(newton_2d if pb.nd == 2 else newton_3d, pb.scene)
+    status = kernel(pb.u, mesh, pb.model(), pb.kernel_supports(), pb.kernel_ends(g_off),
+                    settings, react, info)
     pb.mesh.update_nodes()
     return status, react, info
 
