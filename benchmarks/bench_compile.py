@@ -9,7 +9,9 @@ that starts empty: the first compiles every kernel the scene's solve uses
 (*first*), the second loads them from the cache (*cached*). Each reports the
 import and the first solve apart, as wall-clock and as the process's CPU
 seconds (``time.process_time``, all threads): compilation is CPU-bound, so
-the CPU seconds depend much less on other load on the machine. Scenes are
+the CPU seconds depend much less on other load on the machine (the table
+gives the load average over each run, and the CPU seconds of the solving
+process's own child processes apart). Scenes are
 compiled into caches of their own, so a 3D scene's figure does not include
 the planar kernels. Machine and versions are printed with the table
 (markdown on stdout).
@@ -83,20 +85,25 @@ def compare_trees(trees: list[Path], scenes: list[str], pairs: int) -> None:
     for _ in range(pairs):
         for scene in scenes:
             for i, tree in enumerate(trees):
+                load = os.getloadavg()[0]
                 if scene == "sweep":
                     run = sweep_run(tree)
                 else:
                     with tempfile.TemporaryDirectory() as cache:
                         run = startup(EXAMPLES / f"{scene}.toml", cache, tree)
+                run["load"] = (load + os.getloadavg()[0]) / 2
                 runs[scene, i].append(run)
-                print(f"{scene} [{i}]: CPU {run['first_solve_cpu_s']:.1f} s, wall "
-                      f"{run['first_solve_s']:.1f} s, peak RSS {run['max_rss_mb']:.0f} MB",
+                print(f"{scene} [{i}]: CPU {run['first_solve_cpu_s']:.1f} s (child processes "
+                      f"{run.get('children_cpu_s', 0.0):.1f} s), wall "
+                      f"{run['first_solve_s']:.1f} s, peak RSS {run['max_rss_mb']:.0f} MB, "
+                      f"load {run['load']:.1f}",
                       file=sys.stderr, flush=True)
     print(f"\n{pairs} interleaved rounds; trees: "
           + ", ".join(f"[{i}] {tree}" for i, tree in enumerate(trees)))
     print("\n| scene | tree | first solve CPU s (median) | / [0] | wall s (median) | / [0] "
-          "| CPU s, each round | peak RSS MB |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+          "| CPU s, each round | wall s, each round | child processes' CPU s (median) "
+          "| load (1 min, median) | peak RSS MB |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for scene in scenes:
         cpu0 = statistics.median(r["first_solve_cpu_s"] for r in runs[scene, 0])
         wall0 = statistics.median(r["first_solve_s"] for r in runs[scene, 0])
@@ -104,9 +111,13 @@ def compare_trees(trees: list[Path], scenes: list[str], pairs: int) -> None:
             cpu = statistics.median(r["first_solve_cpu_s"] for r in runs[scene, i])
             wall = statistics.median(r["first_solve_s"] for r in runs[scene, i])
             each = " ".join(f"{r['first_solve_cpu_s']:.1f}" for r in runs[scene, i])
+            walls = " ".join(f"{r['first_solve_s']:.1f}" for r in runs[scene, i])
+            kids = statistics.median(r.get("children_cpu_s", 0.0) for r in runs[scene, i])
+            load = statistics.median(r["load"] for r in runs[scene, i])
             rss = statistics.median(r["max_rss_mb"] for r in runs[scene, i])
             print(f"| {scene} | [{i}] | {cpu:.1f} | {cpu / cpu0:.3f} | {wall:.1f} | "
-                  f"{wall / wall0:.3f} | {each} | {rss:.0f} |", flush=True)
+                  f"{wall / wall0:.3f} | {each} | {walls} | {kids:.1f} | {load:.1f} | {rss:.0f} |",
+                  flush=True)
 
 
 def main(argv=None):

@@ -52,8 +52,10 @@ import pipelay_fast as pf
 t1, c1 = time.perf_counter(), time.process_time()
 pf.solve(pf.load_case(sys.argv[1]))
 t2, c2 = time.perf_counter(), time.process_time()
+kids = resource.getrusage(resource.RUSAGE_CHILDREN)
 print(json.dumps({"import_s": t1 - t0, "first_solve_s": t2 - t1, "import_cpu_s": c1 - c0,
                   "first_solve_cpu_s": c2 - c1, "file": pf.__file__,
+                  "children_cpu_s": kids.ru_utime + kids.ru_stime,
                   "max_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 
