@@ -88,6 +88,7 @@ import numpy as np
 
 from . import layout as L
 from ._jit import jit, phase
+from .assembly import element_work
 from .condensation import _border_steps, _condensed_solve, _curve_reactions, _reactions
 from .constraints import (
     _bnd_scale,
@@ -140,7 +141,7 @@ Work = namedtuple("Work", [
     "scale", "torques", "rows", "cols", "res_b", "d_b", "kind", "dz", "sm", "rh",
     "bcols", "res_bnd", "d_top", "d_bnd", "bnd_old", "s_nd", "fr_out",
     "no_row", "no_ab", "row_td", "own_td", "s_old", "at", "at_rate", "at_scratch", "sh",
-    "fr_stop", "rhs"])
+    "fr_stop", "rhs", "ew"])
 Work.__doc__ = """The Newton kernel's work arrays, allocated once per call (:func:`_work`).
 
 Sizes: ndof unknowns, nn nodes, nel elements, nbnd boundaries, nbr = 1 + nbnd
@@ -231,6 +232,9 @@ at, at_rate, at_scratch, sh : (2 nd + 1,) x 3, (3, 4) the pipe at a material
     point, its derivative along the pipe and the Hermite shape functions:
     scratch of :func:`.step._take_step`.
 no_row, no_ab : (0,), (1, 1) stand-ins for "no gradient" and "no tangent".
+ew : :data:`.assembly.ElementWork`, the element kernel's outputs and scratch
+    (:func:`.system._evaluate` gives it to the element chain), so that an
+    evaluation allocates nothing.
 """
 
 
@@ -264,7 +268,7 @@ def _work(nd, n, nn, nel, nbnd, props, href):
         np.zeros(nbnd), np.zeros(nbnd), np.zeros(nn), np.zeros(n), np.zeros(0),
         np.zeros((1, 1)).T, np.zeros(n), np.zeros(nbnd), np.zeros(nn), np.zeros(ndn),
         np.zeros(ndn), np.zeros(ndn), np.zeros((3, 4)), np.zeros(nn),
-        np.empty((n, 1 + n_border)))
+        np.empty((n, 1 + n_border)), element_work(nd))
 
 
 @jit(by_dimension=True, _nrt=False)

@@ -241,7 +241,7 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     return accepted, m1, False
 
 
-@jit(by_dimension=True, _nrt=True)
+@jit(by_dimension=True, _nrt=False)
 def _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd, nb):
     """The state a fraction ``alpha`` along the step (:func:`_take_step`,
     from ``w.u_old`` and the bottom tension ``tb_old``); returns its merit

@@ -115,7 +115,7 @@ def _evaluate(nd, u, mesh, model, sup, ends, w, g, want_tangent):
     ab = w.ab if want_tangent else w.no_ab
     td = bnodes[B_TD]
     m_td = _system(nd, mesh.s_el, u, model, w.torques, ab, kl, kl, g, ends, want_tangent,
-                   mesh.s_b, bnodes, w.bcols, element_work(nd),
+                   mesh.s_b, bnodes, w.bcols, w.ew,
                    w.row_td if want_tangent else w.no_row, w.own_td,
                    sup.phi_rp[td] if td >= 0 else 0.0)
     node_arcs(mesh.s_el, w.s_nd)
