@@ -155,3 +155,42 @@ def test_a_sweeps_cases_share_one_kernel_per_dimension():
             assert scene_of(cases["j125"]) == Scene(False, False)
         assert scene_of(cases["j125"]) == Scene(False, True)
     assert scene_of(cases["j125"]) == Scene(False, False)
+
+
+def test_shared_scenes_are_per_thread():
+    """Two threads of one process (dask's threaded workers) in shared_scenes
+    at once, the first leaving first: each sees its own scenes, and none is
+    left behind in either thread or the main one (with one dictionary for the
+    process, the second thread restored the first's scenes on leaving)."""
+    import threading
+
+    from pipelay_fast.engine.model import shared_scenes
+
+    j125 = pf.load_case(EXAMPLES / "j125.toml")
+    own, seen = scene_of(j125), {}
+    a_in, b_in, a_out = threading.Event(), threading.Event(), threading.Event()
+
+    def first():
+        with shared_scenes({2: ALL}):
+            a_in.set()
+            b_in.wait(10)
+            seen["first"] = scene_of(j125)
+        a_out.set()
+        seen["first after"] = scene_of(j125)
+
+    def second():
+        a_in.wait(10)
+        with shared_scenes({2: Scene(False, True)}):
+            b_in.set()
+            a_out.wait(10)
+            seen["second"] = scene_of(j125)
+        seen["second after"] = scene_of(j125)
+
+    threads = [threading.Thread(target=first), threading.Thread(target=second)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(20)
+    assert seen == {"first": ALL, "second": Scene(False, True),
+                    "first after": own, "second after": own}
+    assert scene_of(j125) == own == Scene(False, False)

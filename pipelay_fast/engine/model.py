@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import threading
 
 import numpy as np
 
@@ -22,22 +23,24 @@ _PROFILES = {
 }
 
 
-_SHARED: dict = {}  # dimension -> the scene its cases are compiled with at least
+# per thread (a sweep's tasks may run in threads of one process: dask's
+# threaded workers): .scenes, dimension -> the scene its cases are compiled
+# with at least
+_SHARED = threading.local()
 
 
 @contextlib.contextmanager
 def shared_scenes(scenes: dict):
-    """Within the block, a case of dimension nd is compiled with at least the
-    features of ``scenes[nd]`` (:func:`scene_of`): a sweep's cases then share
-    one Newton kernel per dimension (:func:`pipelay_fast.study.runner.sweep_scenes`)."""
-    saved = dict(_SHARED)
-    _SHARED.clear()
-    _SHARED.update(scenes)
+    """Within the block, in this thread, a case of dimension nd is compiled
+    with at least the features of ``scenes[nd]`` (:func:`scene_of`): a
+    sweep's cases then share one Newton kernel per dimension
+    (:func:`pipelay_fast.study.runner.sweep_scenes`)."""
+    saved = getattr(_SHARED, "scenes", {})
+    _SHARED.scenes = dict(scenes)
     try:
         yield
     finally:
-        _SHARED.clear()
-        _SHARED.update(saved)
+        _SHARED.scenes = saved
 
 
 def scene_of(case: Case) -> Scene:
@@ -49,7 +52,7 @@ def scene_of(case: Case) -> Scene:
     nd = dimension_of(case)
     friction = case.seabed.axial_friction > 0.0 or (nd == 3 and case.seabed.lateral_friction > 0.0)
     own = Scene(friction=bool(friction), stinger=case.lay.curve is not None or case.lay.has_rollers)
-    return union(own, _SHARED.get(nd, own))
+    return union(own, getattr(_SHARED, "scenes", {}).get(nd, own))
 
 
 def dimension_of(case: Case) -> int:
