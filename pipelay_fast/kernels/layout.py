@@ -148,10 +148,6 @@ PROFILE_LINEAR = 1
 PROFILE_POWER = 2
 PROFILE_TABLE = 3
 
-# --- the line search's watchdog window (:mod:`.watchdog`) -------------------
-WINDOW_NONE = -1  # no window open (k >= 0: the steps taken after the tentative one)
-WINDOW_RESTORED = -2  # the state before the tentative step just restored
-
 # --- kernel status codes (Python turns them into SolveError messages) ------
 OK = 0
 MAX_ITERATIONS = 1

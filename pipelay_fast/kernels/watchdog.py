@@ -36,7 +36,6 @@ import numpy as np
 
 from ._jit import jit
 from .constraints import mesh_lengths
-from .layout import WINDOW_NONE, WINDOW_RESTORED
 from .step import at_tolerance
 from .tuning import ARMIJO
 
@@ -48,7 +47,8 @@ from .tuning import ARMIJO
 # the boundaries (1.0 or 0.0 each).
 Watch = namedtuple("Watch", "u s_bd fric geom x")
 
-NONE, RESTORED = WINDOW_NONE, WINDOW_RESTORED
+NONE = -1
+RESTORED = -2
 
 
 @jit(_nrt=True)
