@@ -47,7 +47,7 @@ def _condensed_solve(nd, w, nb, phi_r, phi_rp):
     # the step and the border columns solved together, the band read once
     # (column 0 the step y0, column 1 + j the border column Y_j)
     rhs = w.rhs
-    _condensed_rhs(nd, w, w.g, w.delta, 1.0, w.du)
+    _condensed_rhs(nd, w, w.g, w.delta, w.du)
     _border_columns(w, nb, rhs, 1)
     for i in range(n):
         rhs[i, 0] = w.du[i]
@@ -87,9 +87,9 @@ def _condense_factor(nd, w):
 
 
 @phase
-def _condensed_rhs(nd, w, g, delta, share, du):
+def _condensed_rhs(nd, w, g, delta, du):
     """The condensed right-hand side of residual ``g`` with the constrained
-    unknowns' increments ``share`` x ``delta`` (nodal frames) into ``du`` (scaled):
+    unknowns' increments ``delta`` (nodal frames) into ``du`` (scaled):
     -G_f - K_fc delta_c on the free rows, delta_c on the constrained
     (K the scaled tangent ``w.ab0``)."""
     ndn = 2 * nd + 1
@@ -103,13 +103,13 @@ def _condensed_rhs(nd, w, g, delta, share, du):
     for j in range(n):
         if not cmask[j]:
             continue
-        dj = share * delta[j] / scale[j]
+        dj = delta[j] / scale[j]
         for r in range(max(0, j - kl), min(n - 1, j + kl) + 1):
             if not cmask[r]:
                 du[r] -= w.ab0[kv + r - j, j] * dj
     for j in range(n):
         if cmask[j]:
-            du[j] = share * delta[j] / scale[j]
+            du[j] = delta[j] / scale[j]
 
 
 @phase
@@ -124,29 +124,17 @@ def _border_columns(w, nb, rhs, first):
 @phase
 def _border_solve(nd, w, nb, rhs, phi_r, phi_rp):
     """From the solved step y0 (``rhs`` column 0) and border columns Y_j
-    (columns 1 + j): the border steps ``w.dz`` and the step y0 - Y dz
-    (:func:`_schur`), the scaled step ``w.du`` and the step in the global
-    frame ``w.du_free``. False when the Schur complement is singular."""
+    (columns 1 + j): the border steps ``w.dz`` by the Schur complement of
+    the border equations res + rows . du + d_b dz = 0 (``w.res_b``), the
+    scaled step ``w.du`` = y0 - Y dz and the step in the global frame
+    ``w.du_free``. False when the Schur complement is singular."""
     n = w.g.shape[0]
-    if not _schur(w, nb, rhs):
-        return False
-    for i in range(n):
-        w.du[i] = rhs[i, 0]
-    for i in range(n):
-        w.du_free[i] = w.du[i] * w.scale[i]
-    _to_global(nd, w.du_free, phi_r, phi_rp)
-    return True
-
-
-@phase
-def _schur(w, nb, rhs):
-    """The border steps ``w.dz`` by the Schur complement of the border
-    equations res + rows . du + d_b dz = 0 (``w.res_b``) with du = y0 - Y dz
-    (y0 ``rhs`` column 0, Y_j column 1 + j), and column 0 made y0 - Y dz.
-    False when the Schur complement is singular."""
-    n = w.g.shape[0]
+    du = w.du
     scale = w.scale
-    # each row is local (a node's, an element's, the top's): the products run
+    for i in range(n):
+        du[i] = rhs[i, 0]
+    # border equations res + rows . du + d_b dz = 0 with du = y0 - Y dz; each
+    # row is local (a node's, an element's, the top's): the products run
     # over its nonzero span (a roller stinger has a bordered unknown a roller)
     for i2 in range(nb):
         lo = 0
@@ -157,7 +145,7 @@ def _schur(w, nb, rhs):
             hi -= 1
         acc = 0.0
         for k in range(lo, hi):
-            acc += w.rows[i2, k] * scale[k] * rhs[k, 0]
+            acc += w.rows[i2, k] * scale[k] * du[k]
         w.rh[i2] = acc + w.res_b[i2]
         for j in range(nb):
             acc = 0.0
@@ -168,53 +156,11 @@ def _schur(w, nb, rhs):
         return False
     for j in range(nb):
         for i in range(n):
-            rhs[i, 0] -= w.dz[j] * rhs[i, 1 + j]
-    return True
-
-
-@jit(_nrt=False)
-def simplified_norm(nd, w, nb, share, href):
-    """The norm of the simplified Newton correction K^-1 G(trial) at a trial
-    state (the old tangent's factors, still in ``w.ab``, ``w.ipiv``; the
-    trial's residual ``w.g_trial`` in the nodal frames and its border
-    residuals in ``w.res_b``; the constraints' remaining increments
-    ``share`` delta_c), by :func:`step_norm`; inf when the border is
-    singular. It is the Newton step the next iteration would take at the
-    trial, less the change of the tangent: the error-oriented merit
-    (Deuflhard, Newton Methods for Nonlinear Problems, 2004, Sec. 3.3).
-    A kernel: the line search's two loops call it."""
-    ndn = 2 * nd + 1
-    kl = 2 * ndn - 1
-    col = w.rhs[:, 0]
-    _condensed_rhs(nd, w, w.g_trial, w.delta, share, col)
-    band_solve_many(w.ab, kl, kl, w.ipiv, w.rhs, 1)
-    if not _schur(w, nb, w.rhs):
-        return math.inf
-    return step_norm(nd, w, nb, href)
-
-
-@jit(_nrt=False)
-def step_norm(nd, w, nb, href):
-    """The size of a step (column 0 of ``w.rhs``, the unknowns scaled by
-    ``w.scale``, and the bordered ``w.dz``) [-]: its positions over href, its
-    slopes as they are, its multipliers and the bottom tension over the
-    multipliers' scale EI / href^2 (``w.scale``), the boundaries' arc
-    lengths over href; the root of the sum of squares."""
-    ndn = 2 * nd + 1
-    n = w.rhs.shape[0]
-    ssq = 0.0
+            du[i] -= w.dz[j] * rhs[i, 1 + j]
     for i in range(n):
-        slot = i % ndn
-        v = w.rhs[i, 0]  # a multiplier over its scale
-        if slot < nd:
-            v *= w.scale[i] / href
-        elif slot < 2 * nd:
-            v *= w.scale[i]
-        ssq += v * v
-    for j in range(nb):
-        v = w.dz[j] / w.scale[2 * nd] if w.kind[j] == 0 else w.dz[j] / href
-        ssq += v * v
-    return math.sqrt(ssq)
+        w.du_free[i] = du[i] * scale[i]
+    _to_global(nd, w.du_free, phi_r, phi_rp)
+    return True
 
 
 @jit(_nrt=False)

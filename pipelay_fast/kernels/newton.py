@@ -15,9 +15,7 @@ in order:
    gets its increment prescribed, the free ones are solved from the band
    system, the bordered unknowns by a Schur complement, and the reactions
    are read back from the constrained rows;
-3. step (:mod:`.step`): its limits, then a line search on the merit (a
-   step on a mesh whose boundaries are unknowns that fails it taken
-   tentatively and judged by the iteration after it, :mod:`.watchdog`);
+3. step (:mod:`.step`): its limits, then a line search on the merit;
 4. update the contacts: the friction springs' normal forces, the rigid
    points' branches by their complementarity (:mod:`.constraints`).
 
@@ -134,7 +132,6 @@ from .system import (
     _weighted_max,
 )
 from .tuning import ROUNDOFF_RATIO, RUNAWAY
-from .watchdog import NONE, RESTORED, tentative_held, watch_step, watch_work
 
 Work = namedtuple("Work", [
     "ab", "ab0", "ipiv", "g", "g_trial", "d", "delta", "cmask", "du", "du_free", "u_old",
@@ -188,21 +185,17 @@ rows : (nbr, ndof) the bordered equations' gradients, nodal frames
     (``_border``); read by ``_condensed_solve``.
 cols : (nbr, ndof) the bordered unknowns' columns dG/dz, nodal frames
     (``_border``); read by ``_condensed_solve`` and ``_reactions``.
-res_b : (nbr,) the bordered equations' residuals (``_border``), read by the solve;
-    at a trial state (:func:`.step._trial_merit`), read by ``simplified_norm``.
+res_b : (nbr,) the bordered equations' residuals (``_border``), read by the solve.
 d_b : (nbr, nbr) the bordered equations' derivatives by the bordered
     unknowns at fixed u (``_border``), read by the solve.
 kind : (nbr,) int64, each bordered unknown: 0 the bottom tension, 2 + b
     boundary b (``_border``); read by :func:`.condensation._border_steps`.
 dz : (nbr,) the bordered unknowns' steps [N, m] (``_condensed_solve``); read
-    by ``_border_steps``, ``_reactions`` and :func:`.condensation.step_norm`;
-    a trial's simplified correction's afterwards (``simplified_norm``).
+    by ``_border_steps`` and ``_reactions``.
 sm, rh : (nbr, nbr), (nbr,) the Schur complement and its right-hand side,
-    scratch of ``_condensed_solve`` and ``simplified_norm``.
-rhs : (ndof, 1 + nbr) the step (column 0, scaled) and the border columns
-    Y = K^-1 C solved together by ``_condensed_solve``; the line search reads
-    the step's norm from it, then solves each trial's simplified correction
-    in column 0 (``simplified_norm``, the columns Y kept).
+    scratch of ``_condensed_solve``.
+rhs : (ndof, 1 + nbr) the step and the border columns solved together,
+    scratch of ``_condensed_solve``.
 bcols : (nbnd, ndof) each boundary's column dG/ds_b, global frame
     [N/m, N, -]: ``_evaluate`` writes it, ``_border`` reads it.
 res_bnd : (nbnd,) the boundaries' equations [N m, -, m] (touchdown's moment,
@@ -375,7 +368,6 @@ def _newton_kernel(nd):
         moved = False  # the last step moved the boundaries and lowered the merit
         trial_converged = False  # the last trial passed the test on its own constraints
         residual_only = settings.maxit == 0  # (the module docstring)
-        wd, window = watch_work(u, mesh, sup), NONE  # a tentative step's window (.watchdog)
         for it in range(1, max(settings.maxit, 1) + 1):
             # ---- evaluate (after a converged trial, the residual alone first)
             want_tangent = not (trial_converged or residual_only)
@@ -433,15 +425,8 @@ def _newton_kernel(nd):
                         _take_step(nd, alpha, u, w.u_old, w.du_free, sup, ends.tb, ends.tb[0],
                                    dtb, _has_boundaries(mesh), mesh, w)
                 break
-            tb0 = ends.tb[0]
-            accepted, m1, tentative = _line_search(nd, u, mesh, model, sup, ends, w, settings,
-                                                   hold, dtb, alpha, merit0, nb, window != RESTORED)
-            window, changed = watch_step(wd, w, u, mesh, sup, ends, window, tentative, hold,
-                                         accepted, m1, merit0, alpha, tb0, changed, settings.tol)
-            if window == RESTORED:  # the tentative step searched again, held as it was
-                moved = not tentative_held(wd)
-                trial_converged = False
-                continue
+            accepted, m1 = _line_search(nd, u, mesh, model, sup, ends, w,
+                                                          settings, hold, dtb, alpha, merit0)
             moved = not hold and accepted and m1 < merit0
             # ---- the contacts at the new state
             node_arcs(mesh.s_el, w.s_nd)

@@ -114,7 +114,7 @@ def _response_kernels(nd):
             return -1
         rhs = np.empty((n, m + nb))
         for k in range(m):
-            _condensed_rhs(nd, w, g[k], delta[k], 1.0, w.du)
+            _condensed_rhs(nd, w, g[k], delta[k], w.du)
             for i in range(n):
                 rhs[i, k] = w.du[i]
         _border_columns(w, nb, rhs, m)

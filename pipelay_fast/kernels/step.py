@@ -15,7 +15,6 @@ import numpy as np
 
 from . import layout as L
 from ._jit import jit, phase
-from .condensation import simplified_norm, step_norm
 from .constraints import (
     _bnd_equation,
     _bnd_scale,
@@ -34,6 +33,7 @@ from .tuning import (
     ARMIJO,
     BACKTRACK,
     LINE_SEARCH_TRIALS,
+    MERIT_RISE,
     MIN_ELEMENT_SHARE,
     SHORT_LAID_SHARE,
     SPAN_GROWTH,
@@ -172,36 +172,24 @@ def _start_step(nd, u, mesh, sup, w, settings, hold, res_ssq, top_res):
 
 
 @jit(by_dimension=True, _nrt=False)
-def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0, nb,
-                 watch):
+def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, merit0):
     """The step taken from ``w.u_old``; returns (accepted, the last trial's
-    merit, tentative); u, the bottom tension and the mesh left at the step
-    taken. With ``watch``, a step on a mesh whose boundaries are unknowns
-    (held or not) whose first trial fails :func:`_accepts` but is finite is
-    taken whole, tentatively (:mod:`.watchdog`: the Newton kernel judges it
-    with the steps after it).
-
-    A trial is measured by two merits of the Newton step (:func:`_accepts`):
-    the weighted residual, and the simplified Newton correction
-    (:func:`.condensation.simplified_norm`, the error-oriented merit: the
-    step the next iteration would take, which Newton's own steps shrink
-    whatever the scaling of the residual).
+    merit); u, the bottom tension and the mesh left at
+    the step taken.
 
     The limited step ``alpha`` is cut where a sliding friction spring would
     cross its stick zone (:func:`.contact.friction_step`), then grown by
-    1 / BACKTRACK back towards the limited step while the merit falls,
-    the lowest-merit trial kept (past the cut, no spring stays
-    flagged as stopped, ``w.fr_stop``): a laid pipe sliding as a whole has
-    its whole length carried back past the anchors by Newton (its lateral
-    stiffness then the span's alone), and stopped at the first spring's
-    zone it would move a small part of the step an iteration. From there
-    the step is halved until :func:`_accepts` takes the trial,
-    tuning.LINE_SEARCH_TRIALS at most; where none is accepted the first is
-    taken anyway (the merit is flat there: a change of constraint, a
-    constraint's correction)."""
+    1 / BACKTRACK back towards the limited step while the merit falls, the lowest-merit
+    trial kept (past the cut, no spring stays flagged as stopped,
+    ``w.fr_stop``): a laid pipe sliding as a whole has its whole length
+    carried back past the anchors by Newton (its lateral stiffness then the
+    span's alone), and stopped at the first spring's zone it would move a
+    small part of the step an iteration. From there the step is halved until
+    :func:`_accepts` takes the trial, tuning.LINE_SEARCH_TRIALS at most; where none is
+    accepted the first is taken anyway (the merit is flat there: a change of
+    constraint, a constraint's correction)."""
     has_bnd = _has_boundaries(mesh)
     tb_old = ends.tb[0]
-    norm0 = step_norm(nd, w, nb, settings.href)
     alpha_lim = alpha
     if FRICTION:
         alpha = friction_step(nd, u, w.du_free, w.s_nd, model, sup.active[ROW_BED], sup.fric,
@@ -211,8 +199,8 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
         m_best = np.inf
         trial = alpha
         while True:
-            m1, _n1 = _trial(nd, trial, u, mesh, model, sup, ends, w, settings, hold, dtb,
-                             tb_old, has_bnd, nb)
+            m1 = _trial(nd, trial, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
+                        has_bnd)
             if m1 < m_best:
                 m_best, best = m1, trial
             elif trial > alpha:
@@ -227,43 +215,36 @@ def _line_search(nd, u, mesh, model, sup, ends, w, settings, hold, dtb, alpha, m
     alpha0 = alpha
     accepted = False
     for _ls in range(LINE_SEARCH_TRIALS):
-        m1, n1 = _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
-                        has_bnd, nb)
-        if _accepts(m1, merit0, n1, norm0, alpha, settings.tol):
+        m1 = _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old,
+                    has_bnd)
+        if _accepts(m1, merit0, alpha, settings.tol, mesh, hold):
             accepted = True
             break
-        if _ls == 0 and watch and has_bnd and np.isfinite(m1):
-            return True, m1, True
         alpha *= BACKTRACK
     if not accepted:
         _take_step(nd, alpha0, u, w.u_old, w.du_free, sup, ends.tb, tb_old, dtb, has_bnd,
                    mesh, w)
-    return accepted, m1, False
+    return accepted, m1
 
 
 @jit(by_dimension=True, _nrt=False)
-def _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd, nb):
+def _trial(nd, alpha, u, mesh, model, sup, ends, w, settings, hold, dtb, tb_old, has_bnd):
     """The state a fraction ``alpha`` along the step (:func:`_take_step`,
-    from ``w.u_old`` and the bottom tension ``tb_old``); returns its merit
-    (:func:`_trial_merit`) and the norm of its simplified Newton correction
-    (:func:`.condensation.simplified_norm`, ``nb`` bordered unknowns). A
-    kernel, not a phase: it has two callers, and inlined it would compile
-    :func:`.system._evaluate` into the Newton kernel three times
-    (``benchmarks/bench_compile.py``)."""
+    from ``w.u_old`` and the bottom tension ``tb_old``) and its merit
+    (:func:`_trial_merit`). A kernel, not a phase: it has two callers, and
+    inlined it would compile :func:`.system._evaluate` into the Newton
+    kernel three times (``benchmarks/bench_compile.py``)."""
     _take_step(nd, alpha, u, w.u_old, w.du_free, sup, ends.tb, tb_old, dtb, has_bnd, mesh,
                w)
     te_t, m_t = _evaluate(nd, u, mesh, model, sup, ends, w, w.g_trial, False)
-    m1 = _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_t, m_t, nb)
-    return m1, simplified_norm(nd, w, nb, 1.0 - alpha, settings.href)
+    return _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_t, m_t)
 
 
 @phase
-def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td, nb):
+def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td):
     """The merit at a trial state (its residual in ``w.g_trial`` from
-    :func:`.system._evaluate`, turned into the nodal frames): the sum of
-    squared weighted residuals, the top tension's and the boundaries'
-    equations (unless held). The residuals of the ``nb`` bordered equations
-    into ``w.res_b`` (:func:`.system._border`'s order, ``w.kind``)."""
+    :func:`.system._evaluate`): the sum of squared weighted residuals, the
+    top tension's and the boundaries' equations (unless held)."""
     bnodes = mesh.bnodes
     fref = settings.fref
     href = settings.href
@@ -276,15 +257,8 @@ def _trial_merit(nd, u, mesh, sup, ends, w, settings, hold, te_top, m_td, nb):
     if STINGER:  # the boundaries above touchdown
         for b in range(B_LO, bnodes.shape[0]):
             if bnodes[b] >= 0 and not hold:
-                w.res_bnd[b] = _bnd_equation(nd, u, sup, b, bnodes[b], w.no_row)
-                tdr += (w.res_bnd[b] / _bnd_scale(b, fref, href)) ** 2
-    for j in range(nb):
-        if w.kind[j] == 0:
-            w.res_b[j] = te_top - ends.top_target
-        elif w.kind[j] == 2 + B_TD:
-            w.res_b[j] = m_td
-        else:
-            w.res_b[j] = w.res_bnd[w.kind[j] - 2]
+                tdr += (_bnd_equation(nd, u, sup, b, bnodes[b], w.no_row)
+                        / _bnd_scale(b, fref, href)) ** 2
     _to_nodal_frames(nd, w.g_trial, u, sup, w)
     _rm, rs = _weighted_max(nd, w.g_trial, w.cmask, fref, href)
     return rs + tr * tr + tdr
@@ -298,20 +272,22 @@ def at_tolerance(merit, tol):
 
 
 @phase
-def _accepts(m1, merit0, n1, norm0, alpha, tol):
-    """Whether the line search takes a trial a fraction ``alpha`` along the
-    step: Armijo's sufficient decrease of either merit of the Newton step,
-    the weighted residual's (``m1`` from ``merit0``) or the error-oriented
-    one (the simplified Newton correction's norm ``n1`` against the step's
-    own ``norm0``: its slope along the step is -norm0), or a step from a
-    state whose residual is at the tolerance's floor (``merit0``: a step
-    that only corrects constraints). The Newton step descends both; each
-    misjudges where the other does not: the residual rises across a step
-    whose boundaries move the mesh (its zones' stiff rows), the correction
-    across a step cut far short of a nearly singular direction (a
-    boundary far from its place, moved by its step limit)."""
-    return (m1 <= (1.0 - ARMIJO * alpha) * merit0 or n1 <= (1.0 - ARMIJO * alpha) * norm0
-            or at_tolerance(merit0, tol))
+def _accepts(m1, merit0, alpha, tol, mesh, hold):
+    """Whether the line search takes the trial step of merit ``m1``: Armijo's
+    decrease from ``merit0``, or a merit at the tolerance's floor, or:
+
+    with the boundaries unknowns, any rise up to MERIT_RISE times: the
+    weighted residual rises across good steps there, as the element lengths
+    move with the boundaries, and Armijo's cuts slowed the iteration or
+    stalled it (a diverging step is caught by the iteration's tests); a
+    step of the stinger's boundaries from equilibrium (not held), any finite
+    merit: the short elements of a closing gap span raise it by orders of
+    magnitude across good steps, and cut, the span crept."""
+    has_bnd = _has_boundaries(mesh)
+    has_lo = mesh.bnodes[B_LO] >= 0
+    return (m1 <= (1.0 - ARMIJO * alpha) * merit0 or at_tolerance(merit0, tol)
+            or (has_bnd and m1 <= MERIT_RISE * merit0)
+            or (has_lo and not hold and np.isfinite(m1)))
 
 
 @jit(_nrt=False)
