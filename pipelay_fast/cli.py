@@ -30,9 +30,8 @@ import sys
 from pathlib import Path
 
 from ._version import __version__
-from .api.notice import compile_notice, notice_given, scenes_cached
+from .api.notice import case_cached, compile_notice, notice_given
 from .api.solve import solve
-from .engine.model import scene_of
 from .input.case import load_case
 from .input.errors import SolveError
 from .input.examples import example_description, example_names, example_path
@@ -181,7 +180,7 @@ def _compile_notice(quiet: bool, case) -> None:
     environment's first run, or a family of kernels not yet in the cache:
     :func:`pipelay_fast.api.notice.compile_notice`), unless ``quiet``;
     either way the solves of this process do not log it again."""
-    notice = compile_notice(scenes_cached(scene_of(case)))
+    notice = compile_notice(case_cached(case))
     if notice is not None and not quiet:
         print(notice, file=sys.stderr, flush=True)
 

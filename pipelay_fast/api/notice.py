@@ -16,11 +16,12 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 
+from ..engine.model import scene_of
 from ..kernels import _jit
 from ..kernels.scene import tag
 
 __all__ = ["COMPILE_NOTICE", "LOGGER", "announce_compile", "compile_notice", "notice_given",
-           "scenes_cached"]
+           "case_cached", "scenes_cached"]
 
 LOGGER = logging.getLogger("pipelay_fast")
 
@@ -51,6 +52,11 @@ def scenes_cached(*scenes) -> Callable[[], bool]:
     kernels a solve or a sweep of them runs. Another family's cache does not
     count: it would not be loaded."""
     return lambda: all(_jit.kernels_cached(tag(scene)) for scene in scenes)
+
+
+def case_cached(case) -> Callable[[], bool]:
+    """:func:`scenes_cached` of ``case``'s family (:func:`pipelay_fast.engine.model.scene_of`)."""
+    return scenes_cached(scene_of(case))
 
 
 def notice_given() -> None:

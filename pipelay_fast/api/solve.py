@@ -13,7 +13,6 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..engine.model import scene_of
 from ..engine.solver import solve_problem
 from ..engine.state import Problem
 from ..input.case import Case
@@ -22,7 +21,7 @@ from ..input.limits import strain_beyond_line
 from ..output.results import Result, build_profile, build_rollers, build_summary
 from ..output.sensitivity import sensitivity_table
 from ..output.spans import span_table
-from .notice import announce_compile, scenes_cached
+from .notice import announce_compile, case_cached
 
 
 def solve(case: Case, *, warm: Result | None = None,
@@ -74,7 +73,7 @@ def solve(case: Case, *, warm: Result | None = None,
     :func:`pipelay_fast.engine.model.scene_of`) are not in numba's cache
     logs that they compile (:mod:`pipelay_fast.api.notice`).
     """
-    announce_compile(scenes_cached(scene_of(case)))
+    announce_compile(case_cached(case))
     if warm is not None and not isinstance(getattr(warm, "state", None), Problem):
         raise ValueError("warm: expected a Result from pipelay_fast.solve, got "
                          f"{type(warm).__name__}")
